@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Installs every Debian package ldoem needs to build, test, run and benchmark. Idempotent and
+# non-interactive; run as root (or with sudo available). Debian 12 (bookworm).
+set -euo pipefail
+packages=(
+  cmake ninja-build g++ clang libclang-rt-14-dev pkg-config
+  libode-dev libyaml-cpp-dev libembree-dev libassimp-dev libeigen3-dev
+  libsocketcan-dev libgpiod-dev gpiod libpng-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  can-utils user-mode-linux kmod iproute2 procps python3
+  gnuplot-nox
+  # for the gpio-sim UML kernel (scripts/uml/build-gpio-kernel.sh)
+  linux-source-6.1 build-essential bc flex bison libelf-dev xz-utils
+)
+sudo_cmd=()
+if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+echo "install-deps: installing ${missing[*]}"
+"${sudo_cmd[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update -qq
+"${sudo_cmd[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}"
