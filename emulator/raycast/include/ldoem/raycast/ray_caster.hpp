@@ -1,0 +1,38 @@
+// The one question the sensor model asks the geometry: where does this ray first hit?
+// Implementations: the Embree BVH over ODE geoms and Embree triangles (the fast one), and plain
+// ODE (the reference the tests compare against).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <optional>
+#include <span>
+
+namespace ldoem::raycast {
+
+struct Ray {
+  Eigen::Vector3d origin_m;
+  Eigen::Vector3d direction;  // unit length; callers guarantee it, casters guard against others
+  double max_range_m;
+};
+
+struct Hit {
+  double range_m;              // along the ray, > 0
+  Eigen::Vector3d normal;      // unit, facing against the ray
+  double reflectance;          // of the object hit (D6)
+  std::uint32_t object_index;  // index into Scene::objects
+};
+
+class RayCaster {
+ public:
+  virtual ~RayCaster() = default;
+  // Nearest hit in (0, max_range_m], or nothing. Never NaN: invalid rays give nothing.
+  virtual std::optional<Hit> cast(const Ray& ray) const = 0;
+  // Many rays at once; implementations may batch. Default: one by one.
+  virtual void cast_many(std::span<const Ray> rays, std::span<std::optional<Hit>> hits) const {
+    for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = cast(rays[i]);
+  }
+};
+
+}  // namespace ldoem::raycast

@@ -1,0 +1,154 @@
+// The parsed scene: what the YAML file describes, in SI units, before any ODE or Embree object
+// exists. The loader (scene_loader.hpp) fills it and validates every field; everything
+// downstream (ray casting, sensor model, motor models, control unit defaults) reads it.
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include <array>
+#include <bitset>
+#include <cstdint>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace ldoem::scene {
+
+struct Pose {
+  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+};
+
+// Shapes follow ODE's conventions: box by full side lengths, cylinder and capsule along the
+// local z axis, plane as n . p = offset in world coordinates (planes are not placeable in ODE).
+struct Box { Eigen::Vector3d size_m; };
+struct Sphere { double radius_m; };
+struct Cylinder { double radius_m; double length_m; };
+struct Capsule { double radius_m; double length_m; };
+struct Plane { Eigen::Vector3d normal; double offset_m; };
+struct Mesh {
+  std::string path;  // as written in the scene, resolved relative to the scene file
+  Eigen::Vector3d scale = Eigen::Vector3d::Ones();
+  std::vector<Eigen::Vector3f> vertices_m;            // filled by the loader (assimp)
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+};
+using Shape = std::variant<Box, Sphere, Cylinder, Capsule, Plane, Mesh>;
+
+struct SceneObject {
+  std::string name;
+  Shape shape;
+  Pose pose;                 // ignored for planes
+  double reflectance = 0.8;  // Lambertian albedo r in [0, 1] (D6)
+};
+
+// D6: the paper's optics. l_max = 63.1 m * sqrt(r cos alpha) with the defaults.
+struct OpticsConfig {
+  double emitted_intensity = 1.0;          // I0
+  double receiver_diameter_m = 0.04;       // d
+  double min_irradiance = 0.00016;         // I_rs_min (dropout threshold)
+  double calibration = 1.0;                // chosen by the loader so that l_max(r=1) = max_range_at_full_reflectance_m
+  double max_range_at_full_reflectance_m = 63.1;
+};
+
+struct NoiseConfig {
+  double sigma_m = 0.0015;  // D6 default
+  double mean_m = 0.0;
+};
+
+// The measuring head (the LD's own spinning mirror motor): spin-up per D7.
+struct HeadConfig {
+  double inertia_kg_m2 = 2.0e-4;
+  double drive_torque_n_m = 6.3e-3;   // default gives 0 -> 10 Hz in about 2 s
+  double friction_n_m_s = 0.0;        // viscous friction
+  double ripple_fraction = 0.001;     // head_dynamics speed ripple (relative amplitude)
+  double ripple_frequency_hz = 1.0;
+};
+
+// The tilt stepper and its 20:1 worm gear (D8, D9 motor_dynamics).
+struct TiltMotorConfig {
+  double step_angle_deg = 1.8;
+  double gear_ratio = 20.0;
+  double torque_constant_n_m_per_a = 0.3;     // k_t
+  double back_emf_v_s_per_rad = 0.3;          // k_v
+  double winding_resistance_ohm = 2.0;        // R
+  double supply_voltage_v = 12.0;             // V
+  double rotor_inertia_kg_m2 = 5.0e-5;
+  double load_inertia_kg_m2 = 0.05;           // plate + LD about the tilt axis
+  double world_step_s = 1.0e-3;               // ODE step for motor_dynamics
+  double min_tilt_deg = -90.0;
+  double max_tilt_deg = 90.0;
+};
+
+struct SectorDefault {
+  std::uint16_t function = 0;     // spec 3.6 function code
+  std::uint16_t stop_ticks = 0;   // 1/16 deg
+};
+
+// D4: what the emulated flash holds at first power-up.
+struct FlashDefaults {
+  std::uint16_t sensor_id = 1;
+  std::uint16_t motor_speed_hz = 10;
+  std::uint16_t angle_step_ticks = 4;
+  std::array<SectorDefault, 8> sectors{{{3, 2160}, {1, 3600}}};
+  std::array<std::uint8_t, 4> ip_address{192, 168, 1, 10};
+  std::array<std::uint8_t, 4> subnet_mask{255, 255, 255, 0};
+  std::array<std::uint8_t, 4> gateway{192, 168, 1, 1};
+  std::uint16_t can_request_id = 0x6C0;   // D1
+  std::uint16_t can_response_id = 0x6C1;  // D1
+};
+
+// D3: GET_IDENTIFICATION texts, indexed by the item numbers of spec 3.3.
+struct Identification {
+  std::string sensor_part_number = "0000000";
+  std::string sensor_name = "LD-OEM1000";
+  std::string sensor_version = "0000000";
+  std::string sensor_serial_number = "0000000";
+  std::string edm_serial_number = "0000000";
+  std::string firmware_part_number = "0000000";
+  std::string firmware_name = "ldoem-emud";
+  std::string firmware_version = LDOEM_VERSION;
+  std::string application_part_number = "0000000";
+  std::string application_name = "0000000";
+  std::string application_version = "0000000";
+};
+
+struct ScannerConfig {
+  Pose pivot_pose;                                           // T_world_pivot (D5)
+  Eigen::Vector3d optical_offset_m = Eigen::Vector3d::Zero();  // optical centre from the pivot
+  double min_range_m = 0.9;   // D_min (D6)
+  double max_range_m = 30.0;  // D_max, <= 255.99 m
+  double beam_divergence_rad = 0.0025;  // full angle, used by mixed_pixels
+  int mixed_pixel_subrays = 7;          // 1, 7, 19, 37 (hexagonal rings)
+  OpticsConfig optics;
+  NoiseConfig noise;
+  HeadConfig head;
+  TiltMotorConfig tilt_motor;
+  FlashDefaults flash;
+  Identification identification;
+};
+
+// D9: the effects a scene may name. Nothing else is simulated.
+enum class Effect : std::uint8_t {
+  noise, intensity, incidence, mixed_pixels, motor_dynamics, head_dynamics, sweep_motion, bus_timing,
+};
+inline constexpr std::size_t kEffectCount = 8;
+
+class EffectSet {
+ public:
+  bool has(Effect effect) const { return bits_.test(static_cast<std::size_t>(effect)); }
+  void add(Effect effect) { bits_.set(static_cast<std::size_t>(effect)); }
+  bool empty() const { return bits_.none(); }
+
+ private:
+  std::bitset<kEffectCount> bits_;
+};
+
+struct Scene {
+  std::string source_path;
+  std::vector<SceneObject> objects;
+  ScannerConfig scanner;
+  EffectSet effects;
+  std::uint64_t seed = 1;
+};
+
+}  // namespace ldoem::scene
