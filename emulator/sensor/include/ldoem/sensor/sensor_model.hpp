@@ -1,0 +1,54 @@
+// The facade the control unit calls: beam requests (head angle, tilt, index) in, encoded samples
+// out. It makes the D5 rays, hands them to a RayCaster, and runs the D9 pipeline built from the
+// scene's effects.
+//
+// Tilt per beam is the caller's business: with `sweep_motion` the control unit asks the motor
+// model for the tilt at each beam's own time; without it, it freezes the tilt once per profile
+// and passes the same tilt_rad for every beam of that profile (D9).
+#pragma once
+
+#include <ldoem/raycast/ray_caster.hpp>
+#include <ldoem/scene/scene.hpp>
+#include <ldoem/sensor/beam_sample.hpp>
+#include <ldoem/sensor/effects.hpp>
+
+#include <cstdint>
+#include <span>
+
+namespace ldoem::sensor {
+
+struct BeamRequest {
+  double head_angle_rad = 0.0;  // D5: 0 = +x, counter-clockwise seen from above
+  double tilt_rad = 0.0;        // D5: positive raises the beam plane
+  std::uint32_t beam_index = 0; // keys the noise stream together with the revolution (D6)
+};
+
+struct MeasureStats {
+  std::uint64_t rays_cast = 0;
+  std::uint64_t random_draws = 0;
+};
+
+class SensorModel {
+ public:
+  // Copies what it needs from the scene; keeps a reference to the caster, which must outlive it.
+  SensorModel(const scene::Scene& scene, const raycast::RayCaster& caster);
+
+  // Fills out[i] for beams[i]. Measures min(beams.size(), out.size()) beams; out entries beyond
+  // beams.size() are set to "no echo". Same inputs -> identical samples, on any thread: const
+  // and stateless per call (the caster must be thread-safe const too, as the interface asks).
+  void measure(std::uint32_t revolution, std::span<const BeamRequest> beams, std::span<BeamSample> out) const;
+
+  // The same, also returning what it cost (rays cast, random words drawn).
+  MeasureStats measure_counted(std::uint32_t revolution, std::span<const BeamRequest> beams,
+                               std::span<BeamSample> out) const;
+
+  [[nodiscard]] const EffectPipeline& pipeline() const { return pipeline_; }
+
+ private:
+  scene::ScannerConfig scanner_;
+  std::uint64_t seed_;
+  const raycast::RayCaster& caster_;
+  EffectPipeline pipeline_;
+};
+
+}  // namespace ldoem::sensor

@@ -1,0 +1,51 @@
+#include <ldoem/sensor/effects.hpp>
+
+namespace ldoem::sensor {
+
+using scene::Effect;
+
+EffectPipeline EffectPipeline::build(const scene::ScannerConfig& scanner, const scene::EffectSet& effects) {
+  EffectPipeline pipeline;
+  pipeline.limits_ = RangeLimits{.min_range_m = scanner.min_range_m, .max_range_m = scanner.max_range_m};
+  const bool use_incidence = effects.has(Effect::incidence);
+  // The fixed order of docs/sensor-model.md; it does not follow the order of the YAML keys.
+  if (effects.has(Effect::mixed_pixels)) {
+    pipeline.stages_.push_back(make_mixed_pixels_stage(scanner.beam_divergence_rad, scanner.mixed_pixel_subrays,
+                                                       scanner.optics, use_incidence));
+  } else {
+    pipeline.stages_.push_back(make_single_ray_stage());
+  }
+  if (effects.has(Effect::intensity)) pipeline.stages_.push_back(make_intensity_stage(scanner.optics, use_incidence));
+  if (effects.has(Effect::noise)) pipeline.stages_.push_back(make_noise_stage(scanner.noise));
+  return pipeline;
+}
+
+BeamSample EffectPipeline::run(const raycast::Ray& ray, const BeamContext& context, BeamCounters& counters) const {
+  BeamState beam;
+  beam.ray = ray;
+  for (const auto& stage : stages_) stage->apply(beam, context, counters);
+  return encode_beam(beam, limits_);
+}
+
+std::vector<std::string_view> EffectPipeline::stage_names() const {
+  std::vector<std::string_view> names;
+  for (const auto& stage : stages_) names.push_back(stage->name());
+  return names;
+}
+
+std::string EffectPipeline::describe() const {
+  std::string text;
+  for (const auto& stage : stages_) text += stage->describe() + "\n";
+  text += "encode: 1/256 m, D_min " + std::to_string(limits_.min_range_m) + " m, D_max " +
+          std::to_string(limits_.max_range_m) + " m\n";
+  return text;
+}
+
+BeamSample encode_beam(const BeamState& beam, const RangeLimits& limits) {
+  if (!beam.has_return) return {};
+  const std::optional<std::uint16_t> distance = quantise_range(beam.range_m, limits);
+  if (!distance) return {};
+  return BeamSample{.distance = *distance, .echo = beam.echo.value_or(kEchoWithoutIntensity)};
+}
+
+}  // namespace ldoem::sensor
