@@ -1,0 +1,40 @@
+// Runs a helper program (cansend, candump, ip) for a test, with its stdout on a pipe the test
+// can poll, and a hard limit so a stuck child never hangs the test.
+#pragma once
+
+#include <sys/types.h>
+
+#include <chrono>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace ldoem::test {
+
+class ChildProcess {
+ public:
+  // posix_spawnp(argv) with stdin /dev/null and stdout captured; stderr inherited.
+  static std::optional<ChildProcess> start(const std::vector<std::string>& argv);
+  ChildProcess(ChildProcess&& other) noexcept;
+  ChildProcess& operator=(ChildProcess&&) = delete;
+  ~ChildProcess();  // kills and reaps a child still running
+
+  // Appends whatever stdout has to output(); waits at most `max_wait` for something to arrive.
+  void collect_output(std::chrono::milliseconds max_wait);
+  // Waits for exit (killing it after `limit`); the exit status, or nothing if it was killed.
+  std::optional<int> wait(std::chrono::milliseconds limit);
+  bool running();
+  const std::string& output() const { return output_; }
+
+ private:
+  ChildProcess(pid_t pid, int stdout_fd) : pid_(pid), stdout_fd_(stdout_fd) {}
+  pid_t pid_ = -1;
+  int stdout_fd_ = -1;
+  std::string output_;
+  std::optional<int> exit_status_;
+};
+
+// Runs argv to completion (limit 10 s) and returns its exit status (nothing if it was killed).
+std::optional<int> run_program(const std::vector<std::string>& argv);
+
+}  // namespace ldoem::test
