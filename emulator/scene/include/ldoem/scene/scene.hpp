@@ -8,6 +8,7 @@
 #include <array>
 #include <bitset>
 #include <cstdint>
+#include <numbers>
 #include <string>
 #include <variant>
 #include <vector>
@@ -29,7 +30,8 @@ struct Plane { Eigen::Vector3d normal; double offset_m; };
 struct Mesh {
   std::string path;  // as written in the scene, resolved relative to the scene file
   Eigen::Vector3d scale = Eigen::Vector3d::Ones();
-  std::vector<Eigen::Vector3f> vertices_m;            // filled by the loader (assimp)
+  // Filled by the loader (assimp): metres in the object's frame, scale already applied.
+  std::vector<Eigen::Vector3f> vertices_m;
   std::vector<std::array<std::uint32_t, 3>> triangles;
 };
 using Shape = std::variant<Box, Sphere, Cylinder, Capsule, Plane, Mesh>;
@@ -46,7 +48,9 @@ struct OpticsConfig {
   double emitted_intensity = 1.0;          // I0
   double receiver_diameter_m = 0.04;       // d
   double min_irradiance = 0.00016;         // I_rs_min (dropout threshold)
-  double calibration = 1.0;                // chosen by the loader so that l_max(r=1) = max_range_at_full_reflectance_m
+  // Chosen by the loader so that l_max(r=1) = max_range_at_full_reflectance_m (optics.hpp);
+  // the default already agrees with the defaults above: 8 pi I_rs_min L^2 / (I0 d^2).
+  double calibration = 0.00016 * 63.1 * 63.1 * 8.0 * std::numbers::pi / (1.0 * 0.04 * 0.04);
   double max_range_at_full_reflectance_m = 63.1;
 };
 

@@ -1,0 +1,34 @@
+// The fast caster: an Embree 3 BVH finds candidates, ODE's exact dCollide answers them.
+// - Primitives (box, sphere, cylinder, capsule) are one Embree user geometry whose bounds are
+//   the ODE geoms' AABBs (padded, rounded outwards to float); its intersect callback runs
+//   dCollide(ray, geom) in double precision, so answers equal OdeRayCaster's.
+// - Planes are unbounded: they are tested directly, before the BVH query.
+// - Meshes are Embree triangle geometry in a RTC_SCENE_FLAG_ROBUST scene (watertight at
+//   edges); the range of the triangle hit is then recomputed in double precision.
+// Embree works in float, so its coordinates are relative to the centre of the scene's bounds
+// (a scene 1e5 m from the origin loses nothing). The BVH is built once, in the constructor.
+#pragma once
+
+#include "ldoem/raycast/ode_world.hpp"
+#include "ldoem/raycast/ray_caster.hpp"
+
+#include <memory>
+
+namespace ldoem::raycast {
+
+class EmbreeRayCaster final : public RayCaster {
+ public:
+  explicit EmbreeRayCaster(const OdeWorld& world);  // world must outlive the caster
+  ~EmbreeRayCaster() override;
+  EmbreeRayCaster(const EmbreeRayCaster&) = delete;
+  EmbreeRayCaster& operator=(const EmbreeRayCaster&) = delete;
+
+  // Const and thread-safe.
+  std::optional<Hit> cast(const Ray& ray) const override;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace ldoem::raycast

@@ -1,0 +1,309 @@
+#include "ldoem/raycast/embree_ray_caster.hpp"
+
+#include "ray_probe.hpp"
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace ldoem::raycast {
+namespace {
+
+// Embree traverses a float copy of the double ray; its boxes are padded by this fraction of the
+// scene's size so that rounding of the ray (origin and direction, ~1e-7 relative) never drops a
+// candidate whose exact ODE test would hit. Padding costs a few extra exact tests, nothing more.
+constexpr double kBoundsPaddingFraction = 1e-5;
+
+// double -> float without undefined behaviour for values beyond the float range.
+float to_float(double value) {
+  constexpr double kFloatMax = std::numeric_limits<float>::max();
+  if (value > kFloatMax) return std::numeric_limits<float>::infinity();
+  if (value < -kFloatMax) return -std::numeric_limits<float>::infinity();
+  return static_cast<float>(value);
+}
+
+float round_down(double value) {
+  const float f = to_float(value);
+  return static_cast<double>(f) > value ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+}
+
+float round_up(double value) {
+  const float f = to_float(value);
+  return static_cast<double>(f) < value ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+}
+
+struct Bounds {
+  Eigen::Vector3d lower = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d upper = Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity());
+  void extend(const Eigen::Vector3d& p) {
+    lower = lower.cwiseMin(p);
+    upper = upper.cwiseMax(p);
+  }
+  bool empty() const { return !(lower.x() <= upper.x()); }
+};
+
+// Per-cast state handed to the user-geometry callback: Embree's context must come first.
+struct CastContext {
+  RTCIntersectContext embree;
+  const detail::CheckedRay* ray;
+  dGeomID probe;
+  const OdeWorld* world;
+  std::optional<Hit> best;
+};
+
+struct PrimitiveSet {
+  std::vector<std::size_t> object_indices;  // Embree primID -> Scene::objects index
+  std::vector<RTCBounds> bounds;            // local (re-centred) float frame
+};
+
+struct MeshRecord {
+  std::size_t object_index;
+  std::vector<Eigen::Vector3d> world_vertices_m;  // for the double-precision range
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+};
+
+void primitive_bounds(const RTCBoundsFunctionArguments* args) {
+  const auto* set = static_cast<const PrimitiveSet*>(args->geometryUserPtr);
+  *args->bounds_o = set->bounds[args->primID];
+}
+
+void primitive_intersect(const RTCIntersectFunctionNArguments* args) {
+  if (args->N != 1 || args->valid[0] == 0) return;  // only rtcIntersect1 is used
+  auto* context = reinterpret_cast<CastContext*>(args->context);
+  const auto* set = static_cast<const PrimitiveSet*>(args->geometryUserPtr);
+  const std::size_t object_index = set->object_indices[args->primID];
+  const auto hit = detail::collide(context->probe, *context->ray, *context->world, object_index);
+  if (!hit || (context->best && hit->range_m >= context->best->range_m)) return;
+  auto* rayhit = reinterpret_cast<RTCRayHit*>(args->rayhit);
+  // Meshes may already have shortened tfar; a primitive behind that triangle loses.
+  if (hit->range_m > static_cast<double>(rayhit->ray.tfar)) return;
+  context->best = hit;
+  rayhit->ray.tfar = round_up(hit->range_m);
+  rayhit->hit.geomID = args->geomID;
+  rayhit->hit.primID = args->primID;
+  rayhit->hit.Ng_x = static_cast<float>(hit->normal.x());
+  rayhit->hit.Ng_y = static_cast<float>(hit->normal.y());
+  rayhit->hit.Ng_z = static_cast<float>(hit->normal.z());
+  rayhit->hit.u = 0.0f;
+  rayhit->hit.v = 0.0f;
+  rayhit->hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+}
+
+void primitive_occluded(const RTCOccludedFunctionNArguments* args) {
+  // Not used (we only ask for nearest hits); answering "not occluded" keeps Embree defined.
+  (void)args;
+}
+
+void report_device_error(void* user, RTCError code, const char* text) {
+  auto* last = static_cast<std::string*>(user);
+  *last = "Embree error " + std::to_string(static_cast<int>(code)) + ": " + (text ? text : "");
+}
+
+}  // namespace
+
+struct EmbreeRayCaster::Impl {
+  const OdeWorld& world;
+  detail::RayGeomPool probes;
+  std::string device_error;
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  Eigen::Vector3d frame_origin_m = Eigen::Vector3d::Zero();  // Embree coordinates are relative to this
+  std::vector<std::size_t> planes;
+  PrimitiveSet primitives;
+  unsigned primitive_geom_id = RTC_INVALID_GEOMETRY_ID;
+  std::vector<MeshRecord> meshes;
+  std::vector<int> mesh_by_geom_id;  // Embree geomID -> index in meshes, or -1
+
+  explicit Impl(const OdeWorld& w) : world(w) {}
+  ~Impl() {
+    if (scene != nullptr) rtcReleaseScene(scene);
+    if (device != nullptr) rtcReleaseDevice(device);
+  }
+
+  void build();
+  Bounds collect_geometry();
+  void attach_primitives(const std::vector<Bounds>& world_bounds, double padding_m);
+  void attach_mesh(MeshRecord& mesh);
+  std::optional<Hit> mesh_hit(const detail::CheckedRay& ray, const RTCRayHit& rayhit) const;
+};
+
+Bounds EmbreeRayCaster::Impl::collect_geometry() {
+  Bounds scene_bounds;
+  for (std::size_t i = 0; i < world.object_count(); ++i) {
+    if (world.is_plane(i)) {
+      planes.push_back(i);
+      continue;
+    }
+    if (world.is_mesh(i)) {
+      const auto& object = world.object(i);
+      const auto& mesh = std::get<scene::Mesh>(object.shape);
+      MeshRecord record{i, {}, mesh.triangles};
+      record.world_vertices_m.reserve(mesh.vertices_m.size());
+      for (const Eigen::Vector3f& v : mesh.vertices_m) {
+        const Eigen::Vector3d p = object.pose.position_m + object.pose.orientation * v.cast<double>();
+        record.world_vertices_m.push_back(p);
+        scene_bounds.extend(p);
+      }
+      meshes.push_back(std::move(record));
+      continue;
+    }
+    dReal aabb[6];
+    dGeomGetAABB(world.geom(i), aabb);
+    scene_bounds.extend(Eigen::Vector3d(aabb[0], aabb[2], aabb[4]));
+    scene_bounds.extend(Eigen::Vector3d(aabb[1], aabb[3], aabb[5]));
+    primitives.object_indices.push_back(i);
+  }
+  return scene_bounds;
+}
+
+void EmbreeRayCaster::Impl::attach_primitives(const std::vector<Bounds>& world_bounds, double padding_m) {
+  for (const Bounds& b : world_bounds) {
+    const Eigen::Vector3d lower = b.lower - frame_origin_m - Eigen::Vector3d::Constant(padding_m);
+    const Eigen::Vector3d upper = b.upper - frame_origin_m + Eigen::Vector3d::Constant(padding_m);
+    RTCBounds box{};
+    box.lower_x = round_down(lower.x());
+    box.lower_y = round_down(lower.y());
+    box.lower_z = round_down(lower.z());
+    box.upper_x = round_up(upper.x());
+    box.upper_y = round_up(upper.y());
+    box.upper_z = round_up(upper.z());
+    primitives.bounds.push_back(box);
+  }
+  RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+  rtcSetGeometryUserPrimitiveCount(geometry, static_cast<unsigned>(primitives.object_indices.size()));
+  rtcSetGeometryUserData(geometry, &primitives);
+  rtcSetGeometryBoundsFunction(geometry, primitive_bounds, nullptr);
+  rtcSetGeometryIntersectFunction(geometry, primitive_intersect);
+  rtcSetGeometryOccludedFunction(geometry, primitive_occluded);
+  rtcCommitGeometry(geometry);
+  primitive_geom_id = rtcAttachGeometry(scene, geometry);
+  rtcReleaseGeometry(geometry);
+}
+
+void EmbreeRayCaster::Impl::attach_mesh(MeshRecord& mesh) {
+  RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+      geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.world_vertices_m.size()));
+  for (std::size_t v = 0; v < mesh.world_vertices_m.size(); ++v) {
+    const Eigen::Vector3d local = mesh.world_vertices_m[v] - frame_origin_m;
+    vertices[3 * v + 0] = to_float(local.x());
+    vertices[3 * v + 1] = to_float(local.y());
+    vertices[3 * v + 2] = to_float(local.z());
+  }
+  auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+      geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh.triangles.size()));
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    for (std::size_t k = 0; k < 3; ++k) indices[3 * t + k] = mesh.triangles[t][k];
+  }
+  rtcCommitGeometry(geometry);
+  const unsigned geom_id = rtcAttachGeometry(scene, geometry);
+  rtcReleaseGeometry(geometry);
+  if (mesh_by_geom_id.size() <= geom_id) mesh_by_geom_id.resize(geom_id + 1, -1);
+  mesh_by_geom_id[geom_id] = static_cast<int>(&mesh - meshes.data());
+}
+
+void EmbreeRayCaster::Impl::build() {
+  device = rtcNewDevice(nullptr);
+  if (device == nullptr) throw std::runtime_error("Embree: cannot create a device");
+  rtcSetDeviceErrorFunction(device, report_device_error, &device_error);
+  scene = rtcNewScene(device);
+  rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+
+  const Bounds scene_bounds = collect_geometry();
+  double padding_m = kBoundsPaddingFraction;
+  if (!scene_bounds.empty()) {
+    frame_origin_m = 0.5 * (scene_bounds.lower + scene_bounds.upper);
+    const double half_extent_m = (0.5 * (scene_bounds.upper - scene_bounds.lower)).cwiseAbs().maxCoeff();
+    padding_m = kBoundsPaddingFraction * std::max(1.0, half_extent_m);
+  }
+  if (!primitives.object_indices.empty()) {
+    std::vector<Bounds> world_bounds;
+    for (std::size_t i : primitives.object_indices) {
+      dReal aabb[6];
+      dGeomGetAABB(world.geom(i), aabb);
+      Bounds b;
+      b.extend(Eigen::Vector3d(aabb[0], aabb[2], aabb[4]));
+      b.extend(Eigen::Vector3d(aabb[1], aabb[3], aabb[5]));
+      world_bounds.push_back(b);
+    }
+    attach_primitives(world_bounds, padding_m);
+  }
+  for (MeshRecord& mesh : meshes) attach_mesh(mesh);
+  rtcCommitScene(scene);
+  if (!device_error.empty()) throw std::runtime_error(device_error);
+}
+
+std::optional<Hit> EmbreeRayCaster::Impl::mesh_hit(const detail::CheckedRay& ray, const RTCRayHit& rayhit) const {
+  const MeshRecord& mesh = meshes[static_cast<std::size_t>(mesh_by_geom_id[rayhit.hit.geomID])];
+  const auto& triangle = mesh.triangles[rayhit.hit.primID];
+  const Eigen::Vector3d& a = mesh.world_vertices_m[triangle[0]];
+  const Eigen::Vector3d normal = (mesh.world_vertices_m[triangle[1]] - a).cross(mesh.world_vertices_m[triangle[2]] - a);
+  // Embree's float distance is exact only to ~1e-7 relative; the plane of the triangle it found
+  // gives the double-precision distance unless the ray grazes that plane.
+  double range_m = rayhit.ray.tfar;
+  const double denominator = normal.dot(ray.direction);
+  if (std::abs(denominator) > 1e-6 * normal.norm()) {
+    const double exact_m = normal.dot(a - ray.origin_m) / denominator;
+    if (std::isfinite(exact_m) && exact_m > 0.0) range_m = exact_m;
+  }
+  if (!(range_m > 0.0) || range_m > ray.max_range_m) return std::nullopt;
+  return Hit{range_m, detail::facing_normal(normal, ray.direction),
+             world.object(mesh.object_index).reflectance, static_cast<std::uint32_t>(mesh.object_index)};
+}
+
+EmbreeRayCaster::EmbreeRayCaster(const OdeWorld& world) : impl_(std::make_unique<Impl>(world)) {
+  impl_->build();
+}
+
+EmbreeRayCaster::~EmbreeRayCaster() = default;
+
+std::optional<Hit> EmbreeRayCaster::cast(const Ray& ray) const {
+  const auto checked = detail::check_ray(ray);
+  if (!checked) return std::nullopt;
+  const auto probe = impl_->probes.borrow(*checked);
+
+  CastContext context{};
+  rtcInitIntersectContext(&context.embree);
+  context.ray = &*checked;
+  context.probe = probe.geom();
+  context.world = &impl_->world;
+  // Planes are unbounded, so they stay out of the BVH and only shorten the query.
+  for (std::size_t i : impl_->planes) {
+    const auto hit = detail::collide(probe.geom(), *checked, impl_->world, i);
+    if (hit && (!context.best || hit->range_m < context.best->range_m)) context.best = hit;
+  }
+  if (impl_->primitives.object_indices.empty() && impl_->meshes.empty()) return context.best;
+
+  const Eigen::Vector3d local_origin = checked->origin_m - impl_->frame_origin_m;
+  RTCRayHit rayhit{};
+  rayhit.ray.org_x = to_float(local_origin.x());
+  rayhit.ray.org_y = to_float(local_origin.y());
+  rayhit.ray.org_z = to_float(local_origin.z());
+  rayhit.ray.dir_x = static_cast<float>(checked->direction.x());
+  rayhit.ray.dir_y = static_cast<float>(checked->direction.y());
+  rayhit.ray.dir_z = static_cast<float>(checked->direction.z());
+  rayhit.ray.tnear = 0.0f;
+  rayhit.ray.tfar = round_up(context.best ? context.best->range_m : checked->max_range_m);
+  rayhit.ray.mask = 0xFFFFFFFFu;
+  rayhit.ray.time = 0.0f;
+  rayhit.ray.flags = 0;
+  rayhit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rayhit.hit.primID = RTC_INVALID_GEOMETRY_ID;
+  rayhit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(impl_->scene, &context.embree, &rayhit);
+
+  const unsigned geom_id = rayhit.hit.geomID;
+  if (geom_id == RTC_INVALID_GEOMETRY_ID || geom_id == impl_->primitive_geom_id) return context.best;
+  // A triangle was nearest (within float precision); keep a plane or primitive that is nearer
+  // in double precision.
+  auto triangle = impl_->mesh_hit(*checked, rayhit);
+  if (triangle && context.best && context.best->range_m <= triangle->range_m) return context.best;
+  return triangle ? triangle : context.best;
+}
+
+}  // namespace ldoem::raycast

@@ -1,0 +1,57 @@
+// Loading a scene: YAML text -> validated Scene (docs/scenes.md is the file format).
+// Every problem is a typed SceneError that says where it is (file:line:column of the YAML node,
+// from yaml-cpp's Mark) and which key (`objects[2].box.size_m`). Nothing here throws.
+#pragma once
+
+#include "ldoem/protocol/expected.hpp"
+#include "ldoem/scene/scene.hpp"
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+namespace ldoem::scene {
+
+enum class SceneErrorKind : std::uint8_t {
+  io,                // the scene file cannot be read
+  syntax,            // not YAML
+  unknown_key,       // a key the format does not define (typos are errors, not warnings)
+  duplicate_key,     // the same key twice in one map
+  missing_key,       // a required key is absent
+  conflicting_keys,  // two keys that exclude each other (rpy_deg and quaternion_wxyz, ...)
+  wrong_type,        // a map where a number belongs, text where a number belongs, ...
+  not_finite,        // NaN or infinity
+  out_of_range,      // negative size, reflectance outside [0, 1], ...
+  mesh,              // a mesh file missing, unreadable or without triangles (assimp)
+  unknown_effect,    // an effect name D9 does not list
+  internal,          // anything else (out of memory): reported, never thrown
+};
+
+struct SceneError {
+  SceneErrorKind kind = SceneErrorKind::internal;
+  std::string file;      // display name of the scene
+  int line = 0;          // 1-based; 0 when no position is known
+  int column = 0;        // 1-based; 0 when no position is known
+  std::string key_path;  // e.g. "objects[2].box.size_m"; empty for whole-file errors
+  std::string detail;    // e.g. "must be positive"
+
+  // "scenes/x.yaml:12:7: objects[2].box.size_m: must be positive"
+  std::string message() const;
+};
+
+std::string_view to_string(SceneErrorKind kind);
+
+using SceneResult = protocol::Expected<Scene, SceneError>;
+
+// Reads and validates a scene file. Mesh paths are resolved relative to the file's folder.
+[[nodiscard]] SceneResult load_scene(const std::filesystem::path& path);
+
+// The same from text. display_name appears in error messages and, if it names a file path,
+// mesh paths are resolved relative to its folder (so passing the real path gives the same
+// result as load_scene); otherwise relative to the current directory.
+[[nodiscard]] SceneResult load_scene_from_string(std::string_view yaml, std::string_view display_name);
+
+// D9 names, as written in scenes ("noise", "mixed_pixels", ...).
+std::string_view effect_name(Effect effect);
+
+}  // namespace ldoem::scene

@@ -1,0 +1,255 @@
+// The scene file format is documented in docs/scenes.md; this file reads its top level and the
+// `objects:` list. Internally a failed check throws detail::LoadFailure; the two API functions
+// catch it (and yaml-cpp's and the standard library's exceptions) and return a SceneError.
+#include "ldoem/scene/scene_loader.hpp"
+
+#include "mesh_import.hpp"
+#include "pose_reader.hpp"
+#include "scanner_reader.hpp"
+#include "yaml_fields.hpp"
+
+#include <array>
+#include <fstream>
+#include <sstream>
+
+namespace ldoem::scene {
+namespace {
+
+using detail::Constraint;
+using detail::fail;
+using detail::MapReader;
+
+constexpr std::array<std::string_view, kEffectCount> kEffectNames{
+    "noise", "intensity", "incidence", "mixed_pixels",
+    "motor_dynamics", "head_dynamics", "sweep_motion", "bus_timing",
+};
+
+constexpr std::array<std::string_view, 6> kShapeKeys{"box", "sphere", "cylinder", "capsule", "plane", "mesh"};
+
+struct LoadContext {
+  std::string file;                   // display name, for messages
+  std::filesystem::path mesh_folder;  // meshes are relative to this
+};
+
+Shape read_box(const std::string& file, MapReader& map) {
+  Box box;
+  box.size_m = detail::read_vector3(file, map.require("size_m"), map.child_path("size_m"), Constraint::positive);
+  return box;
+}
+
+Shape read_sphere(MapReader& map) {
+  Sphere sphere{};
+  sphere.radius_m = detail::read_double(map.file(), map.require("radius_m"), map.child_path("radius_m"),
+                                        Constraint::positive);
+  return sphere;
+}
+
+// ODE conventions: a cylinder's length is its full height; a capsule's is the length of its
+// cylindrical part, without the two hemispherical caps (so 0 makes a sphere).
+template <class Round>
+Shape read_round(MapReader& map, Constraint length_constraint) {
+  Round shape{};
+  shape.radius_m = detail::read_double(map.file(), map.require("radius_m"), map.child_path("radius_m"),
+                                       Constraint::positive);
+  shape.length_m = detail::read_double(map.file(), map.require("length_m"), map.child_path("length_m"),
+                                       length_constraint);
+  return shape;
+}
+
+Shape read_plane(MapReader& map) {
+  Plane plane{};
+  const YAML::Node normal_node = map.require("normal");
+  const Eigen::Vector3d normal = detail::read_vector3(map.file(), normal_node, map.child_path("normal"));
+  if (!(normal.norm() > 1e-9)) {
+    fail(map.file(), SceneErrorKind::out_of_range, normal_node, map.child_path("normal"), "must not be zero");
+  }
+  plane.normal = normal.normalized();
+  plane.offset_m = 0.0;
+  detail::read_field(map, "offset_m", plane.offset_m);
+  return plane;
+}
+
+Shape read_mesh(const LoadContext& context, MapReader& map) {
+  Mesh mesh;
+  const YAML::Node file_node = map.require("file");
+  mesh.path = detail::read_string(map.file(), file_node, map.child_path("file"));
+  if (auto scale = map.get("scale")) {
+    if (scale->IsSequence()) {
+      mesh.scale = detail::read_vector3(map.file(), *scale, map.child_path("scale"), Constraint::positive);
+    } else {
+      mesh.scale.setConstant(detail::read_double(map.file(), *scale, map.child_path("scale"), Constraint::positive));
+    }
+  }
+  const std::filesystem::path resolved = context.mesh_folder / mesh.path;
+  if (auto problem = detail::import_mesh(resolved, mesh)) {
+    fail(map.file(), SceneErrorKind::mesh, file_node, map.child_path("file"), *problem);
+  }
+  return mesh;
+}
+
+Shape read_shape(const LoadContext& context, std::string_view kind, const YAML::Node& node,
+                 const std::string& path) {
+  MapReader map(context.file, node, path);
+  Shape shape;
+  if (kind == "box") shape = read_box(context.file, map);
+  if (kind == "sphere") shape = read_sphere(map);
+  if (kind == "cylinder") shape = read_round<Cylinder>(map, Constraint::positive);
+  if (kind == "capsule") shape = read_round<Capsule>(map, Constraint::non_negative);
+  if (kind == "plane") shape = read_plane(map);
+  if (kind == "mesh") shape = read_mesh(context, map);
+  map.finish();
+  return shape;
+}
+
+SceneObject read_object(const LoadContext& context, const YAML::Node& node, std::size_t index) {
+  const std::string path = "objects[" + std::to_string(index) + "]";
+  MapReader map(context.file, node, path);
+  SceneObject object;
+  object.name = "object" + std::to_string(index);
+  detail::read_field(map, "name", object.name);
+  detail::read_field(map, "reflectance", object.reflectance, Constraint::unit_interval);
+
+  std::string_view shape_key;
+  for (std::string_view key : kShapeKeys) {
+    if (!map.has(key)) continue;
+    if (!shape_key.empty()) {
+      fail(context.file, SceneErrorKind::conflicting_keys, node, map.child_path(key),
+           "an object has exactly one shape (also given: " + std::string(shape_key) + ")");
+    }
+    shape_key = key;
+  }
+  if (shape_key.empty()) {
+    fail(context.file, SceneErrorKind::missing_key, node, path,
+         "needs one shape key: box, sphere, cylinder, capsule, plane or mesh");
+  }
+  object.shape = read_shape(context, shape_key, *map.get(shape_key), map.child_path(shape_key));
+
+  if (auto pose = map.get("pose")) {
+    if (shape_key == "plane") {
+      fail(context.file, SceneErrorKind::conflicting_keys, *pose, map.child_path("pose"),
+           "planes are not placeable (ODE); use plane.normal and plane.offset_m");
+    }
+    object.pose = detail::read_pose(context.file, *pose, map.child_path("pose"));
+  }
+  map.finish();
+  return object;
+}
+
+EffectSet read_effects(const std::string& file, const YAML::Node& node) {
+  detail::require_sequence(file, node, "effects");
+  EffectSet effects;
+  for (std::size_t i = 0; i < node.size(); ++i) {
+    const std::string path = "effects[" + std::to_string(i) + "]";
+    const std::string name = detail::read_string(file, node[i], path);
+    bool known = false;
+    for (std::size_t e = 0; e < kEffectNames.size(); ++e) {
+      if (name != kEffectNames[e]) continue;
+      const auto effect = static_cast<Effect>(e);
+      if (effects.has(effect)) fail(file, SceneErrorKind::duplicate_key, node[i], path, "effect named twice");
+      effects.add(effect);
+      known = true;
+    }
+    if (!known) {
+      fail(file, SceneErrorKind::unknown_effect, node[i], path,
+           "unknown effect '" + name + "' (D9: noise, intensity, incidence, mixed_pixels, "
+           "motor_dynamics, head_dynamics, sweep_motion, bus_timing)");
+    }
+  }
+  return effects;
+}
+
+Scene read_scene(const LoadContext& context, const YAML::Node& root) {
+  MapReader map(context.file, root, "");
+  Scene scene;
+  scene.source_path = context.file;
+  detail::read_field(map, "seed", scene.seed, 0, UINT64_MAX);
+  std::string description;  // free text for people; not used by the emulator
+  detail::read_field(map, "description", description);
+  if (auto effects = map.get("effects")) scene.effects = read_effects(context.file, *effects);
+  // D3 calls the section `device`, the issue `scanner`: both spellings, never both at once.
+  if (map.has("scanner") && map.has("device")) {
+    fail(context.file, SceneErrorKind::conflicting_keys, root, "device", "give either scanner or device, not both");
+  }
+  for (std::string_view key : {"scanner", "device"}) {
+    if (auto section = map.get(key)) scene.scanner = detail::read_scanner(context.file, *section, std::string(key));
+  }
+  if (auto objects = map.get("objects")) {
+    detail::require_sequence(context.file, *objects, "objects");
+    for (std::size_t i = 0; i < objects->size(); ++i) {
+      scene.objects.push_back(read_object(context, (*objects)[i], i));
+    }
+  }
+  map.finish();
+  return scene;
+}
+
+SceneError whole_file_error(std::string file, SceneErrorKind kind, std::string detail) {
+  SceneError error;
+  error.kind = kind;
+  error.file = std::move(file);
+  error.detail = std::move(detail);
+  return error;
+}
+
+}  // namespace
+
+std::string SceneError::message() const {
+  std::string text = file;
+  if (line > 0) text += ":" + std::to_string(line) + ":" + std::to_string(column);
+  text += ": ";
+  if (!key_path.empty()) text += key_path + ": ";
+  return text + detail;
+}
+
+std::string_view to_string(SceneErrorKind kind) {
+  switch (kind) {
+    case SceneErrorKind::io: return "io";
+    case SceneErrorKind::syntax: return "syntax";
+    case SceneErrorKind::unknown_key: return "unknown_key";
+    case SceneErrorKind::duplicate_key: return "duplicate_key";
+    case SceneErrorKind::missing_key: return "missing_key";
+    case SceneErrorKind::conflicting_keys: return "conflicting_keys";
+    case SceneErrorKind::wrong_type: return "wrong_type";
+    case SceneErrorKind::not_finite: return "not_finite";
+    case SceneErrorKind::out_of_range: return "out_of_range";
+    case SceneErrorKind::mesh: return "mesh";
+    case SceneErrorKind::unknown_effect: return "unknown_effect";
+    case SceneErrorKind::internal: return "internal";
+  }
+  return "internal";
+}
+
+std::string_view effect_name(Effect effect) { return kEffectNames.at(static_cast<std::size_t>(effect)); }
+
+SceneResult load_scene_from_string(std::string_view yaml, std::string_view display_name) {
+  LoadContext context{std::string(display_name), std::filesystem::path(display_name).parent_path()};
+  try {
+    const YAML::Node root = YAML::Load(std::string(yaml));
+    if (!root.IsDefined() || root.IsNull()) {
+      return protocol::Unexpected(whole_file_error(context.file, SceneErrorKind::wrong_type, "empty scene: expected a map"));
+    }
+    return read_scene(context, root);
+  } catch (const detail::LoadFailure& failure) {
+    return protocol::Unexpected(failure.error);
+  } catch (const YAML::Exception& yaml_error) {
+    SceneError error = whole_file_error(context.file, SceneErrorKind::syntax, yaml_error.msg);
+    if (yaml_error.mark.line >= 0) {
+      error.line = yaml_error.mark.line + 1;
+      error.column = yaml_error.mark.column + 1;
+    }
+    return protocol::Unexpected(std::move(error));
+  } catch (const std::exception& other) {
+    return protocol::Unexpected(whole_file_error(context.file, SceneErrorKind::internal, other.what()));
+  }
+}
+
+SceneResult load_scene(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return protocol::Unexpected(whole_file_error(path.string(), SceneErrorKind::io, "cannot open scene file"));
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) return protocol::Unexpected(whole_file_error(path.string(), SceneErrorKind::io, "cannot read scene file"));
+  return load_scene_from_string(text.str(), path.string());
+}
+
+}  // namespace ldoem::scene
