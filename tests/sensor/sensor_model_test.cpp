@@ -1,6 +1,6 @@
 #include "fake_casters.hpp"
 
-#include <ldoem/sensor/irradiance.hpp>
+#include <ldoem/scene/optics.hpp>
 #include <ldoem/sensor/sensor_model.hpp>
 
 #include <gtest/gtest.h>
@@ -23,7 +23,7 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 
 scene::Scene make_scene(std::initializer_list<Effect> effects) {
   scene::Scene scene;
-  scene.scanner.optics.calibration = calibration_for_max_range(scene.scanner.optics);
+  scene.scanner.optics.calibration = scene::calibration_for_max_range(scene.scanner.optics, 63.1);
   for (Effect effect : effects) scene.effects.add(effect);
   return scene;
 }

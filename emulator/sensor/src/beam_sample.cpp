@@ -16,11 +16,5 @@ std::optional<std::uint16_t> quantise_range(double range_m, const RangeLimits& l
   return static_cast<std::uint16_t>(units);
 }
 
-std::uint16_t echo_from_irradiance(double irradiance, double min_irradiance) {
-  const double level = 1000.0 * irradiance / min_irradiance;
-  if (!(level > 0.0)) return 0;  // also NaN
-  if (level >= kMaxEncodable) return std::numeric_limits<std::uint16_t>::max();  // also +inf
-  return static_cast<std::uint16_t>(std::round(level));
-}
 
 }  // namespace ldoem::sensor

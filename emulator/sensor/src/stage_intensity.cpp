@@ -1,7 +1,7 @@
 // D9 intensity (+ incidence): Lambert's received irradiance (D6), dropout below I_rs_min, and
 // ECHO-n. `incidence` multiplies by cos(alpha); without it the target is lit head-on.
 #include <ldoem/sensor/effects.hpp>
-#include <ldoem/sensor/irradiance.hpp>
+#include <ldoem/scene/optics.hpp>
 
 #include <sstream>
 
@@ -26,14 +26,14 @@ class IntensityStage final : public BeamStage {
   void apply(BeamState& beam, const BeamContext&, BeamCounters&) const override {
     if (!beam.has_return) return;
     if (!beam.irradiance) {  // mixed_pixels may already have summed its sub-rays' power
-      beam.irradiance = sensor::received_irradiance(optics_, beam.reflectance,
+      beam.irradiance = scene::received_irradiance(optics_, beam.reflectance,
                                             use_incidence_ ? beam.cos_incidence : 1.0, beam.range_m);
     }
     if (!(*beam.irradiance >= optics_.min_irradiance)) {  // D6 dropout; NaN drops out too
       beam.has_return = false;
       return;
     }
-    beam.echo = echo_from_irradiance(*beam.irradiance, optics_.min_irradiance);
+    beam.echo = scene::echo_value(optics_, *beam.irradiance);
   }
 
  private:

@@ -6,7 +6,7 @@
 #include "hit_geometry.hpp"
 
 #include <ldoem/sensor/effects.hpp>
-#include <ldoem/sensor/irradiance.hpp>
+#include <ldoem/scene/optics.hpp>
 
 #include <array>
 #include <cmath>
@@ -81,7 +81,7 @@ class MixedPixelsStage final : public BeamStage {
       const raycast::Hit& hit = *hits[i];
       const double cosine = detail::cos_incidence(rays[i].direction, hit.normal);
       const double irradiance =
-          sensor::received_irradiance(optics_, hit.reflectance, use_incidence_ ? cosine : 1.0, hit.range_m);
+          scene::received_irradiance(optics_, hit.reflectance, use_incidence_ ? cosine : 1.0, hit.range_m);
       weight_sum += irradiance;
       weighted_range_sum += irradiance * hit.range_m;
       plain_range_sum += hit.range_m;

@@ -29,7 +29,4 @@ struct RangeLimits {
 // out-of-limit or unencodable ranges give nothing, which the encoder writes as DISTANCE 0 (D3).
 [[nodiscard]] std::optional<std::uint16_t> quantise_range(double range_m, const RangeLimits& limits);
 
-// D6: ECHO-n = min(65535, round(1000 * I_rs / I_rs_min)); 0 for a non-finite or non-positive ratio.
-[[nodiscard]] std::uint16_t echo_from_irradiance(double irradiance, double min_irradiance);
-
 }  // namespace ldoem::sensor
