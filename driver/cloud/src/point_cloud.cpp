@@ -1,0 +1,47 @@
+#include "ldoem/cloud/point_cloud.hpp"
+
+#include <cassert>
+
+namespace ldoem::cloud {
+
+PointCloud::PointCloud(CloudChannels channels) : channels_(channels) {}
+
+void PointCloud::reserve(std::size_t point_count) {
+  positions_.reserve(point_count);
+  if (channels_.intensity) intensities_.reserve(point_count);
+  if (channels_.ring) rings_.reserve(point_count);
+  if (channels_.image_position) image_positions_.reserve(point_count);
+}
+
+void PointCloud::push_back(const PointRecord& record) {
+  positions_.push_back(record.position);
+  if (channels_.intensity) intensities_.push_back(record.intensity);
+  if (channels_.ring) rings_.push_back(record.ring);
+  if (channels_.image_position) image_positions_.push_back(record.image_position);
+  organised_.reset();
+}
+
+PointRecord PointCloud::record(std::size_t index) const {
+  assert(index < size());
+  PointRecord out;
+  out.position = positions_[index];
+  if (channels_.intensity) out.intensity = intensities_[index];
+  if (channels_.ring) out.ring = rings_[index];
+  if (channels_.image_position) out.image_position = image_positions_[index];
+  return out;
+}
+
+bool PointCloud::set_organised(OrganisedSize organised_size) {
+  const std::uint64_t cells =
+      std::uint64_t{organised_size.width} * std::uint64_t{organised_size.height};
+  if (organised_size.width == 0 || organised_size.height == 0 || cells != size()) return false;
+  organised_ = organised_size;
+  return true;
+}
+
+OrganisedSize PointCloud::layout() const {
+  if (organised_) return *organised_;
+  return OrganisedSize{static_cast<std::uint32_t>(size()), 1};
+}
+
+}  // namespace ldoem::cloud

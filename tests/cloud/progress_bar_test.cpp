@@ -1,0 +1,85 @@
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+#include "ldoem/cloud/progress_bar.hpp"
+
+namespace ldoem::cloud {
+namespace {
+
+using std::chrono::milliseconds;
+
+ProgressBarOptions ten_wide() {
+  ProgressBarOptions options;
+  options.bar_width = 10;
+  options.min_interval = milliseconds(100);
+  return options;
+}
+
+TEST(ProgressBar, Render_ShowsBarPercentAndCount) {
+  std::ostringstream out;
+  const ProgressBar bar(out, true, ten_wide());
+  EXPECT_EQ(bar.render(100, 240), "[====>     ] 42% layer 100/240");
+  EXPECT_EQ(bar.render(0, 240), "[>         ] 0% layer 0/240");
+  EXPECT_EQ(bar.render(240, 240), "[==========] 100% layer 240/240");
+  EXPECT_EQ(bar.render(1999, 2000), "[=========>] 99% layer 1999/2000");
+}
+
+TEST(ProgressBar, Terminal_DrawsWithCarriageReturnAndEndsWithNewline) {
+  std::ostringstream out;
+  ProgressBar bar(out, true, ten_wide());
+  bar.update(1, 2, milliseconds(0));
+  bar.update(2, 2, milliseconds(1));
+  bar.finish();
+  EXPECT_EQ(out.str(), "\r[=====>    ] 50% layer 1/2\r[==========] 100% layer 2/2\n");
+}
+
+TEST(ProgressBar, UpdatesWithinInterval_AreSkippedButLastStepDrawn) {
+  std::ostringstream out;
+  ProgressBar bar(out, true, ten_wide());
+  bar.update(1, 4, milliseconds(1000));
+  bar.update(2, 4, milliseconds(1099));  // 99 ms later: skipped
+  bar.update(3, 4, milliseconds(1100));  // 100 ms after the last draw: drawn
+  bar.update(4, 4, milliseconds(1101));  // complete: always drawn
+  const std::string text = out.str();
+  EXPECT_EQ(text.find("2/4"), std::string::npos);
+  EXPECT_NE(text.find("3/4"), std::string::npos);
+  EXPECT_NE(text.find("4/4"), std::string::npos);
+}
+
+TEST(ProgressBar, NotTerminal_WritesNothing) {
+  std::ostringstream out;
+  ProgressBar bar(out, false, ten_wide());
+  bar.update(1, 2, milliseconds(0));
+  bar.update(2, 2, milliseconds(500));
+  bar.finish();
+  EXPECT_TRUE(out.str().empty());
+}
+
+TEST(ProgressBar, ShorterLine_BlanksLeftovers) {
+  std::ostringstream out;
+  ProgressBar bar(out, true, ten_wide());
+  bar.update(1000, 1000, milliseconds(0));  // "[==========] 100% layer 1000/1000" (33 chars)
+  out.str("");
+  bar.update(5, 10, milliseconds(200));     // "[=====>    ] 50% layer 5/10" (27 chars) + 6 spaces
+  EXPECT_EQ(out.str(), "\r[=====>    ] 50% layer 5/10      ");
+}
+
+TEST(ProgressBar, FinishTwice_WritesOneNewline) {
+  std::ostringstream out;
+  ProgressBar bar(out, true, ten_wide());
+  bar.update(1, 1, milliseconds(0));
+  bar.finish();
+  bar.finish();
+  bar.update(1, 1, milliseconds(1000));
+  EXPECT_EQ(out.str(), "\r[==========] 100% layer 1/1\n");
+}
+
+TEST(ProgressBar, ZeroTotal_ShowsFull) {
+  std::ostringstream out;
+  const ProgressBar bar(out, true, ten_wide());
+  EXPECT_EQ(bar.render(0, 0), "[==========] 100% layer 0/0");
+}
+
+}  // namespace
+}  // namespace ldoem::cloud
