@@ -1,0 +1,197 @@
+// The control unit: the LD-OEM itself, as a pure state machine (DESIGN.md; STYLE.md section 4).
+//
+//   (time, event) -> Actions{telegrams to send, timers to arm, flash image to store}
+//
+// Events: a request payload from a connection (handle_request), a timer it asked for
+// (on_timer), a frame the deframer dropped (on_framing_error), a connection that closed
+// (on_connection_closed). It never reads a clock, touches an fd or sleeps: `now` is simulated
+// time (D7), passed in, and must not go backwards between calls.
+//
+// How the daemon drives it:
+//   ControlUnit unit({flash config, identification, power-up time}, head_model, measurement);
+//   on a telegram:   run(unit.handle_request(now, connection, payload, transport));
+//   on a dropped frame: run(unit.on_framing_error(now, connection, framing_error));
+//   at a timer:      run(unit.on_timer(now, id, transport));
+//   on close:        unit.on_connection_closed(connection);
+// where run() sends the telegrams in order (each in one piece, D10), arms the timers
+// (on_timer(at, id) when simulated time reaches `at`; stale ids are ignored, nothing needs
+// cancelling) and saves flash_image through the FlashStore when present.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+
+#include "ldoem/control/device_clock.hpp"
+#include "ldoem/control/device_config.hpp"
+#include "ldoem/control/identification.hpp"
+#include "ldoem/control/ports.hpp"
+#include "ldoem/protocol/framing.hpp"
+#include "ldoem/protocol/messages.hpp"
+#include "ldoem/protocol/status.hpp"
+
+namespace ldoem::control {
+
+// Spec 5: the operating modes (the low nibble of the status byte, spec 2.4).
+enum class DeviceMode : std::uint8_t { idle, rotate, measure, error };
+
+std::string_view describe(DeviceMode mode);
+
+// The head at a steady speed. Revolutions are counted per epoch (the time the head reached
+// its speed); PROFILECOUNT = revolutions_before_epoch + k + 1 for revolution k (D3).
+struct HeadState {
+  std::uint16_t speed_hz = 0;  // 0 = stopped
+  SimTime epoch_start{};
+  std::uint64_t revolutions_before_epoch = 0;
+  bool operator==(const HeadState&) const = default;
+};
+
+// A TRANS_ROTATE waiting for the head to reach speed (lead decision 4, D7): its reply is held
+// until the timer fires.
+struct SpinUp {
+  std::uint16_t from_hz = 0;
+  std::uint16_t to_hz = 0;
+  SimTime reached_at{};
+  TimerId timer;
+  std::optional<ConnectionId> reply_to;  // empty once that connection closed
+  bool operator==(const SpinUp&) const = default;
+};
+
+// One connection's GET_PROFILE (D10: profiles go only to the connection that asked).
+struct ProfileStream {
+  std::uint16_t format = 0;
+  std::uint16_t profiles_wanted = 0;  // 0 = until CANCEL_PROFILE
+  std::uint16_t profiles_sent = 0;    // PROFILESENT of the last one sent (D3: from 1)
+  std::uint64_t next_revolution = 0;  // the next revolution (of the head epoch) it wants
+  bool operator==(const ProfileStream&) const = default;
+};
+
+// The revolution whose profile is due when `timer` fires.
+struct RevolutionTimer {
+  TimerId timer;
+  std::uint64_t revolution = 0;
+  bool operator==(const RevolutionTimer&) const = default;
+};
+
+// Everything the device is. A full reset (DO_RESET 0/1) makes it equal to the power-up state
+// (tested), so every field added here must be set by power_up_state().
+struct DeviceState {
+  DeviceMode mode = DeviceMode::idle;
+  HeadState head;
+  std::optional<SpinUp> spin_up;
+  std::map<ConnectionId, ProfileStream> streams;
+  std::optional<RevolutionTimer> revolution_timer;
+  DeviceConfig ram;
+  DeviceConfig flash;
+  DeviceClock clock;
+  std::uint16_t port_value = 0;  // GET_SIGNAL / SET_SIGNAL (spec 3.3)
+  bool operator==(const DeviceState&) const = default;
+};
+
+// D4: IDLE, motor stopped, clock 0 at `now`, RAM = flash, nothing running.
+DeviceState power_up_state(SimTime now, const DeviceConfig& flash);
+
+// Counters for the daemon's diagnostics; not device state (a reset keeps them).
+struct Diagnostics {
+  std::uint64_t skipped_profiles = 0;  // D10: revolutions skipped because the transport was busy
+  std::uint64_t profiles_sent = 0;
+  std::uint64_t service_failures_sent = 0;
+  bool operator==(const Diagnostics&) const = default;
+};
+
+class ControlUnit {
+ public:
+  struct Setup {
+    DeviceConfig flash = factory_config();  // what flash holds at power-up (load_flash_or)
+    IdentificationTexts identification = default_identification();
+    SimTime power_up_time{};
+  };
+
+  // head and measurement must outlive the control unit.
+  ControlUnit(Setup setup, const HeadModel& head, MeasurementSource& measurement);
+
+  // One request payload (service WORD first, framing removed). Every request is answered in
+  // the returned Actions, except GET_PROFILE (its answer is the profile stream, spec 3.5) and a
+  // TRANS_ROTATE that has to wait for the head (its reply comes from on_timer).
+  Actions handle_request(SimTime now, ConnectionId from, protocol::ByteView payload,
+                         const TransportQuery& transport);
+
+  // A timer from an earlier Actions. `transport` answers D10's busy question for profiles.
+  Actions on_timer(SimTime now, TimerId timer, const TransportQuery& transport);
+
+  // D2: a frame the deframer dropped is answered SERVICE_FAILURE with the reason
+  // protocol::failure_reason_for_framing gives (5, or 2 for a serial length mismatch) and the
+  // request code the frame carried (0 when none).
+  Actions on_framing_error(SimTime now, ConnectionId from, const protocol::FramingError& error);
+
+  // Stops the connection's stream; a held TRANS_ROTATE reply for it is dropped (the head still
+  // spins up).
+  void on_connection_closed(ConnectionId connection);
+
+  const DeviceState& state() const { return state_; }
+  const Diagnostics& diagnostics() const { return diagnostics_; }
+  // The status byte any reply would carry now (spec 2.4).
+  protocol::StatusByte status_byte() const;
+  // The whole state and the diagnostics as text, one field per line, for test failure messages
+  // and the daemon's state dump. Deterministic; shows the clock as read at `now`.
+  std::string dump(SimTime now) const;
+
+ private:
+  // What every service handler gets: the time, the requester and the Actions being built.
+  struct Event {
+    SimTime now;
+    ConnectionId from;
+    Actions& out;
+  };
+
+  // One overload per request (spec 3.2). Status/configuration/time services live in
+  // control_unit_services.cpp, transitions and reset in control_unit_motion.cpp, profiles in
+  // control_unit_profiles.cpp.
+  void serve(const Event& event, const protocol::GetIdentification& request);
+  void serve(const Event& event, const protocol::GetStatus& request);
+  void serve(const Event& event, const protocol::GetSignal& request);
+  void serve(const Event& event, const protocol::SetSignal& request);
+  void serve(const Event& event, const protocol::SetConfig& request);
+  void serve(const Event& event, const protocol::GetConfig& request);
+  void serve(const Event& event, const protocol::SetTimeAbs& request);
+  void serve(const Event& event, const protocol::SetTimeRel& request);
+  void serve(const Event& event, const protocol::GetSyncClock& request);
+  void serve(const Event& event, const protocol::SetFilter& request);
+  void serve(const Event& event, const protocol::SetFunction& request);
+  void serve(const Event& event, const protocol::GetFunction& request);
+  void serve(const Event& event, const protocol::GetProfile& request);
+  void serve(const Event& event, const protocol::CancelProfile& request);
+  void serve(const Event& event, const protocol::DoReset& request);
+  void serve(const Event& event, const protocol::TransIdle& request);
+  void serve(const Event& event, const protocol::TransRotate& request);
+  void serve(const Event& event, const protocol::TransMeasure& request);
+
+  void reply(const Event& event, const protocol::Response& response);
+  void fail(const Event& event, protocol::Service service, protocol::FailureReason reason);
+  TimerId arm_timer(Actions& out, SimTime at);
+  // Stores `flash` as the new flash content; emits the image when it changed.
+  void write_flash(Actions& out, const DeviceConfig& flash);
+  protocol::StatusBlock status_block() const;
+
+  // Head and revolutions (control_unit_motion.cpp).
+  void end_head_epoch(SimTime now);  // counts the revolutions of the epoch that ends now
+  void stop_head(SimTime now);
+  void begin_spin(const Event& event, std::uint16_t to_hz);
+  void complete_spin(SimTime now, Actions& out);
+
+  // Profiles (control_unit_profiles.cpp).
+  void stop_all_streams();
+  void ensure_revolution_timer(Actions& out);
+  void emit_profiles(SimTime now, std::uint64_t revolution, const TransportQuery& transport, Actions& out);
+  std::size_t profile_payload_bytes(std::uint16_t format) const;
+
+  Setup setup_;
+  const HeadModel& head_;
+  MeasurementSource& measurement_;
+  DeviceState state_;
+  Diagnostics diagnostics_;
+  std::uint64_t next_timer_id_ = 1;  // not device state: ids must never repeat, even across resets
+};
+
+}  // namespace ldoem::control
