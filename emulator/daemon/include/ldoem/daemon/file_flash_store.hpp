@@ -1,0 +1,29 @@
+// D4: the emulated flash kept in a file beside the scene (<scene>.flash) or named by --flash.
+// save() writes a temporary file and renames it, so a crash never leaves half an image.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "ldoem/control/flash_image.hpp"
+
+namespace ldoem::daemon {
+
+class FileFlashStore final : public control::FlashStore {
+ public:
+  explicit FileFlashStore(std::filesystem::path path) : path_(std::move(path)) {}
+
+  // Empty when the file does not exist yet (first power-up) or cannot be read.
+  protocol::Bytes load() const override;
+  // Failures are remembered in last_error() (the interface has no error channel).
+  void save(protocol::ByteView image) override;
+
+  const std::filesystem::path& path() const { return path_; }
+  const std::string& last_error() const { return last_error_; }
+
+ private:
+  std::filesystem::path path_;
+  std::string last_error_;
+};
+
+}  // namespace ldoem::daemon

@@ -1,0 +1,98 @@
+// The command line of ldoem-emud, parsed into a plain Options value by a pure function
+// (STYLE.md section 1: main is a short script; everything it decides is reachable by a test).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "ldoem/protocol/expected.hpp"
+
+namespace ldoem::daemon {
+
+// Exit codes (STYLE.md section 1, as can-utils' candump): --help documents them.
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitRuntimeFailure = 1;
+inline constexpr int kExitUsageError = 2;  // bad option, bad scene, unusable transport setup
+inline constexpr int kExitSignalBase = 128;  // + SIGINT / SIGTERM number
+
+inline constexpr std::string_view kDefaultCanInterface = "vcan0";
+inline constexpr std::uint16_t kDefaultTcpPort = 49152;  // spec 4.1
+inline constexpr std::string_view kFlashFileSuffix = ".flash";  // D4: <scene>.flash
+
+enum class LogLevel : std::uint8_t { error, warn, info, debug };
+
+std::string_view to_string(LogLevel level);
+
+// One host's CAN identifier pair (D1). Each pair is its own ConnectionId.
+struct CanIdPair {
+  std::uint16_t request_id = 0x6C0;   // host -> LD
+  std::uint16_t response_id = 0x6C1;  // LD -> host
+  bool operator==(const CanIdPair&) const = default;
+};
+
+struct TcpOption {
+  std::string address;
+  std::uint16_t port = kDefaultTcpPort;  // 0 = any free port (printed on stdout)
+  bool operator==(const TcpOption&) const = default;
+};
+
+enum class LptBackend : std::uint8_t { pty, gpio };
+
+struct LptOption {
+  LptBackend backend = LptBackend::pty;
+  std::string target;  // pty: symlink path to create; gpio: chip path, name or label
+  bool operator==(const LptOption&) const = default;
+};
+
+enum class FlashMode : std::uint8_t { file, memory };
+
+struct Options {
+  std::filesystem::path scene_path;
+  std::optional<std::string> can_interface = std::string(kDefaultCanInterface);  // empty: --no-can
+  // Empty: one pair, taken from the flash's CAN configuration (D1 defaults 0x6C0/0x6C1).
+  std::vector<CanIdPair> can_id_pairs;
+  std::optional<TcpOption> tcp;
+  std::optional<std::filesystem::path> serial_pty;  // symlink path of the serial pty
+  std::optional<LptOption> lpt;
+  FlashMode flash_mode = FlashMode::file;
+  std::filesystem::path flash_path;  // resolved: --flash FILE or <scene>.flash
+  double time_scale = 1.0;
+  bool virtual_time = false;
+  std::optional<std::uint64_t> seed;  // overrides the scene's seed
+  LogLevel log_level = LogLevel::warn;
+  std::optional<std::uint64_t> count_profiles;  // stop (exit 0) after this many profiles
+  std::optional<double> timeout_s;              // stop (exit 0) after this many wall seconds
+
+  bool operator==(const Options&) const = default;
+};
+
+enum class CommandKind : std::uint8_t { run, help, version };
+
+struct Command {
+  CommandKind kind = CommandKind::run;
+  Options options;  // meaningful for run
+};
+
+struct UsageError {
+  std::string message;  // one line, names the option: "--time-scale: must be a number > 0"
+};
+
+// `arguments` excludes argv[0]. Options take their value as the next argument or after '='.
+[[nodiscard]] protocol::Expected<Command, UsageError> parse_command_line(
+    std::span<const std::string_view> arguments);
+
+// "6C0:6C1" (hex, optional 0x) -> pair; both 11-bit (D1) and different.
+[[nodiscard]] protocol::Expected<CanIdPair, UsageError> parse_can_id_pair(std::string_view text);
+
+// "HOST[:PORT]" -> address and port (port 49152 when omitted, 0 = ephemeral).
+[[nodiscard]] protocol::Expected<TcpOption, UsageError> parse_tcp_option(std::string_view text);
+
+std::string usage_text(std::string_view program_name);
+std::string version_text();
+
+}  // namespace ldoem::daemon

@@ -1,0 +1,56 @@
+// The control unit's two questions to the physics (ports.hpp), answered by the scene's models:
+// - HeadModel: how long a head speed change takes, from the D7 spin-up curve of motor/head_drive.
+// - MeasurementSource: the ranges of one revolution, from the sensor model with the head angle
+//   of each point (1/16 deg ticks, D5) and the plate's tilt from the tilt track: at each point's
+//   own time with sweep_motion, otherwise frozen at the revolution's start (D9).
+#pragma once
+
+#include <functional>
+
+#include "ldoem/control/ports.hpp"
+#include "ldoem/daemon/tilt_track.hpp"
+#include "ldoem/scene/scene.hpp"
+#include "ldoem/sensor/sensor_model.hpp"
+
+namespace ldoem::daemon {
+
+// Spec 6: 5760 encoder ticks per head revolution.
+inline constexpr double kHeadTicksPerRevolution = 5760.0;
+
+double head_ticks_to_rad(std::uint32_t angle_ticks);
+
+class SpinUpHeadModel final : public control::HeadModel {
+ public:
+  explicit SpinUpHeadModel(const scene::HeadConfig& config) : config_(config) {}
+  // D7: until the speed is within 1 % of the target (exactly the target when stopping).
+  SimTime time_to_reach(double from_hz, double to_hz) const override;
+
+ private:
+  scene::HeadConfig config_;
+};
+
+class SceneMeasurement final : public control::MeasurementSource {
+ public:
+  // The revolution's start time for a PROFILECOUNT revolution number (the daemon derives it
+  // from the control unit's head epoch).
+  using RevolutionStart = std::function<SimTime(std::uint64_t revolution, SimTime first_beam_time)>;
+
+  SceneMeasurement(const sensor::SensorModel& sensor, TiltTrack& tilt, bool sweep_motion,
+                   RevolutionStart revolution_start);
+
+  void measure(std::uint64_t revolution, std::span<const control::BeamQuery> beams,
+               std::span<control::BeamReturn> returns) override;
+
+  std::uint64_t revolutions_measured() const { return revolutions_measured_; }
+
+ private:
+  const sensor::SensorModel& sensor_;
+  TiltTrack& tilt_;
+  bool sweep_motion_;
+  RevolutionStart revolution_start_;
+  std::vector<sensor::BeamRequest> requests_;  // reused per revolution
+  std::vector<sensor::BeamSample> samples_;
+  std::uint64_t revolutions_measured_ = 0;
+};
+
+}  // namespace ldoem::daemon

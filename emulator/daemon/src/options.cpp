@@ -1,0 +1,345 @@
+#include "ldoem/daemon/options.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <set>
+
+#include "ldoem/protocol/can_frame.hpp"
+
+namespace ldoem::daemon {
+namespace {
+
+using protocol::Expected;
+using protocol::Unexpected;
+
+Unexpected<UsageError> usage_error(std::string_view option, std::string_view what) {
+  return Unexpected(UsageError{std::string(option) + ": " + std::string(what)});
+}
+
+template <class Integer>
+std::optional<Integer> parse_integer(std::string_view text, int base = 10) {
+  Integer value{};
+  const char* end = text.data() + text.size();
+  const auto [stop, error] = std::from_chars(text.data(), end, value, base);
+  if (text.empty() || error != std::errc() || stop != end) {
+    return std::nullopt;
+  }
+  return value;
+}
+
+std::optional<double> parse_double(std::string_view text) {
+  double value = 0.0;
+  const char* end = text.data() + text.size();
+  const auto [stop, error] = std::from_chars(text.data(), end, value);
+  if (text.empty() || error != std::errc() || stop != end || !std::isfinite(value)) {
+    return std::nullopt;
+  }
+  return value;
+}
+
+std::optional<std::uint16_t> parse_can_id(std::string_view text) {
+  if (text.starts_with("0x") || text.starts_with("0X")) {
+    text.remove_prefix(2);
+  }
+  const auto id = parse_integer<std::uint32_t>(text, 16);
+  if (!id || (*id & ~protocol::kCanStandardIdMask) != 0) {
+    return std::nullopt;
+  }
+  return static_cast<std::uint16_t>(*id);
+}
+
+std::optional<LogLevel> parse_log_level(std::string_view text) {
+  for (const LogLevel level : {LogLevel::error, LogLevel::warn, LogLevel::info, LogLevel::debug}) {
+    if (text == to_string(level)) {
+      return level;
+    }
+  }
+  return std::nullopt;
+}
+
+Expected<LptOption, UsageError> parse_lpt_option(std::string_view text) {
+  const auto colon = text.find(':');
+  const std::string_view kind = text.substr(0, colon);
+  const std::string_view target = colon == std::string_view::npos ? std::string_view() : text.substr(colon + 1);
+  if (target.empty()) {
+    return usage_error("--lpt", "expects pty:PATH or gpio:CHIP");
+  }
+  if (kind == "pty") {
+    return LptOption{LptBackend::pty, std::string(target)};
+  }
+  if (kind == "gpio") {
+    return LptOption{LptBackend::gpio, std::string(target)};
+  }
+  return usage_error("--lpt", "expects pty:PATH or gpio:CHIP");
+}
+
+// What the parser remembers beyond Options, for the checks that involve several options.
+struct Seen {
+  bool can = false;
+  bool no_can = false;
+  bool flash = false;
+  bool no_flash = false;
+};
+
+using ValueHandler = std::function<std::optional<UsageError>(std::string_view value, Options&, Seen&)>;
+using FlagHandler = std::function<void(Options&, Seen&)>;
+
+std::optional<UsageError> error_of(const Unexpected<UsageError>& error) { return error.error(); }
+
+const std::map<std::string_view, ValueHandler>& value_options() {
+  static const std::map<std::string_view, ValueHandler> handlers{
+      {"--scene", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
+         o.scene_path = std::filesystem::path(std::string(v));
+         return std::nullopt;
+       }},
+      {"--can", [](std::string_view v, Options& o, Seen& s) -> std::optional<UsageError> {
+         o.can_interface = std::string(v);
+         s.can = true;
+         return std::nullopt;
+       }},
+      {"--can-ids", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
+         auto pair = parse_can_id_pair(v);
+         if (!pair) return pair.error();
+         o.can_id_pairs.push_back(*pair);
+         return std::nullopt;
+       }},
+      {"--tcp", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
+         auto tcp = parse_tcp_option(v);
+         if (!tcp) return tcp.error();
+         o.tcp = *tcp;
+         return std::nullopt;
+       }},
+      {"--serial", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
+         if (!v.starts_with("pty:") || v.size() == 4) return error_of(usage_error("--serial", "expects pty:PATH"));
+         o.serial_pty = std::filesystem::path(std::string(v.substr(4)));
+         return std::nullopt;
+       }},
+      {"--lpt", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
+         auto lpt = parse_lpt_option(v);
+         if (!lpt) return lpt.error();
+         o.lpt = *lpt;
+         return std::nullopt;
+       }},
+      {"--flash", [](std::string_view v, Options& o, Seen& s) -> std::optional<UsageError> {
+         o.flash_path = std::filesystem::path(std::string(v));
+         s.flash = true;
+         return std::nullopt;
+       }},
+      {"--time-scale", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
+         const auto scale = parse_double(v);
+         if (!scale || *scale <= 0.0) return error_of(usage_error("--time-scale", "must be a number > 0"));
+         o.time_scale = *scale;
+         return std::nullopt;
+       }},
+      {"--seed", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
+         const auto seed = parse_integer<std::uint64_t>(v);
+         if (!seed) return error_of(usage_error("--seed", "must be an unsigned integer"));
+         o.seed = *seed;
+         return std::nullopt;
+       }},
+      {"--log-level", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
+         const auto level = parse_log_level(v);
+         if (!level) return error_of(usage_error("--log-level", "must be error, warn, info or debug"));
+         o.log_level = *level;
+         return std::nullopt;
+       }},
+      {"--count-profiles", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
+         const auto count = parse_integer<std::uint64_t>(v);
+         if (!count || *count == 0) return error_of(usage_error("--count-profiles", "must be an integer > 0"));
+         o.count_profiles = *count;
+         return std::nullopt;
+       }},
+      {"--timeout", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
+         const auto seconds = parse_double(v);
+         if (!seconds || *seconds <= 0.0) return error_of(usage_error("--timeout", "must be a number of seconds > 0"));
+         o.timeout_s = *seconds;
+         return std::nullopt;
+       }},
+  };
+  return handlers;
+}
+
+const std::map<std::string_view, FlagHandler>& flag_options() {
+  static const std::map<std::string_view, FlagHandler> handlers{
+      {"--no-can", [](Options& o, Seen& s) { o.can_interface.reset(); s.no_can = true; }},
+      {"--no-flash", [](Options& o, Seen& s) { o.flash_mode = FlashMode::memory; s.no_flash = true; }},
+      {"--virtual-time", [](Options& o, Seen&) { o.virtual_time = true; }},
+  };
+  return handlers;
+}
+
+std::optional<UsageError> check_combination(Options& options, const Seen& seen) {
+  if (options.scene_path.empty()) {
+    return UsageError{"--scene: required (try --help)"};
+  }
+  if (seen.can && seen.no_can) {
+    return UsageError{"--no-can: conflicts with --can"};
+  }
+  if (seen.no_can && !options.can_id_pairs.empty()) {
+    return UsageError{"--can-ids: needs CAN (conflicts with --no-can)"};
+  }
+  if (seen.flash && seen.no_flash) {
+    return UsageError{"--no-flash: conflicts with --flash"};
+  }
+  std::set<std::uint16_t> request_ids;
+  std::set<std::uint16_t> response_ids;
+  for (const CanIdPair& pair : options.can_id_pairs) {
+    if (!request_ids.insert(pair.request_id).second || !response_ids.insert(pair.response_id).second ||
+        request_ids.count(pair.response_id) != 0 || response_ids.count(pair.request_id) != 0) {
+      return UsageError{"--can-ids: every identifier may be used by one pair only"};
+    }
+  }
+  if (!options.can_interface && !options.tcp && !options.serial_pty) {
+    return UsageError{"--no-can: no host transport left (add --tcp or --serial)"};
+  }
+  if (options.flash_mode == FlashMode::file && !seen.flash) {
+    options.flash_path = options.scene_path;
+    options.flash_path += std::string(kFlashFileSuffix);
+  }
+  if (options.flash_mode == FlashMode::memory) {
+    options.flash_path.clear();
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::string_view to_string(LogLevel level) {
+  switch (level) {
+    case LogLevel::error: return "error";
+    case LogLevel::warn: return "warn";
+    case LogLevel::info: return "info";
+    case LogLevel::debug: return "debug";
+  }
+  return "?";
+}
+
+Expected<CanIdPair, UsageError> parse_can_id_pair(std::string_view text) {
+  const auto colon = text.find(':');
+  if (colon == std::string_view::npos) {
+    return usage_error("--can-ids", "expects REQUEST:RESPONSE in hex, e.g. 6C0:6C1");
+  }
+  const auto request = parse_can_id(text.substr(0, colon));
+  const auto response = parse_can_id(text.substr(colon + 1));
+  if (!request || !response) {
+    return usage_error("--can-ids", "identifiers are 11-bit hex values 000..7FF (D1)");
+  }
+  if (*request == *response) {
+    return usage_error("--can-ids", "request and response identifiers must differ");
+  }
+  return CanIdPair{*request, *response};
+}
+
+Expected<TcpOption, UsageError> parse_tcp_option(std::string_view text) {
+  const auto colon = text.rfind(':');
+  TcpOption option;
+  option.address = std::string(text.substr(0, colon));
+  if (option.address.empty()) {
+    return usage_error("--tcp", "expects HOST[:PORT], e.g. 127.0.0.1:49152");
+  }
+  if (colon != std::string_view::npos) {
+    const auto port = parse_integer<std::uint16_t>(text.substr(colon + 1));
+    if (!port) {
+      return usage_error("--tcp", "port must be 0..65535 (0: any free port)");
+    }
+    option.port = *port;
+  }
+  return option;
+}
+
+Expected<Command, UsageError> parse_command_line(std::span<const std::string_view> arguments) {
+  Command command;
+  Seen seen;
+  for (std::size_t i = 0; i < arguments.size(); ++i) {
+    std::string_view argument = arguments[i];
+    if (argument == "--help" || argument == "-h") {
+      return Command{CommandKind::help, {}};
+    }
+    if (argument == "--version") {
+      return Command{CommandKind::version, {}};
+    }
+    std::optional<std::string_view> inline_value;
+    if (const auto equals = argument.find('='); argument.starts_with("--") && equals != std::string_view::npos) {
+      inline_value = argument.substr(equals + 1);
+      argument = argument.substr(0, equals);
+    }
+    if (const auto flag = flag_options().find(argument); flag != flag_options().end()) {
+      if (inline_value) {
+        return usage_error(argument, "takes no value");
+      }
+      flag->second(command.options, seen);
+      continue;
+    }
+    const auto handler = value_options().find(argument);
+    if (handler == value_options().end()) {
+      return Unexpected(UsageError{"unknown option '" + std::string(argument) + "' (try --help)"});
+    }
+    std::string_view value;
+    if (inline_value) {
+      value = *inline_value;
+    } else if (i + 1 < arguments.size()) {
+      value = arguments[++i];
+    } else {
+      return usage_error(argument, "needs a value");
+    }
+    if (auto error = handler->second(value, command.options, seen)) {
+      return Unexpected(std::move(*error));
+    }
+  }
+  if (auto error = check_combination(command.options, seen)) {
+    return Unexpected(std::move(*error));
+  }
+  return command;
+}
+
+std::string version_text() { return std::string("ldoem-emud ") + LDOEM_VERSION + "\n"; }
+
+std::string usage_text(std::string_view program_name) {
+  const std::string p(program_name);
+  return "Usage: " + p + " --scene FILE [OPTIONS]\n"
+         "Emulates a SICK LD-OEM laser scanner at the byte level: host protocol on CAN (ISO-TP, D1),\n"
+         "TCP (spec 4.1) and a serial pty (spec 4.2); the tilt stepper's pseudo-LPT on a pty or gpio (D8).\n"
+         "\n"
+         "Options (default in brackets):\n"
+         "  --scene FILE          YAML scene to emulate (required)\n"
+         "  --can IF              SocketCAN interface for the host protocol [vcan0]\n"
+         "  --no-can              no CAN transport (then --tcp or --serial is needed)\n"
+         "  --can-ids REQ:RESP    host->LD and LD->host 11-bit ids in hex; repeat for more hosts,\n"
+         "                        each pair is its own connection [from flash: 6C0:6C1]\n"
+         "  --tcp HOST[:PORT]     TCP server on HOST, port 49152 if omitted, 0 = any free port [off]\n"
+         "  --serial pty:PATH     serial line on a pty, symlinked at PATH [off]\n"
+         "  --lpt pty:PATH        tilt stepper register on a pty, symlinked at PATH [off]\n"
+         "  --lpt gpio:CHIP       tilt stepper on lines DIR, CLK, MODE of a gpio chip [off]\n"
+         "  --flash FILE          flash image file [<scene>.flash]\n"
+         "  --no-flash            keep the flash in memory only\n"
+         "  --time-scale X        simulated seconds per wall second, X > 0 [1]\n"
+         "  --virtual-time        run the simulated clock as fast as possible: when nothing is\n"
+         "                        ready, jump to the next deadline (tests, benchmarks) [off]\n"
+         "  --seed N              noise seed, overrides the scene's [scene's seed]\n"
+         "  --log-level LEVEL     error|warn|info|debug; info logs every telegram [warn]\n"
+         "  --count-profiles N    stop (exit 0) after N profile telegrams in total [no limit]\n"
+         "  --timeout SECONDS     stop (exit 0) after this many wall seconds [no limit]\n"
+         "  --help, -h            this text\n"
+         "  --version             print the version\n"
+         "\n"
+         "On start the daemon prints one line per endpoint on stdout (\"tcp 127.0.0.1:49152\",\n"
+         "\"serial /dev/pts/4\", \"lpt /dev/pts/5\", \"can vcan0 6C0:6C1\"), then \"ready\".\n"
+         "SIGUSR1 writes the counters (framing errors, ISO-TP drops, skipped profiles) to stderr.\n"
+         "\n"
+         "Exit status:\n"
+         "  0        stopped by --count-profiles or --timeout\n"
+         "  1        runtime failure (event loop, socket error)\n"
+         "  2        usage or configuration error: bad option, bad scene (file:line:col),\n"
+         "           CAN interface missing or down, pty/port cannot be opened\n"
+         "  128+N    stopped by signal N (130 SIGINT, 143 SIGTERM); flash saved first\n"
+         "\n"
+         "Examples:\n"
+         "  " + p + " --scene scenes/corridor.yaml --can vcan0 --lpt pty:/tmp/ldoem-lpt\n"
+         "  " + p + " --scene scenes/minimal.yaml --no-can --tcp 127.0.0.1:49152 --log-level info\n"
+         "  " + p + " --scene scenes/minimal.yaml --no-can --serial pty:/tmp/ldoem-serial --no-flash\n"
+         "  " + p + " --scene scenes/minimal.yaml --can vcan0 --can-ids 6C0:6C1 --can-ids 6C2:6C3\n";
+}
+
+}  // namespace ldoem::daemon

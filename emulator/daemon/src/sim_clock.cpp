@@ -1,0 +1,49 @@
+#include "ldoem/daemon/sim_clock.hpp"
+
+#include <cmath>
+
+namespace ldoem::daemon {
+
+SimClock SimClock::scaled(WallTime start, double time_scale) { return SimClock(false, start, time_scale); }
+
+SimClock SimClock::virtual_clock() { return SimClock(true, WallTime{}, 1.0); }
+
+SimTime SimClock::now(WallTime wall) {
+  if (!virtual_) {
+    const auto elapsed = std::chrono::duration_cast<SimTime>(wall - start_);
+    const auto scaled = SimTime(static_cast<SimTime::rep>(std::floor(static_cast<double>(elapsed.count()) * time_scale_)));
+    floor_ = std::max(floor_, scaled);
+  }
+  return floor_;
+}
+
+WallTime SimClock::wall_deadline(SimTime at, WallTime wall_now) const {
+  if (virtual_) {
+    return wall_now;
+  }
+  const double wall_ns = std::ceil(static_cast<double>(at.count()) / time_scale_);
+  return start_ + std::chrono::duration_cast<WallTime::duration>(SimTime(static_cast<SimTime::rep>(wall_ns)));
+}
+
+void SimClock::advance_to(SimTime at) { floor_ = std::max(floor_, at); }
+
+void DeadlineQueue::add(SimTime at, Action action) {
+  entries_.emplace(std::make_pair(at, next_sequence_++), std::move(action));
+}
+
+std::optional<SimTime> DeadlineQueue::earliest() const {
+  if (entries_.empty()) {
+    return std::nullopt;
+  }
+  return entries_.begin()->first.first;
+}
+
+std::optional<std::pair<SimTime, DeadlineQueue::Action>> DeadlineQueue::pop_due(SimTime now) {
+  if (entries_.empty() || entries_.begin()->first.first > now) {
+    return std::nullopt;
+  }
+  auto node = entries_.extract(entries_.begin());
+  return std::make_pair(node.key().first, std::move(node.mapped()));
+}
+
+}  // namespace ldoem::daemon

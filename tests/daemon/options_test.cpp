@@ -1,0 +1,141 @@
+// Options parsing table (STYLE.md section 1): every option, its default, and the usage errors.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "ldoem/daemon/options.hpp"
+
+namespace ldoem::daemon {
+namespace {
+
+protocol::Expected<Command, UsageError> parse(std::vector<std::string_view> arguments) {
+  return parse_command_line(arguments);
+}
+
+Options run_options(std::vector<std::string_view> arguments) {
+  const auto command = parse(arguments);
+  EXPECT_TRUE(command.has_value()) << (command ? "" : command.error().message);
+  if (!command) return {};
+  EXPECT_EQ(command->kind, CommandKind::run);
+  return command->options;
+}
+
+TEST(Options, SceneOnly_GivesEveryDefault) {
+  const Options options = run_options({"--scene", "scenes/minimal.yaml"});
+  EXPECT_EQ(options.scene_path, "scenes/minimal.yaml");
+  EXPECT_EQ(options.can_interface, std::optional<std::string>("vcan0"));
+  EXPECT_TRUE(options.can_id_pairs.empty());
+  EXPECT_FALSE(options.tcp.has_value());
+  EXPECT_FALSE(options.serial_pty.has_value());
+  EXPECT_FALSE(options.lpt.has_value());
+  EXPECT_EQ(options.flash_mode, FlashMode::file);
+  EXPECT_EQ(options.flash_path, "scenes/minimal.yaml.flash");  // D4: beside the scene
+  EXPECT_EQ(options.time_scale, 1.0);
+  EXPECT_FALSE(options.virtual_time);
+  EXPECT_FALSE(options.seed.has_value());
+  EXPECT_EQ(options.log_level, LogLevel::warn);
+  EXPECT_FALSE(options.count_profiles.has_value());
+  EXPECT_FALSE(options.timeout_s.has_value());
+}
+
+TEST(Options, EveryValueOption_IsStored) {
+  const Options options = run_options({"--scene=s.yaml", "--can", "vcan1", "--can-ids", "6C0:6C1", "--can-ids",
+                                       "0x6C2:0x6C3", "--tcp", "127.0.0.1:0", "--serial", "pty:/tmp/s", "--lpt",
+                                       "pty:/tmp/l", "--flash", "/tmp/f", "--time-scale", "2.5", "--seed", "42",
+                                       "--log-level", "debug", "--count-profiles", "3", "--timeout", "1.5",
+                                       "--virtual-time"});
+  EXPECT_EQ(options.scene_path, "s.yaml");
+  EXPECT_EQ(options.can_interface, std::optional<std::string>("vcan1"));
+  ASSERT_EQ(options.can_id_pairs.size(), 2u);
+  EXPECT_EQ(options.can_id_pairs[0], (CanIdPair{0x6C0, 0x6C1}));
+  EXPECT_EQ(options.can_id_pairs[1], (CanIdPair{0x6C2, 0x6C3}));
+  EXPECT_EQ(options.tcp, (std::optional<TcpOption>(TcpOption{"127.0.0.1", 0})));
+  EXPECT_EQ(options.serial_pty, std::optional<std::filesystem::path>("/tmp/s"));
+  EXPECT_EQ(options.lpt, (std::optional<LptOption>(LptOption{LptBackend::pty, "/tmp/l"})));
+  EXPECT_EQ(options.flash_path, "/tmp/f");
+  EXPECT_EQ(options.time_scale, 2.5);
+  EXPECT_TRUE(options.virtual_time);
+  EXPECT_EQ(options.seed, std::optional<std::uint64_t>(42));
+  EXPECT_EQ(options.log_level, LogLevel::debug);
+  EXPECT_EQ(options.count_profiles, std::optional<std::uint64_t>(3));
+  EXPECT_EQ(options.timeout_s, std::optional<double>(1.5));
+}
+
+TEST(Options, TcpWithoutPort_UsesServicePort49152) {
+  EXPECT_EQ(run_options({"--scene", "s", "--tcp", "0.0.0.0"}).tcp, (std::optional<TcpOption>(TcpOption{"0.0.0.0", 49152})));
+}
+
+TEST(Options, NoCanAndNoFlash_AreApplied) {
+  const Options options = run_options({"--scene", "s", "--no-can", "--tcp", "127.0.0.1", "--no-flash"});
+  EXPECT_FALSE(options.can_interface.has_value());
+  EXPECT_EQ(options.flash_mode, FlashMode::memory);
+  EXPECT_TRUE(options.flash_path.empty());
+}
+
+TEST(Options, LptGpio_IsParsed) {
+  EXPECT_EQ(run_options({"--scene", "s", "--lpt", "gpio:ldoem-lpt"}).lpt,
+            (std::optional<LptOption>(LptOption{LptBackend::gpio, "ldoem-lpt"})));
+}
+
+TEST(Options, HelpAndVersion_WinOverEverythingElse) {
+  EXPECT_EQ(parse({"--bogus", "--help"}).has_value(), false);  // parsed left to right: the bogus option first
+  EXPECT_EQ(parse({"--help"})->kind, CommandKind::help);
+  EXPECT_EQ(parse({"-h"})->kind, CommandKind::help);
+  EXPECT_EQ(parse({"--version"})->kind, CommandKind::version);
+}
+
+struct BadCase {
+  std::vector<std::string_view> arguments;
+  std::string_view message_starts_with;
+};
+
+TEST(Options, BadCommandLines_AreUsageErrorsNamingTheOption) {
+  const std::vector<BadCase> cases{
+      {{}, "--scene: required"},
+      {{"--scene"}, "--scene: needs a value"},
+      {{"--scene", "s", "--frobnicate"}, "unknown option '--frobnicate'"},
+      {{"--scene", "s", "--time-scale", "0"}, "--time-scale: must be a number > 0"},
+      {{"--scene", "s", "--time-scale", "-1"}, "--time-scale: must be a number > 0"},
+      {{"--scene", "s", "--time-scale", "fast"}, "--time-scale: must be a number > 0"},
+      {{"--scene", "s", "--time-scale", "inf"}, "--time-scale: must be a number > 0"},
+      {{"--scene", "s", "--can-ids", "6C0"}, "--can-ids: expects REQUEST:RESPONSE"},
+      {{"--scene", "s", "--can-ids", "800:6C1"}, "--can-ids: identifiers are 11-bit"},
+      {{"--scene", "s", "--can-ids", "6C0:6C0"}, "--can-ids: request and response identifiers must differ"},
+      {{"--scene", "s", "--can-ids", "6C0:6C1", "--can-ids", "6C1:6C2"}, "--can-ids: every identifier"},
+      {{"--scene", "s", "--no-can", "--can", "vcan0", "--tcp", "h"}, "--no-can: conflicts with --can"},
+      {{"--scene", "s", "--no-can", "--can-ids", "6C0:6C1", "--tcp", "h"}, "--can-ids: needs CAN"},
+      {{"--scene", "s", "--no-can"}, "--no-can: no host transport left"},
+      {{"--scene", "s", "--flash", "f", "--no-flash"}, "--no-flash: conflicts with --flash"},
+      {{"--scene", "s", "--tcp", ":49152"}, "--tcp: expects HOST[:PORT]"},
+      {{"--scene", "s", "--tcp", "h:70000"}, "--tcp: port must be 0..65535"},
+      {{"--scene", "s", "--serial", "/dev/ttyS0"}, "--serial: expects pty:PATH"},
+      {{"--scene", "s", "--lpt", "parport:/dev/parport0"}, "--lpt: expects pty:PATH or gpio:CHIP"},
+      {{"--scene", "s", "--lpt", "pty:"}, "--lpt: expects pty:PATH or gpio:CHIP"},
+      {{"--scene", "s", "--seed", "-3"}, "--seed: must be an unsigned integer"},
+      {{"--scene", "s", "--log-level", "verbose"}, "--log-level: must be error, warn, info or debug"},
+      {{"--scene", "s", "--count-profiles", "0"}, "--count-profiles: must be an integer > 0"},
+      {{"--scene", "s", "--timeout", "0"}, "--timeout: must be a number of seconds > 0"},
+      {{"--scene", "s", "--no-flash=1"}, "--no-flash: takes no value"},
+  };
+  for (const BadCase& bad : cases) {
+    const auto command = parse(bad.arguments);
+    ASSERT_FALSE(command.has_value()) << "accepted: " << bad.message_starts_with;
+    EXPECT_EQ(command.error().message.substr(0, bad.message_starts_with.size()), bad.message_starts_with)
+        << command.error().message;
+  }
+}
+
+TEST(Options, UsageText_ListsEveryOptionExitCodesAndExamples) {
+  const std::string text = usage_text("ldoem-emud");
+  for (const char* needle : {"--scene", "--can ", "--no-can", "--can-ids", "--tcp", "--serial", "--lpt pty:",
+                             "--lpt gpio:", "--flash", "--no-flash", "--time-scale", "--virtual-time", "--seed",
+                             "--log-level", "--count-profiles", "--timeout", "--help", "--version", "[vcan0]",
+                             "[<scene>.flash]", "49152", "128+N", "  2  ", "Examples:",
+                             "ldoem-emud --scene scenes/corridor.yaml --can vcan0 --lpt pty:/tmp/ldoem-lpt"}) {
+    EXPECT_NE(text.find(needle), std::string::npos) << needle;
+  }
+}
+
+}  // namespace
+}  // namespace ldoem::daemon
