@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Runs every libFuzzer target for longer than CI does: scripts/fuzz.sh [SECONDS_PER_TARGET=60].
+# Builds the "fuzz" preset (clang, ASan+UBSan); a corpus per target is kept in build/fuzz/corpus/.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=${1:-60}
+case "$seconds" in ''|*[!0-9]*) echo "usage: scripts/fuzz.sh [SECONDS_PER_TARGET]" >&2; exit 2;; esac
+cmake --preset fuzz >/dev/null
+cmake --build --preset fuzz
+status=0
+for target in build/fuzz/tests/fuzz/fuzz_*; do
+  [ -x "$target" ] || continue
+  name=$(basename "$target")
+  mkdir -p "build/fuzz/corpus/$name"
+  echo "=== $name for ${seconds}s"
+  "$target" -max_total_time="$seconds" -max_len=8192 -print_final_stats=1 "build/fuzz/corpus/$name" \
+    2>&1 | grep -E '^(#[0-9]+.*DONE|stat::number_of_executed_units|==[0-9]+==ERROR|SUMMARY)' || true
+  [ "${PIPESTATUS[0]}" -eq 0 ] || { echo "fuzz: $name FAILED" >&2; status=1; }
+done
+exit $status
