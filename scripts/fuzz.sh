@@ -13,8 +13,11 @@ for target in build/fuzz/tests/fuzz/fuzz_*; do
   name=$(basename "$target")
   mkdir -p "build/fuzz/corpus/$name"
   echo "=== $name for ${seconds}s"
-  "$target" -max_total_time="$seconds" -max_len=8192 -print_final_stats=1 "build/fuzz/corpus/$name" \
-    2>&1 | grep -E '^(#[0-9]+.*DONE|stat::number_of_executed_units|==[0-9]+==ERROR|SUMMARY)' || true
-  [ "${PIPESTATUS[0]}" -eq 0 ] || { echo "fuzz: $name FAILED" >&2; status=1; }
+  log="build/fuzz/corpus/$name.log"
+  if "$target" -max_total_time="$seconds" -max_len=8192 -print_final_stats=1 "build/fuzz/corpus/$name" >"$log" 2>&1; then
+    grep -E '^(#[0-9]+.*DONE|stat::number_of_executed_units)' "$log" || true
+  else
+    tail -n 40 "$log"; echo "fuzz: $name FAILED (log: $log)" >&2; status=1
+  fi
 done
 exit $status
