@@ -1,0 +1,70 @@
+// The one error type of libldoem. Callers branch on `kind` (and is_retryable), never on the
+// text that describe() makes for logs (STYLE.md sections 2 and 5).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <variant>
+
+#include "ldoem/protocol/errors.hpp"
+#include "ldoem/protocol/expected.hpp"
+
+namespace ldoem::driver {
+
+using protocol::Expected;
+using protocol::Unexpected;
+
+enum class ErrorKind : std::uint8_t {
+  // Retryable: the same call may succeed later; nothing was lost.
+  timeout,      // no reply / no connection / no frame before the deadline (spec 6)
+  busy,         // the resource is held elsewhere or a queue is full (EAGAIN, EBUSY, ENOBUFS)
+  interrupted,  // a signal cut the call short (EINTR)
+  // Final: retrying the same call the same way will not help.
+  framing,            // the bytes on the wire broke the framing (spec 4.1 / 4.2 / D1)
+  connection_closed,  // the peer closed the connection or the line hung up
+  service_failure,    // the device answered SERVICE_FAILURE (D2) naming our request
+  unexpected_reply,   // a reply with our code that does not decode or does not match the request
+  refused,            // the device refused in-band (TRANS_MEASURE 1..4, SET_CONFIG != 0, FF FF ...)
+  system,             // any other failing syscall (errno in system_errno)
+  unsupported,        // the host lacks a feature (e.g. no CAN_ISOTP in the kernel)
+  invalid_argument,   // the caller passed a value the driver cannot use
+  wrong_state,        // the Scanner lifecycle forbids the call (see lifecycle.hpp)
+};
+
+std::string_view describe(ErrorKind kind);
+
+struct DriverError {
+  ErrorKind kind = ErrorKind::system;
+  std::string operation;  // what was attempted: "connect", "GET_STATUS", "PPCLAIM", ...
+  std::string object;     // what it was attempted on: "tcp:127.0.0.1:49152", "/dev/parport0"
+  int system_errno = 0;   // for system / busy / interrupted / connection_closed, when known
+  std::uint16_t request_code = 0;  // the service we waited for (0 outside the Scanner)
+  std::optional<protocol::FailureReason> failure_reason;  // service_failure: D2 reason
+  std::uint16_t in_band_code = 0;  // refused: the device's code (TRANS_MEASURE 1..4, ...)
+  std::optional<protocol::DecodeError> decode_detail;  // framing / unexpected_reply
+  std::string detail;  // extra words for describe(); never parsed
+
+  bool operator==(const DriverError&) const = default;
+};
+
+bool is_retryable(ErrorKind kind);
+inline bool is_retryable(const DriverError& error) { return is_retryable(error.kind); }
+
+// One line, e.g. "GET_STATUS tcp:127.0.0.1:49152: timeout: no reply within 5000 ms" or
+// "TRANS_MEASURE can:vcan0: refused by the device: code 2 (mean pulse frequency too high)".
+std::string describe(const DriverError& error);
+
+// A DriverError for a failed syscall: EAGAIN/EWOULDBLOCK/EBUSY/ENOBUFS -> busy,
+// EINTR -> interrupted, EPIPE/ECONNRESET -> connection_closed, anything else -> system.
+DriverError system_error(std::string operation, std::string object, int errno_value);
+
+DriverError make_error(ErrorKind kind, std::string operation, std::string object, std::string detail = {});
+
+// A call that yields nothing but may fail.
+using Status = Expected<std::monostate, DriverError>;
+inline Status ok() { return std::monostate{}; }
+inline Unexpected<DriverError> fail(DriverError error) { return Unexpected<DriverError>(std::move(error)); }
+
+}  // namespace ldoem::driver

@@ -1,0 +1,48 @@
+// Ethernet transport (spec 4.1): the LD is the TCP server on port 49152; one connection
+// carries requests, replies and the profile stream.
+#pragma once
+
+#include <chrono>
+#include <deque>
+#include <memory>
+#include <string>
+
+#include "ldoem/driver/transport.hpp"
+#include "ldoem/protocol/tcp_framing.hpp"
+
+namespace ldoem::driver {
+
+// Spec 6: S1 gives the connect 1 s.
+inline constexpr std::chrono::milliseconds kTcpConnectTimeout{1000};
+
+class TcpTransport final : public Transport {
+ public:
+  // Resolves the host, connects with `connect_timeout`, sets TCP_NODELAY (each telegram goes
+  // out as it is written: S1 aborts a frame after a 35 ms gap, spec 6).
+  static Expected<std::unique_ptr<TcpTransport>, DriverError> connect(
+      const TcpEndpoint& endpoint, std::chrono::milliseconds connect_timeout = kTcpConnectTimeout);
+
+  ~TcpTransport() override;
+  TcpTransport(const TcpTransport&) = delete;
+  TcpTransport& operator=(const TcpTransport&) = delete;
+
+  // One frame per spec 4.1, handed to the kernel in one write (D10).
+  Status send(ByteView payload, Deadline deadline) override;
+  // Frames with a bad checksum are dropped silently as S1 does, and counted.
+  Expected<Bytes, DriverError> receive(Deadline deadline) override;
+  void close() override;
+  const std::string& name() const override { return name_; }
+  TransportCounters counters() const override;
+
+ private:
+  TcpTransport(int fd, std::string name);
+  Status write_all(ByteView bytes, Deadline deadline);
+
+  int fd_;
+  std::string name_;
+  protocol::TcpDeframer deframer_;
+  std::deque<Bytes> received_;
+  TransportCounters counters_;
+};
+
+}  // namespace ldoem::driver

@@ -1,0 +1,76 @@
+// The tilt stepper as the host drives it (D8): clock pulses on an LptPort, direction and mode
+// set before each rising edge, paced by an injected Sleeper so that tests see exact sequences.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+
+#include "ldoem/driver/error.hpp"
+#include "ldoem/driver/lpt_port.hpp"
+#include "ldoem/protocol/lpt.hpp"
+#include "ldoem/protocol/sim_time.hpp"
+
+namespace ldoem::driver {
+
+using protocol::StepMode;
+using protocol::TiltDirection;
+
+// Where pulse timing comes from. Times are on one monotonic time line (SimTime = ns).
+class Sleeper {
+ public:
+  virtual ~Sleeper() = default;
+  virtual protocol::SimTime now() = 0;
+  // Returns at or after `time` (immediately when it has passed).
+  virtual void sleep_until(protocol::SimTime time) = 0;
+};
+
+// The real one: CLOCK_MONOTONIC and clock_nanosleep(TIMER_ABSTIME), so pulses do not drift
+// with the time the writes take.
+class MonotonicSleeper final : public Sleeper {
+ public:
+  protocol::SimTime now() override;
+  void sleep_until(protocol::SimTime time) override;
+};
+
+// Half-steps per full step: the position is kept in the finer unit (D8).
+inline constexpr std::int64_t kHalfStepsPerFullStep = 2;
+
+class TiltStepper {
+ public:
+  // Neither reference is owned; both must outlive the stepper. The position starts at 0
+  // (level, D5) and the register is assumed 0 until the first write.
+  TiltStepper(LptPort& port, Sleeper& sleeper);
+
+  // `steps` pulses at `step_rate_hz` in `direction` and `mode`. Per step period T, starting
+  // at t0 = now: at t0 the register takes DIR/MODE with CLK low (written only when it
+  // changes), then for step k CLK rises at t0 + (k + 1/2) T (the step, D8) and falls at
+  // t0 + (k + 1) T. The move therefore takes steps * T and leaves CLK low.
+  // invalid_argument for a rate that is not finite and > 0; a failing write stops the move
+  // with the position counting the steps whose rising edge was written.
+  Status move(std::uint32_t steps, TiltDirection direction, StepMode mode, double step_rate_hz);
+
+  // Moves to the nearest position of `mode`'s step size to `target_deg` (may be 0 steps).
+  Status move_to_angle(double target_deg, StepMode mode, double step_rate_hz);
+
+  // Commanded position in half-steps (positive = tilt angle grew) and as an angle:
+  // half-steps * 0.045 deg (D8: 1.8 deg / 20:1, halved).
+  std::int64_t position_half_steps() const { return position_half_steps_; }
+  double tilt_angle_deg() const;
+  // Declare the current position to be `half_steps` (after homing, for instance).
+  void set_position_half_steps(std::int64_t half_steps) { position_half_steps_ = half_steps; }
+
+ private:
+  Status write(std::uint8_t value);
+
+  LptPort& port_;
+  Sleeper& sleeper_;
+  std::int64_t position_half_steps_ = 0;
+  std::optional<std::uint8_t> last_written_;
+};
+
+// Half-steps one step of `mode` moves (1 or 2).
+constexpr std::int64_t half_steps_per_step(StepMode mode) {
+  return mode == StepMode::half_step ? 1 : kHalfStepsPerFullStep;
+}
+
+}  // namespace ldoem::driver

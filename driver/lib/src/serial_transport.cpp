@@ -1,0 +1,157 @@
+#include "ldoem/driver/serial_transport.hpp"
+
+#include <fcntl.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include <array>
+#include <cerrno>
+#include <optional>
+#include <variant>
+
+#include "fd_util.hpp"
+
+namespace ldoem::driver {
+namespace {
+
+constexpr std::size_t kReadChunkBytes = 1024;
+
+std::optional<speed_t> speed_constant(std::uint32_t baud) {
+  switch (baud) {
+    case 4800: return B4800;
+    case 9600: return B9600;
+    case 19200: return B19200;
+    case 38400: return B38400;
+    case 57600: return B57600;
+    case 115200: return B115200;
+    default: return std::nullopt;
+  }
+}
+
+// Spec 4.2: 8N1, no XON/XOFF; raw so that no byte is translated or swallowed.
+Status configure_line(int fd, std::uint32_t baud, const std::string& object) {
+  const auto speed = speed_constant(baud);
+  if (!speed) {
+    return fail(make_error(ErrorKind::invalid_argument, "configure", object,
+                           "baud " + std::to_string(baud) + " is not in spec 3.4"));
+  }
+  termios settings{};
+  if (::tcgetattr(fd, &settings) != 0) {
+    return fail(system_error("tcgetattr", object, errno));
+  }
+  ::cfmakeraw(&settings);
+  settings.c_cflag &= ~static_cast<tcflag_t>(CSIZE | PARENB | CSTOPB | CRTSCTS);
+  settings.c_cflag |= CS8 | CLOCAL | CREAD;
+  settings.c_iflag &= ~static_cast<tcflag_t>(IXON | IXOFF | IXANY);
+  settings.c_cc[VMIN] = 0;
+  settings.c_cc[VTIME] = 0;
+  if (::cfsetispeed(&settings, *speed) != 0 || ::cfsetospeed(&settings, *speed) != 0) {
+    return fail(system_error("cfsetspeed", object, errno));
+  }
+  if (::tcsetattr(fd, TCSANOW, &settings) != 0) {
+    return fail(system_error("tcsetattr", object, errno));
+  }
+  return ok();
+}
+
+}  // namespace
+
+SerialTransport::SerialTransport(int fd, std::string name) : fd_(fd), name_(std::move(name)) {}
+
+SerialTransport::~SerialTransport() { close(); }
+
+Expected<std::unique_ptr<SerialTransport>, DriverError> SerialTransport::open(const SerialEndpoint& endpoint) {
+  const std::string object = format_endpoint(endpoint);
+  detail::UniqueFd fd(::open(endpoint.path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC));
+  if (!fd.valid()) {
+    return fail(system_error("open", object, errno));
+  }
+  auto configured = configure_line(fd.get(), endpoint.baud, object);
+  if (!configured) {
+    return fail(configured.error());
+  }
+  return std::unique_ptr<SerialTransport>(new SerialTransport(fd.release(), object));
+}
+
+Status SerialTransport::send(ByteView payload, Deadline deadline) {
+  if (fd_ < 0) {
+    return fail(make_error(ErrorKind::connection_closed, "send", name_, "transport closed"));
+  }
+  // The whole telegram in one buffer (D10); a tty may take it in several writes.
+  const Bytes telegram = protocol::encode_serial_request(payload);
+  std::size_t written = 0;
+  while (written < telegram.size()) {
+    const ssize_t result = ::write(fd_, telegram.data() + written, telegram.size() - written);
+    if (result > 0) {
+      written += static_cast<std::size_t>(result);
+      continue;
+    }
+    if (result < 0 && errno == EINTR) {
+      continue;
+    }
+    if (result < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
+      auto waited = detail::wait_for(fd_, POLLOUT, deadline, "send", name_);
+      if (!waited) {
+        return fail(waited.error());
+      }
+      if (*waited == detail::WaitOutcome::deadline_passed) {
+        return fail(make_error(ErrorKind::timeout, "send", name_, "line not writable before the deadline"));
+      }
+      continue;
+    }
+    return fail(system_error("send", name_, errno));
+  }
+  ++counters_.telegrams_sent;
+  return ok();
+}
+
+Expected<Bytes, DriverError> SerialTransport::receive(Deadline deadline) {
+  while (received_.empty()) {
+    if (fd_ < 0) {
+      return fail(make_error(ErrorKind::connection_closed, "receive", name_, "transport closed"));
+    }
+    auto waited = detail::wait_for(fd_, POLLIN, deadline, "receive", name_);
+    if (!waited) {
+      return fail(waited.error());
+    }
+    if (*waited == detail::WaitOutcome::deadline_passed) {
+      return fail(make_error(ErrorKind::timeout, "receive", name_, "no telegram before the deadline"));
+    }
+    std::array<std::uint8_t, kReadChunkBytes> chunk{};
+    const ssize_t count = ::read(fd_, chunk.data(), chunk.size());
+    if (count < 0 && (errno == EINTR || errno == EAGAIN || errno == EWOULDBLOCK)) {
+      continue;
+    }
+    // A pseudo terminal whose other side closed reads EIO; a tty that hung up reads 0.
+    if (count == 0 || (count < 0 && errno == EIO)) {
+      return fail(make_error(ErrorKind::connection_closed, "receive", name_, "line hung up"));
+    }
+    if (count < 0) {
+      return fail(system_error("receive", name_, errno));
+    }
+    for (auto& event : reassembler_.feed(ByteView(chunk.data(), static_cast<std::size_t>(count)))) {
+      if (auto* telegram = std::get_if<protocol::Telegram>(&event)) {
+        received_.push_back(std::move(telegram->payload));
+      }
+    }
+  }
+  Bytes payload = std::move(received_.front());
+  received_.pop_front();
+  ++counters_.telegrams_received;
+  return payload;
+}
+
+void SerialTransport::close() {
+  if (fd_ >= 0) {
+    ::close(fd_);
+    fd_ = -1;
+  }
+}
+
+TransportCounters SerialTransport::counters() const {
+  TransportCounters counters = counters_;
+  counters.dropped_frames = reassembler_.dropped_frames();
+  return counters;
+}
+
+}  // namespace ldoem::driver

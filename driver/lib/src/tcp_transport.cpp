@@ -1,0 +1,179 @@
+#include "ldoem/driver/tcp_transport.hpp"
+
+#include <fcntl.h>
+#include <netdb.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <array>
+#include <cerrno>
+#include <variant>
+
+#include "fd_util.hpp"
+
+namespace ldoem::driver {
+namespace {
+
+constexpr std::size_t kReadChunkBytes = 8192;
+
+struct AddrInfoDeleter {
+  void operator()(addrinfo* list) const { freeaddrinfo(list); }
+};
+
+Expected<detail::UniqueFd, DriverError> connect_one(const addrinfo& address, Deadline deadline,
+                                                    const std::string& object) {
+  detail::UniqueFd fd(::socket(address.ai_family, address.ai_socktype | SOCK_NONBLOCK | SOCK_CLOEXEC,
+                               address.ai_protocol));
+  if (!fd.valid()) {
+    return fail(system_error("socket", object, errno));
+  }
+  if (::connect(fd.get(), address.ai_addr, address.ai_addrlen) != 0) {
+    if (errno != EINPROGRESS) {
+      return fail(system_error("connect", object, errno));
+    }
+    auto waited = detail::wait_for(fd.get(), POLLOUT, deadline, "connect", object);
+    if (!waited) {
+      return fail(waited.error());
+    }
+    if (*waited == detail::WaitOutcome::deadline_passed) {
+      return fail(make_error(ErrorKind::timeout, "connect", object, "no connection within the timeout"));
+    }
+    int socket_error = 0;
+    socklen_t length = sizeof socket_error;
+    if (::getsockopt(fd.get(), SOL_SOCKET, SO_ERROR, &socket_error, &length) != 0) {
+      return fail(system_error("getsockopt SO_ERROR", object, errno));
+    }
+    if (socket_error != 0) {
+      return fail(system_error("connect", object, socket_error));
+    }
+  }
+  const int one = 1;
+  if (::setsockopt(fd.get(), IPPROTO_TCP, TCP_NODELAY, &one, sizeof one) != 0) {
+    return fail(system_error("setsockopt TCP_NODELAY", object, errno));
+  }
+  return fd;
+}
+
+}  // namespace
+
+TcpTransport::TcpTransport(int fd, std::string name) : fd_(fd), name_(std::move(name)) {}
+
+TcpTransport::~TcpTransport() { close(); }
+
+Expected<std::unique_ptr<TcpTransport>, DriverError> TcpTransport::connect(
+    const TcpEndpoint& endpoint, std::chrono::milliseconds connect_timeout) {
+  const std::string object = format_endpoint(endpoint);
+  const Deadline deadline = Clock::now() + connect_timeout;
+  addrinfo hints{};
+  hints.ai_family = AF_UNSPEC;
+  hints.ai_socktype = SOCK_STREAM;
+  addrinfo* raw_list = nullptr;
+  const std::string port = std::to_string(endpoint.port);
+  const int resolved = ::getaddrinfo(endpoint.host.c_str(), port.c_str(), &hints, &raw_list);
+  if (resolved != 0) {
+    return fail(make_error(ErrorKind::system, "resolve", object, gai_strerror(resolved)));
+  }
+  std::unique_ptr<addrinfo, AddrInfoDeleter> list(raw_list);
+  DriverError last = make_error(ErrorKind::system, "connect", object, "no address");
+  for (const addrinfo* address = list.get(); address != nullptr; address = address->ai_next) {
+    auto fd = connect_one(*address, deadline, object);
+    if (fd) {
+      return std::unique_ptr<TcpTransport>(new TcpTransport(fd->release(), object));
+    }
+    last = fd.error();
+  }
+  return fail(last);
+}
+
+Status TcpTransport::write_all(ByteView bytes, Deadline deadline) {
+  std::size_t written = 0;
+  while (written < bytes.size()) {
+    const ssize_t result = ::send(fd_, bytes.data() + written, bytes.size() - written, MSG_NOSIGNAL);
+    if (result > 0) {
+      written += static_cast<std::size_t>(result);
+      continue;
+    }
+    if (result < 0 && errno == EINTR) {
+      continue;
+    }
+    if (result < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
+      auto waited = detail::wait_for(fd_, POLLOUT, deadline, "send", name_);
+      if (!waited) {
+        return fail(waited.error());
+      }
+      if (*waited == detail::WaitOutcome::deadline_passed) {
+        return fail(make_error(ErrorKind::timeout, "send", name_, "socket not writable before the deadline"));
+      }
+      continue;
+    }
+    return fail(system_error("send", name_, errno));
+  }
+  return ok();
+}
+
+Status TcpTransport::send(ByteView payload, Deadline deadline) {
+  if (fd_ < 0) {
+    return fail(make_error(ErrorKind::connection_closed, "send", name_, "transport closed"));
+  }
+  // The whole frame in one buffer and one send() call: a frame is never split by us (D10).
+  const Bytes frame = protocol::encode_tcp_frame(payload);
+  auto written = write_all(frame, deadline);
+  if (written) {
+    ++counters_.telegrams_sent;
+  }
+  return written;
+}
+
+Expected<Bytes, DriverError> TcpTransport::receive(Deadline deadline) {
+  while (received_.empty()) {
+    if (fd_ < 0) {
+      return fail(make_error(ErrorKind::connection_closed, "receive", name_, "transport closed"));
+    }
+    auto waited = detail::wait_for(fd_, POLLIN, deadline, "receive", name_);
+    if (!waited) {
+      return fail(waited.error());
+    }
+    if (*waited == detail::WaitOutcome::deadline_passed) {
+      return fail(make_error(ErrorKind::timeout, "receive", name_, "no telegram before the deadline"));
+    }
+    std::array<std::uint8_t, kReadChunkBytes> chunk{};
+    const ssize_t count = ::recv(fd_, chunk.data(), chunk.size(), 0);
+    if (count == 0) {
+      return fail(make_error(ErrorKind::connection_closed, "receive", name_, "peer closed the connection"));
+    }
+    if (count < 0) {
+      if (errno == EINTR || errno == EAGAIN || errno == EWOULDBLOCK) {
+        continue;
+      }
+      return fail(system_error("receive", name_, errno));
+    }
+    for (auto& event : deframer_.feed(ByteView(chunk.data(), static_cast<std::size_t>(count)))) {
+      if (auto* telegram = std::get_if<protocol::Telegram>(&event)) {
+        received_.push_back(std::move(telegram->payload));
+      }
+      // A FramingError is dropped silently, as S1 does (spec 4.1); the deframer counts it.
+    }
+  }
+  Bytes payload = std::move(received_.front());
+  received_.pop_front();
+  ++counters_.telegrams_received;
+  return payload;
+}
+
+void TcpTransport::close() {
+  if (fd_ >= 0) {
+    ::close(fd_);
+    fd_ = -1;
+  }
+}
+
+TransportCounters TcpTransport::counters() const {
+  TransportCounters counters = counters_;
+  counters.dropped_frames = deframer_.dropped_frames();
+  counters.skipped_bytes = deframer_.skipped_bytes();
+  return counters;
+}
+
+}  // namespace ldoem::driver

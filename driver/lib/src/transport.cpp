@@ -1,0 +1,41 @@
+#include "ldoem/driver/transport.hpp"
+
+#include "ldoem/driver/can_transport.hpp"
+#include "ldoem/driver/serial_transport.hpp"
+#include "ldoem/driver/tcp_transport.hpp"
+
+namespace ldoem::driver {
+namespace {
+
+using TransportResult = Expected<std::unique_ptr<Transport>, DriverError>;
+
+template <class Concrete>
+TransportResult widen(Expected<std::unique_ptr<Concrete>, DriverError> opened) {
+  if (!opened) {
+    return fail(opened.error());
+  }
+  return std::unique_ptr<Transport>(std::move(*opened));
+}
+
+struct Opener {
+  TransportResult operator()(const CanEndpoint& can) const {
+    if (can.kernel_isotp) {
+      return widen(KernelIsoTpTransport::open(can));
+    }
+    return widen(CanIsoTpTransport::open(can));
+  }
+  TransportResult operator()(const TcpEndpoint& tcp) const { return widen(TcpTransport::connect(tcp)); }
+  TransportResult operator()(const SerialEndpoint& serial) const { return widen(SerialTransport::open(serial)); }
+  TransportResult operator()(const LptEndpoint& lpt) const {
+    return fail(make_error(ErrorKind::invalid_argument, "open transport", format_endpoint(Endpoint{lpt}),
+                           "an lpt: endpoint is a stepper port, not a telegram transport"));
+  }
+};
+
+}  // namespace
+
+Expected<std::unique_ptr<Transport>, DriverError> open_transport(const Endpoint& endpoint) {
+  return std::visit(Opener{}, endpoint);
+}
+
+}  // namespace ldoem::driver
