@@ -1,0 +1,84 @@
+#!/bin/bash
+# Start ldoem-emud on one transport, run ldoem-conformance against it, always stop the daemon.
+#
+# Usage:
+#   run-against-daemon.sh --daemon EMUD --suite SUITE --scene FILE --transport tcp|serial|can
+#                         [--time-scale X] [--timeout SECONDS] [--can-if IF] [-- SUITE-ARGS...]
+#   tcp:    the daemon listens on 127.0.0.1, port 0 (a free port it prints), --no-can
+#   serial: the daemon's serial pty is symlinked in a temporary folder, --no-can
+#   can:    the daemon and the suite use IF (default vcan0): run inside scripts/uml/run.sh
+# The daemon always runs with --no-flash, so every run starts from the D4 power-up defaults.
+# --timeout bounds the whole suite run (default 480 s); the daemon gets 10 s to say "ready".
+# Exit status: the suite's (0 all passed, 1 a case failed, 2 usage); 3 when the daemon did not
+# start; 124 when the suite timed out.
+set -uo pipefail
+
+daemon="" suite="" scene="" transport="" time_scale=10 timeout_s=480 can_if=vcan0
+while (($#)); do
+  case "$1" in
+    --daemon) daemon=$2; shift 2 ;;
+    --suite) suite=$2; shift 2 ;;
+    --scene) scene=$2; shift 2 ;;
+    --transport) transport=$2; shift 2 ;;
+    --time-scale) time_scale=$2; shift 2 ;;
+    --timeout) timeout_s=$2; shift 2 ;;
+    --can-if) can_if=$2; shift 2 ;;
+    --) shift; break ;;
+    *) echo "run-against-daemon.sh: unknown option '$1'" >&2; exit 2 ;;
+  esac
+done
+[[ -x $daemon && -x $suite && -r $scene ]] || { echo "run-against-daemon.sh: need --daemon, --suite, --scene" >&2; exit 2; }
+
+work=$(mktemp -d /tmp/ldoem-conformance.XXXXXX)
+daemon_pid=""
+stop_daemon() {
+  if [[ -n $daemon_pid ]] && kill -0 "$daemon_pid" 2>/dev/null; then
+    kill -TERM "$daemon_pid" 2>/dev/null
+    for _ in $(seq 30); do kill -0 "$daemon_pid" 2>/dev/null || break; sleep 0.1; done
+    kill -KILL "$daemon_pid" 2>/dev/null
+    wait "$daemon_pid" 2>/dev/null
+  fi
+  rm -rf "$work"
+}
+trap stop_daemon EXIT
+trap 'exit 130' INT
+trap 'exit 143' TERM
+
+daemon_args=(--scene "$scene" --no-flash --time-scale "$time_scale")
+case "$transport" in
+  tcp) daemon_args+=(--no-can --tcp 127.0.0.1:0) ;;
+  serial) daemon_args+=(--no-can --serial "pty:$work/serial") ;;
+  can) daemon_args+=(--can "$can_if") ;;
+  *) echo "run-against-daemon.sh: --transport must be tcp, serial or can" >&2; exit 2 ;;
+esac
+
+"$daemon" "${daemon_args[@]}" >"$work/daemon.out" 2>"$work/daemon.err" &
+daemon_pid=$!
+for _ in $(seq 100); do
+  grep -qx ready "$work/daemon.out" 2>/dev/null && break
+  kill -0 "$daemon_pid" 2>/dev/null || break
+  sleep 0.1
+done
+if ! grep -qx ready "$work/daemon.out" 2>/dev/null; then
+  echo "run-against-daemon.sh: ldoem-emud did not become ready: ${daemon_args[*]}" >&2
+  cat "$work/daemon.out" "$work/daemon.err" >&2
+  exit 3
+fi
+
+case "$transport" in
+  tcp)
+    address=$(sed -n 's/^tcp \(.*\)$/\1/p' "$work/daemon.out" | head -n 1)
+    suite_args=(--tcp "$address") ;;
+  serial) suite_args=(--serial "$work/serial") ;;
+  can) suite_args=(--can "$can_if") ;;
+esac
+
+echo "ldoem-emud ${daemon_args[*]}"
+echo "ldoem-conformance ${suite_args[*]} --target emulator --time-scale $time_scale $*"
+timeout --kill-after=5 "$timeout_s" "$suite" "${suite_args[@]}" --target emulator --time-scale "$time_scale" "$@"
+status=$?
+if ((status != 0)) && [[ -s $work/daemon.err ]]; then
+  echo "--- ldoem-emud stderr (last 20 lines) ---"
+  tail -n 20 "$work/daemon.err"
+fi
+exit "$status"

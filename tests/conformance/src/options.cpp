@@ -1,0 +1,212 @@
+#include "options.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <fnmatch.h>
+
+namespace ldoem::conformance {
+namespace {
+
+using protocol::Expected;
+using protocol::Unexpected;
+
+Unexpected<UsageError> usage(std::string message) { return Unexpected<UsageError>(UsageError{std::move(message)}); }
+
+std::optional<double> parse_double(std::string_view text) {
+  double value = 0;
+  const auto result = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (result.ec != std::errc{} || result.ptr != text.data() + text.size() || !std::isfinite(value)) return std::nullopt;
+  return value;
+}
+
+// "6C0,6C1" (hex, optional 0x) -> the two ids as the endpoint grammar writes them.
+std::optional<std::pair<std::string, std::string>> split_ids(std::string_view text) {
+  const std::size_t comma = text.find(',');
+  if (comma == std::string_view::npos) return std::nullopt;
+  auto strip = [](std::string_view id) {
+    if (id.starts_with("0x") || id.starts_with("0X")) id.remove_prefix(2);
+    return std::string(id);
+  };
+  return std::pair{strip(text.substr(0, comma)), strip(text.substr(comma + 1))};
+}
+
+struct Parser {
+  Options options;
+  std::optional<std::string> can_interface;
+  std::optional<std::string> can_ids;
+  std::optional<std::string> endpoint_text;  // tcp: / serial: form
+  int endpoint_options = 0;
+
+  Expected<std::monostate, UsageError> apply(std::string_view name, std::string_view value) {
+    if (name == "--can") {
+      can_interface = std::string(value);
+      ++endpoint_options;
+    } else if (name == "--ids") {
+      can_ids = std::string(value);
+    } else if (name == "--tcp") {
+      endpoint_text = "tcp:" + std::string(value);
+      ++endpoint_options;
+    } else if (name == "--serial") {
+      endpoint_text = "serial:" + std::string(value);
+      ++endpoint_options;
+    } else if (name == "--target") {
+      if (value == "emulator") {
+        options.target = Target::emulator;
+      } else if (value == "device") {
+        options.target = Target::device;
+      } else {
+        return usage("--target: must be `emulator` or `device`, got `" + std::string(value) + "`");
+      }
+    } else if (name == "--time-scale") {
+      const auto scale = parse_double(value);
+      if (!scale || *scale <= 0) return usage("--time-scale: must be a number > 0, got `" + std::string(value) + "`");
+      options.time_scale = *scale;
+    } else if (name == "--timeout") {
+      const auto seconds = parse_double(value);
+      if (!seconds || *seconds <= 0) return usage("--timeout: must be seconds > 0, got `" + std::string(value) + "`");
+      options.reply_timeout = std::chrono::milliseconds(static_cast<std::int64_t>(std::ceil(*seconds * 1000)));
+    } else if (name == "--filter") {
+      if (value.empty()) return usage("--filter: empty pattern");
+      options.filters.emplace_back(value);
+    } else if (name == "--vectors") {
+      options.vectors_file = std::string(value);
+    } else {
+      return usage("unknown option `" + std::string(name) + "` (try --help)");
+    }
+    return std::monostate{};
+  }
+
+  Expected<std::monostate, UsageError> finish() {
+    if (endpoint_options > 1) return usage("give only one of --can, --tcp, --serial");
+    if (can_ids && !can_interface) return usage("--ids: only with --can");
+    std::string text;
+    if (can_interface) {
+      text = "can:" + *can_interface;
+      if (can_ids) {
+        const auto ids = split_ids(*can_ids);
+        if (!ids) return usage("--ids: expected REQ,RESP in hex, got `" + *can_ids + "`");
+        text += ":" + ids->first + ":" + ids->second;
+      }
+    } else if (endpoint_text) {
+      text = *endpoint_text;
+    }
+    if (!text.empty()) {
+      auto endpoint = driver::parse_endpoint(text);
+      if (!endpoint) return usage(driver::describe(endpoint.error()));
+      if (std::holds_alternative<driver::LptEndpoint>(*endpoint)) return usage("an lpt: endpoint carries no telegrams");
+      options.endpoint = *endpoint;
+    }
+    if (!options.endpoint && !options.list && !options.help) {
+      return usage("no endpoint: give --can IF, --tcp HOST:PORT or --serial TTY (try --help)");
+    }
+    return std::monostate{};
+  }
+};
+
+bool takes_value(std::string_view name) {
+  return name == "--can" || name == "--ids" || name == "--tcp" || name == "--serial" || name == "--target" ||
+         name == "--time-scale" || name == "--timeout" || name == "--filter" || name == "--vectors";
+}
+
+}  // namespace
+
+Expected<Options, UsageError> parse_options(std::span<const std::string_view> arguments) {
+  Parser parser;
+  for (std::size_t i = 0; i < arguments.size(); ++i) {
+    std::string_view argument = arguments[i];
+    if (argument == "--help" || argument == "-h") {
+      parser.options.help = true;
+      continue;
+    }
+    if (argument == "--list") {
+      parser.options.list = true;
+      continue;
+    }
+    if (argument == "--virtual-time") {
+      parser.options.virtual_time = true;
+      continue;
+    }
+    if (argument == "--verbose" || argument == "-v") {
+      parser.options.verbose = true;
+      continue;
+    }
+    std::string_view name = argument;
+    std::optional<std::string_view> value;
+    if (const std::size_t equals = argument.find('='); equals != std::string_view::npos && argument.starts_with("--")) {
+      name = argument.substr(0, equals);
+      value = argument.substr(equals + 1);
+    }
+    if (!takes_value(name)) return usage("unknown option `" + std::string(argument) + "` (try --help)");
+    if (!value) {
+      if (i + 1 >= arguments.size()) return usage(std::string(name) + ": needs a value");
+      value = arguments[++i];
+    }
+    auto applied = parser.apply(name, *value);
+    if (!applied) return Unexpected<UsageError>(applied.error());
+  }
+  auto finished = parser.finish();
+  if (!finished) return Unexpected<UsageError>(finished.error());
+  return parser.options;
+}
+
+std::string transport_prefix(const driver::Endpoint& endpoint) {
+  if (std::holds_alternative<driver::CanEndpoint>(endpoint)) return "can";
+  if (std::holds_alternative<driver::SerialEndpoint>(endpoint)) return "serial";
+  return "tcp";
+}
+
+bool matches_any(const std::vector<std::string>& filters, std::string_view name) {
+  if (filters.empty()) return true;
+  const std::string text(name);
+  for (const std::string& filter : filters) {
+    if (fnmatch(filter.c_str(), text.c_str(), 0) == 0) return true;
+  }
+  return false;
+}
+
+std::string usage_text(std::string_view program_name) {
+  const std::string p(program_name);
+  return "Usage: " + p + " (--can IF [--ids REQ,RESP] | --tcp HOST:PORT | --serial TTY) [OPTIONS]\n"
+         "Host-protocol conformance suite for a SICK LD-OEM (docs/conformance.md): sends the golden\n"
+         "vectors of spec section 7, the S1/S2 conversations, every D2 failure, every illegal state\n"
+         "transition, spin-up and profile-cadence timing, and checks the replies byte by byte.\n"
+         "\n"
+         "Endpoint (exactly one):\n"
+         "  --can IF              ISO-TP over CAN (D1) on interface IF\n"
+         "  --ids REQ,RESP        11-bit ids in hex, host->LD and LD->host [6C0,6C1]\n"
+         "  --tcp HOST:PORT       Ethernet framing (spec 4.1); port 49152 if omitted\n"
+         "  --serial TTY          RS-232 framing (spec 4.2) at 115200 baud on TTY (or a pty)\n"
+         "Options (default in brackets):\n"
+         "  --target T            emulator: assert every byte; device: assert only the positions\n"
+         "                        spec 7.2 confirms, skip emulator-only cases [emulator]\n"
+         "  --time-scale X        the endpoint's simulated seconds per wall second (ldoem-emud\n"
+         "                        --time-scale); timing cases expect wall = simulated / X [1]\n"
+         "  --virtual-time        the endpoint runs ldoem-emud --virtual-time: no wall-clock checks,\n"
+         "                        device-clock values must match exactly [off]\n"
+         "  --timeout SECONDS     wall time to wait for one reply (spec 6: S1 waits 5 s) [5]\n"
+         "  --filter GLOB         run only cases whose name matches (fnmatch, `*` spans `/`);\n"
+         "                        repeatable, any match selects [all]\n"
+         "  --list                print the case names (for the given endpoint, else for all three)\n"
+         "  --vectors FILE        spec-section7.yaml to use instead of the compiled-in copy\n"
+         "  --verbose, -v         log every telegram on stderr in the text form of protocol/text.hpp\n"
+         "  --help, -h            this text\n"
+         "\n"
+         "Output: one line per case, `PASS NAME` or `FAIL NAME: why` followed by an indented hex\n"
+         "diff (expected / received / carets under differing bytes, `..` = not asserted), then\n"
+         "exactly `N passed, M failed`.\n"
+         "The suite changes the device's configuration (SET_CONFIG global commits to flash) and\n"
+         "leaves it in IDLE with the D4 defaults: sensor id 1, 10 Hz, 0.25 deg, sectors 135/225 deg.\n"
+         "\n"
+         "Exit status:\n"
+         "  0        every selected case passed\n"
+         "  1        a case failed, or the endpoint could not be opened\n"
+         "  2        usage error\n"
+         "\n"
+         "Examples:\n"
+         "  " + p + " --tcp 127.0.0.1:49152 --time-scale 10\n"
+         "  " + p + " --can vcan0 --ids 6C0,6C1 --filter '*/states/*'\n"
+         "  " + p + " --serial /tmp/ldoem-serial --filter 'serial/conversation/*'\n"
+         "  " + p + " --tcp 192.168.1.10 --target device --timeout 10\n";
+}
+
+}  // namespace ldoem::conformance

@@ -1,0 +1,55 @@
+// The command line of ldoem-conformance, parsed by a pure function (STYLE.md section 1).
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "ldoem/driver/endpoint.hpp"
+#include "ldoem/protocol/expected.hpp"
+
+namespace ldoem::conformance {
+
+// Exit codes (STYLE.md section 1).
+inline constexpr int kExitAllPassed = 0;
+inline constexpr int kExitFailed = 1;      // a case failed, or the endpoint could not be opened
+inline constexpr int kExitUsageError = 2;  // bad option
+
+enum class Target : std::uint8_t {
+  emulator,  // every byte as spec 7.2 and the D-decisions fix it
+  device,    // only the positions spec 7.2 confirms (its last column), so a real LD can pass
+};
+
+struct Options {
+  std::optional<driver::Endpoint> endpoint;  // required unless --list or --help
+  Target target = Target::emulator;
+  double time_scale = 1.0;       // the endpoint's simulated seconds per wall second (D7)
+  bool virtual_time = false;     // the endpoint's clock is not tied to the wall clock at all
+  std::chrono::milliseconds reply_timeout{5000};  // spec 6: S1 waits 5 s for a reply
+  std::vector<std::string> filters;  // globs over case names; empty = all
+  bool list = false;
+  bool help = false;
+  bool verbose = false;               // print every telegram sent and received on stderr
+  std::optional<std::string> vectors_file;  // instead of the compiled-in copy
+};
+
+struct UsageError {
+  std::string message;  // one line naming the option
+};
+
+// `arguments` excludes argv[0]. Values follow their option as the next argument or after '='.
+[[nodiscard]] protocol::Expected<Options, UsageError> parse_options(std::span<const std::string_view> arguments);
+
+std::string usage_text(std::string_view program_name);
+
+// "tcp", "can" or "serial": the first part of every case name.
+std::string transport_prefix(const driver::Endpoint& endpoint);
+
+// fnmatch(3) semantics without FNM_PATHNAME: `*` also matches `/`. True when `filters` is empty.
+bool matches_any(const std::vector<std::string>& filters, std::string_view name);
+
+}  // namespace ldoem::conformance

@@ -1,0 +1,93 @@
+#include "runner.hpp"
+
+#include "cases.hpp"
+#include "ldoem/driver/transport.hpp"
+#include "session.hpp"
+
+namespace ldoem::conformance {
+namespace {
+
+std::string_view prefix_of(TransportKind kind) {
+  switch (kind) {
+    case TransportKind::can: return "can";
+    case TransportKind::tcp: return "tcp";
+    case TransportKind::serial: return "serial";
+  }
+  return "?";
+}
+
+std::vector<const Case*> select(const std::vector<Case>& cases, const Options& options, TransportKind kind) {
+  std::vector<const Case*> selected;
+  for (const Case& c : cases) {
+    const std::string name = std::string(prefix_of(kind)) + "/" + c.name;
+    if (c.applies_to(kind, options.target) && matches_any(options.filters, name)) selected.push_back(&c);
+  }
+  return selected;
+}
+
+// After a failed case the link may hold late replies, or be closed by a raw-session case.
+void recover(Session& session, std::ostream& err) {
+  try {
+    session.drain(std::max(std::chrono::milliseconds(200), session.wall_for(SimMilliseconds(500))));
+  } catch (const CaseFailed&) {
+    try {
+      session.reopen_transport();
+    } catch (const CaseFailed& reopen) {
+      err << "ldoem-conformance: " << reopen.what() << '\n';
+    }
+  }
+}
+
+}  // namespace
+
+void list_cases(const Options& options, const VectorTable& vectors, std::ostream& out) {
+  const std::vector<Case> cases = all_cases(vectors);
+  std::vector<TransportKind> kinds{TransportKind::tcp, TransportKind::can, TransportKind::serial};
+  if (options.endpoint) kinds = {kind_of(*options.endpoint)};
+  for (TransportKind kind : kinds) {
+    for (const Case* c : select(cases, options, kind)) out << prefix_of(kind) << '/' << c->name << '\n';
+  }
+}
+
+int run_cases(const Options& options, const VectorTable& vectors, std::ostream& out, std::ostream& err) {
+  auto transport = driver::open_transport(*options.endpoint);
+  if (!transport) {
+    err << "ldoem-conformance: " << driver::describe(transport.error()) << '\n';
+    out << "0 passed, 1 failed\n";
+    return kExitFailed;
+  }
+  Session session(std::move(*transport), options, vectors);
+  const std::vector<Case> cases = all_cases(vectors);
+  const TransportKind kind = kind_of(*options.endpoint);
+  int passed = 0;
+  int failed = 0;
+  for (const Case* c : select(cases, options, kind)) {
+    const std::string name = std::string(prefix_of(kind)) + "/" + c->name;
+    const std::uint64_t dropped_before = session.transport_counters().dropped_frames;
+    try {
+      if (c->needs_baseline) {
+        try {
+          session.restore_baseline();
+        } catch (const CaseFailed& baseline) {
+          throw CaseFailed(std::string("baseline: ") + baseline.what(), baseline.detail());
+        }
+      }
+      c->run(session);
+      out << "PASS " << name << std::endl;
+      ++passed;
+    } catch (const CaseFailed& failure) {
+      out << "FAIL " << name << ": " << failure.what() << '\n' << failure.detail();
+      // Telegrams our own transport dropped (bad checksum/CRC, broken ISO-TP sequence) point at
+      // the link rather than at the device's logic.
+      const std::uint64_t dropped = session.transport_counters().dropped_frames - dropped_before;
+      if (dropped > 0) out << "    (the transport dropped " << dropped << " broken telegram(s) during this case)\n";
+      out << std::flush;
+      ++failed;
+      recover(session, err);
+    }
+  }
+  out << passed << " passed, " << failed << " failed" << std::endl;
+  return failed == 0 ? kExitAllPassed : kExitFailed;
+}
+
+}  // namespace ldoem::conformance

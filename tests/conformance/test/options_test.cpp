@@ -1,0 +1,80 @@
+#include "options.hpp"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+namespace ldoem::conformance {
+namespace {
+
+protocol::Expected<Options, UsageError> parse(std::vector<std::string_view> arguments) { return parse_options(arguments); }
+
+TEST(Options, TcpEndpoint_ParsesHostAndPort) {
+  auto options = parse({"--tcp", "127.0.0.1:5000"});
+  ASSERT_TRUE(options);
+  const auto& tcp = std::get<driver::TcpEndpoint>(*options->endpoint);
+  EXPECT_EQ(tcp.host, "127.0.0.1");
+  EXPECT_EQ(tcp.port, 5000);
+  EXPECT_EQ(options->target, Target::emulator);
+  EXPECT_EQ(transport_prefix(*options->endpoint), "tcp");
+}
+
+TEST(Options, CanWithIds_BuildsCanEndpoint) {
+  auto options = parse({"--can", "vcan0", "--ids", "0x6C2,6C3", "--target=device"});
+  ASSERT_TRUE(options);
+  const auto& can = std::get<driver::CanEndpoint>(*options->endpoint);
+  EXPECT_EQ(can.interface, "vcan0");
+  EXPECT_EQ(can.request_id, 0x6C2u);
+  EXPECT_EQ(can.response_id, 0x6C3u);
+  EXPECT_EQ(options->target, Target::device);
+}
+
+TEST(Options, SerialAndTimes_AreParsed) {
+  auto options = parse({"--serial", "/tmp/ldoem-serial", "--time-scale", "10", "--timeout", "2.5", "--filter", "*/states/*",
+                        "--filter", "*S1", "--virtual-time", "-v"});
+  ASSERT_TRUE(options);
+  EXPECT_EQ(std::get<driver::SerialEndpoint>(*options->endpoint).path, "/tmp/ldoem-serial");
+  EXPECT_DOUBLE_EQ(options->time_scale, 10.0);
+  EXPECT_EQ(options->reply_timeout, std::chrono::milliseconds(2500));
+  EXPECT_EQ(options->filters.size(), 2u);
+  EXPECT_TRUE(options->virtual_time);
+  EXPECT_TRUE(options->verbose);
+}
+
+TEST(Options, TwoEndpoints_AreAUsageError) {
+  auto options = parse({"--tcp", "127.0.0.1", "--serial", "/dev/ttyS0"});
+  ASSERT_FALSE(options);
+  EXPECT_NE(options.error().message.find("only one"), std::string::npos);
+}
+
+TEST(Options, NoEndpoint_IsAnErrorUnlessListing) {
+  EXPECT_FALSE(parse({}));
+  auto listing = parse({"--list"});
+  ASSERT_TRUE(listing);
+  EXPECT_FALSE(listing->endpoint.has_value());
+  EXPECT_TRUE(parse({"--help"}));
+}
+
+TEST(Options, BadValues_NameTheOption) {
+  auto scale = parse({"--tcp", "h", "--time-scale", "0"});
+  ASSERT_FALSE(scale);
+  EXPECT_NE(scale.error().message.find("--time-scale"), std::string::npos);
+  auto target = parse({"--tcp", "h", "--target", "robot"});
+  ASSERT_FALSE(target);
+  EXPECT_NE(target.error().message.find("--target"), std::string::npos);
+  EXPECT_FALSE(parse({"--tcp"}));
+  EXPECT_FALSE(parse({"--ids", "6C0,6C1", "--tcp", "h"}));
+  EXPECT_FALSE(parse({"--can", "vcan0", "--ids", "6C0"}));
+  EXPECT_FALSE(parse({"--tcp", "h", "--bogus"}));
+}
+
+TEST(Options, UsageText_ListsEveryOptionAndExitCodes) {
+  const std::string text = usage_text("ldoem-conformance");
+  for (const char* option : {"--can", "--ids", "--tcp", "--serial", "--target", "--time-scale", "--virtual-time", "--timeout",
+                             "--filter", "--list", "--vectors", "--help", "Exit status", "Examples"}) {
+    EXPECT_NE(text.find(option), std::string::npos) << option;
+  }
+}
+
+}  // namespace
+}  // namespace ldoem::conformance
