@@ -1,0 +1,61 @@
+// The hub's device list and settings, from YAML (docs/hub.md):
+//
+//   listen: 127.0.0.1:49200        # optional; --listen overrides
+//   max_age_ms: 50                 # optional; --max-age-ms overrides
+//   devices:
+//     - name: left                 # [A-Za-z0-9_.-], unique
+//       scanner: tcp:127.0.0.1:49152
+//       lpt: lpt:pty:/tmp/ldoem-lpt   # optional
+//       stepper: { rate_hz: 200 }     # optional, MOVEMOTOR's default rate
+//       request_timeout_ms: 5000      # optional (spec 6)
+//       profile_timeout_ms: 5000      # optional, GET2DPROFILE's wait
+//
+// parse_hub_config is pure (text in, value or one-line error out).
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "ldoem/driver/endpoint.hpp"
+#include "ldoem/hub/scanner_device.hpp"
+#include "ldoem/protocol/expected.hpp"
+
+namespace ldoem::hub {
+
+inline constexpr std::uint16_t kDefaultHubPort = 49200;
+inline constexpr std::chrono::milliseconds kDefaultMaxAge{50};
+inline constexpr std::chrono::milliseconds kDefaultProfileTimeout{5000};
+
+struct ListenAddress {
+  std::string host = "127.0.0.1";  // loopback by default: the hub has no authentication
+  std::uint16_t port = kDefaultHubPort;
+  bool operator==(const ListenAddress&) const = default;
+};
+
+// "HOST:PORT", "[v6]:PORT" or ":PORT" (loopback).
+protocol::Expected<ListenAddress, std::string> parse_listen_address(std::string_view text);
+
+struct DeviceConfig {
+  std::string name;
+  driver::Endpoint scanner;
+  std::optional<driver::Endpoint> lpt;
+  StepperDefaults stepper;
+  std::chrono::milliseconds request_timeout = driver::kDefaultRequestTimeout;
+  std::chrono::milliseconds profile_timeout = kDefaultProfileTimeout;
+  bool operator==(const DeviceConfig&) const = default;
+};
+
+struct HubConfig {
+  std::optional<ListenAddress> listen;
+  std::optional<std::chrono::milliseconds> max_age;
+  std::vector<DeviceConfig> devices;
+  bool operator==(const HubConfig&) const = default;
+};
+
+protocol::Expected<HubConfig, std::string> parse_hub_config(std::string_view yaml_text);
+
+}  // namespace ldoem::hub

@@ -1,0 +1,37 @@
+// ldoem-hub's command line, parsed by a pure function (STYLE.md section 1).
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "ldoem/hub/hub_config.hpp"
+#include "ldoem/protocol/expected.hpp"
+
+namespace ldoem::hub {
+
+// Exit codes (STYLE.md section 1).
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitFailure = 1;
+inline constexpr int kExitUsage = 2;
+inline constexpr int kExitSignalBase = 128;
+
+struct HubCommandLine {
+  bool help = false;
+  std::string config_path;
+  std::optional<ListenAddress> listen;               // overrides the file's `listen`
+  std::optional<std::chrono::milliseconds> max_age;  // overrides the file's `max_age_ms`
+  std::size_t max_clients = 64;
+  std::size_t queue_capacity = 256;
+  bool operator==(const HubCommandLine&) const = default;
+};
+
+// `args` without the program name. The error is one line for stderr.
+protocol::Expected<HubCommandLine, std::string> parse_hub_command_line(const std::vector<std::string_view>& args);
+
+std::string hub_usage(std::string_view program);
+
+}  // namespace ldoem::hub

@@ -1,0 +1,95 @@
+// ldoem-hub: reads the device list, opens one back-end handler per device, serves clients
+// until SIGINT/SIGTERM (docs/hub.md).
+#include <signal.h>
+#include <sys/signalfd.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "ldoem/hub/hub_options.hpp"
+#include "ldoem/hub/hub_server.hpp"
+#include "ldoem/hub/scanner_device.hpp"
+
+namespace {
+
+using namespace ldoem::hub;
+
+std::vector<DeviceSlot> make_devices(const HubConfig& config) {
+  std::vector<DeviceSlot> slots;
+  for (const DeviceConfig& device : config.devices) {
+    ScannerDeviceOptions options;
+    options.scanner.request_timeout = device.request_timeout;
+    options.stepper = device.stepper;
+    slots.push_back(DeviceSlot{device.name,
+                               ScannerDevice::from_endpoints(device.name, device.scanner, device.lpt, options),
+                               device.profile_timeout});
+  }
+  return slots;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::vector<std::string_view> args(argv + 1, argv + argc);
+  auto command_line = parse_hub_command_line(args);
+  if (!command_line) {
+    std::cerr << "ldoem-hub: " << command_line.error() << "\n" << hub_usage("ldoem-hub");
+    return kExitUsage;
+  }
+  if (command_line->help) {
+    std::cout << hub_usage("ldoem-hub");
+    return kExitOk;
+  }
+  std::ifstream file(command_line->config_path);
+  if (!file) {
+    std::cerr << "ldoem-hub: open " << command_line->config_path << ": cannot read the file\n";
+    return kExitUsage;
+  }
+  std::stringstream text;
+  text << file.rdbuf();
+  auto config = parse_hub_config(text.str());
+  if (!config) {
+    std::cerr << "ldoem-hub: " << command_line->config_path << ": " << config.error() << "\n";
+    return kExitUsage;
+  }
+
+  HubSettings settings;
+  settings.listen = command_line->listen.value_or(config->listen.value_or(ListenAddress{}));
+  settings.max_age = command_line->max_age.value_or(config->max_age.value_or(kDefaultMaxAge));
+  settings.max_clients = command_line->max_clients;
+  settings.queue_capacity = command_line->queue_capacity;
+
+  // Signals arrive as a readable descriptor in the hub's loop (no handler, no global state).
+  sigset_t stop_signals;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGINT);
+  sigaddset(&stop_signals, SIGTERM);
+  // A shell starts background jobs with SIGINT ignored; an ignored signal never reaches the
+  // signalfd, so the default disposition is restored before the signals are blocked.
+  signal(SIGINT, SIG_DFL);
+  signal(SIGTERM, SIG_DFL);
+  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);  // before the BEMH threads start
+  const int signal_fd = signalfd(-1, &stop_signals, SFD_CLOEXEC);
+
+  Hub hub(settings, make_devices(config.value()));
+  if (auto listening = hub.listen(); !listening) {
+    std::cerr << "ldoem-hub: " << ldoem::driver::describe(listening.error()) << "\n";
+    return kExitFailure;
+  }
+  std::cerr << "ldoem-hub: listening on " << settings.listen.host << ":" << hub.port() << " with";
+  for (const auto& [name, handler] : hub.devices()) {
+    std::cerr << " " << name << "=" << handler;
+  }
+  std::cerr << "\n";
+  if (auto served = hub.run(signal_fd); !served) {
+    std::cerr << "ldoem-hub: " << ldoem::driver::describe(served.error()) << "\n";
+    return kExitFailure;
+  }
+  signalfd_siginfo info{};
+  if (read(signal_fd, &info, sizeof info) == static_cast<ssize_t>(sizeof info)) {
+    return kExitSignalBase + static_cast<int>(info.ssi_signo);
+  }
+  return kExitOk;
+}

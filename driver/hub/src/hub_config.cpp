@@ -1,0 +1,171 @@
+#include "ldoem/hub/hub_config.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <charconv>
+#include <cmath>
+#include <set>
+
+namespace ldoem::hub {
+namespace {
+
+using protocol::Unexpected;
+using ConfigResult = protocol::Expected<HubConfig, std::string>;
+
+Unexpected<std::string> config_error(std::string text) { return Unexpected<std::string>(std::move(text)); }
+
+bool is_device_name(const std::string& name) {
+  if (name.empty() || name.size() > 32) {
+    return false;
+  }
+  for (char c : name) {
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
+                    c == '.' || c == '-';
+    if (!ok) {
+      return false;
+    }
+  }
+  return true;
+}
+
+protocol::Expected<std::chrono::milliseconds, std::string> milliseconds_of(const YAML::Node& node,
+                                                                         const std::string& where) {
+  const auto value = node.as<long long>();
+  if (value < 0) {
+    return config_error(where + " must not be negative");
+  }
+  return std::chrono::milliseconds(value);
+}
+
+protocol::Expected<DeviceConfig, std::string> parse_device(const YAML::Node& node, std::size_t index) {
+  const std::string where = "devices[" + std::to_string(index) + "]";
+  if (!node.IsMap()) {
+    return config_error(where + " is not a map");
+  }
+  for (const auto& entry : node) {
+    const auto key = entry.first.as<std::string>();
+    static const std::set<std::string> kKnown{"name", "scanner", "lpt", "stepper", "request_timeout_ms",
+                                              "profile_timeout_ms"};
+    if (!kKnown.contains(key)) {
+      return config_error(where + ": unknown key `" + key + "`");
+    }
+  }
+  DeviceConfig device;
+  if (!node["name"] || !is_device_name(node["name"].as<std::string>())) {
+    return config_error(where + ".name must be 1..32 of [A-Za-z0-9_.-]");
+  }
+  device.name = node["name"].as<std::string>();
+  if (!node["scanner"]) {
+    return config_error(where + ".scanner is missing");
+  }
+  auto scanner = driver::parse_endpoint(node["scanner"].as<std::string>());
+  if (!scanner || std::holds_alternative<driver::LptEndpoint>(scanner.value())) {
+    return config_error(where + ".scanner: " +
+                        (scanner ? std::string("an lpt: endpoint is not a scanner") : driver::describe(scanner.error())));
+  }
+  device.scanner = scanner.value();
+  if (node["lpt"]) {
+    auto lpt = driver::parse_endpoint(node["lpt"].as<std::string>());
+    if (!lpt || !std::holds_alternative<driver::LptEndpoint>(lpt.value())) {
+      return config_error(where + ".lpt: " + (lpt ? std::string("not an lpt: endpoint") : driver::describe(lpt.error())));
+    }
+    device.lpt = lpt.value();
+  }
+  if (const YAML::Node stepper = node["stepper"]) {
+    if (stepper["rate_hz"]) {
+      const double rate = stepper["rate_hz"].as<double>();
+      if (!std::isfinite(rate) || rate <= 0.0) {
+        return config_error(where + ".stepper.rate_hz must be > 0");
+      }
+      device.stepper.step_rate_hz = rate;
+    }
+  }
+  if (node["request_timeout_ms"]) {
+    auto timeout = milliseconds_of(node["request_timeout_ms"], where + ".request_timeout_ms");
+    if (!timeout) {
+      return config_error(timeout.error());
+    }
+    device.request_timeout = timeout.value();
+  }
+  if (node["profile_timeout_ms"]) {
+    auto timeout = milliseconds_of(node["profile_timeout_ms"], where + ".profile_timeout_ms");
+    if (!timeout) {
+      return config_error(timeout.error());
+    }
+    device.profile_timeout = timeout.value();
+  }
+  return device;
+}
+
+ConfigResult parse_root(const YAML::Node& root) {
+  if (!root.IsMap()) {
+    return config_error("the hub configuration is not a YAML map");
+  }
+  HubConfig config;
+  if (root["listen"]) {
+    auto listen = parse_listen_address(root["listen"].as<std::string>());
+    if (!listen) {
+      return config_error("listen: " + listen.error());
+    }
+    config.listen = listen.value();
+  }
+  if (root["max_age_ms"]) {
+    auto age = milliseconds_of(root["max_age_ms"], "max_age_ms");
+    if (!age) {
+      return config_error(age.error());
+    }
+    config.max_age = age.value();
+  }
+  const YAML::Node devices = root["devices"];
+  if (!devices || !devices.IsSequence() || devices.size() == 0) {
+    return config_error("devices: a non-empty list is needed");
+  }
+  std::set<std::string> names;
+  for (std::size_t i = 0; i < devices.size(); ++i) {
+    auto device = parse_device(devices[i], i);
+    if (!device) {
+      return config_error(device.error());
+    }
+    if (!names.insert(device->name).second) {
+      return config_error("devices: the name `" + device->name + "` is used twice");
+    }
+    config.devices.push_back(std::move(device.value()));
+  }
+  return config;
+}
+
+}  // namespace
+
+protocol::Expected<ListenAddress, std::string> parse_listen_address(std::string_view text) {
+  const std::size_t colon = text.rfind(':');
+  if (colon == std::string_view::npos) {
+    return config_error("`" + std::string(text) + "` is not HOST:PORT");
+  }
+  std::string_view host = text.substr(0, colon);
+  const std::string_view port_text = text.substr(colon + 1);
+  unsigned port = 0;
+  const auto [end, error] = std::from_chars(port_text.data(), port_text.data() + port_text.size(), port);
+  if (error != std::errc{} || end != port_text.data() + port_text.size() || port > 65535) {
+    return config_error("`" + std::string(port_text) + "` is not a port number");
+  }
+  if (host.size() >= 2 && host.front() == '[' && host.back() == ']') {
+    host = host.substr(1, host.size() - 2);
+  }
+  ListenAddress address;
+  if (!host.empty()) {
+    address.host = std::string(host);
+  }
+  address.port = static_cast<std::uint16_t>(port);
+  return address;
+}
+
+protocol::Expected<HubConfig, std::string> parse_hub_config(std::string_view yaml_text) {
+  // yaml-cpp reports errors by exception; they stop here (no exceptions across our APIs).
+  try {
+    return parse_root(YAML::Load(std::string(yaml_text)));
+  } catch (const YAML::Exception& error) {
+    return config_error(std::string("YAML: ") + error.what());
+  }
+}
+
+}  // namespace ldoem::hub

@@ -1,0 +1,58 @@
+// ldoem-scan's command line, parsed and checked by pure functions (STYLE.md section 1).
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "ldoem/cloud/cloud_file.hpp"
+#include "ldoem/driver/endpoint.hpp"
+#include "ldoem/hub/hub_config.hpp"
+#include "ldoem/scan/acquisition.hpp"
+
+namespace ldoem::scan {
+
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitFailure = 1;
+inline constexpr int kExitUsage = 2;
+inline constexpr int kExitSignalBase = 128;
+
+enum class CloudEncoding : std::uint8_t { ascii, binary };
+
+struct ScanOptions {
+  bool help = false;
+  std::optional<driver::Endpoint> device;  // direct: --device
+  std::optional<hub::ListenAddress> hub;   // through a hub: --hub with --hub-device
+  std::string hub_device;
+  std::optional<driver::Endpoint> lpt;
+  double horizontal_apex_deg = 20.0;
+  double horizontal_resolution_deg = 0.25;
+  double vertical_apex_deg = 21.6;
+  double vertical_resolution_deg = 0.18;
+  std::uint16_t speed_hz = 10;
+  bool half_step = false;
+  double step_rate_hz = 200.0;
+  std::string out_path;
+  CloudEncoding encoding = CloudEncoding::binary;
+  std::optional<std::string> preview_path;
+  bool fit = false;
+  std::chrono::milliseconds timeout{5000};
+  Vector3 optical_offset_m;
+};
+
+// `args` without the program name; the error is one line for stderr (exit code 2).
+protocol::Expected<ScanOptions, std::string> parse_scan_options(const std::vector<std::string_view>& args);
+
+// .ply or .pcd (case-insensitive) with the encoding; nullopt for any other extension.
+std::optional<cloud::CloudFileFormat> output_format(std::string_view path, CloudEncoding encoding);
+
+// The sector table and the layers the options ask for, or the one-line reason they are not
+// possible (exit code 2).
+protocol::Expected<AcquisitionPlan, std::string> make_plan(const ScanOptions& options);
+
+std::string scan_usage(std::string_view program);
+
+}  // namespace ldoem::scan

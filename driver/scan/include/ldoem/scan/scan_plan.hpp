@@ -1,0 +1,62 @@
+// The pure planning of an acquisition: which sector table makes the scanner measure only the
+// horizontal apex (spec 3.6 and the pulse rules of spec 5), and which tilt positions the
+// layers sit at (D8 step sizes). Errors are one line for the user.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "ldoem/driver/scanner.hpp"
+#include "ldoem/protocol/expected.hpp"
+#include "ldoem/protocol/lpt.hpp"
+
+namespace ldoem::scan {
+
+using protocol::Expected;
+using protocol::StepMode;
+
+// Spec 2.3 / 6: 5760 encoder ticks per revolution, 1/16 degree each.
+inline constexpr std::uint32_t kTicksPerRevolution = 5760;
+inline constexpr double kTicksPerDegree = 16.0;
+// Spec 5 (S1's rules, LD manual p. 22): pulse frequency limits checked by TRANS_MEASURE.
+inline constexpr double kMaxPulseFrequencyHz = 14400.0;
+inline constexpr double kMaxMeanPulseFrequencyHz = 10800.0;
+// Spec 6: motor speeds 5..20 Hz; angle steps are multiples of 0.125 deg (2 ticks, S1's check).
+inline constexpr std::uint16_t kMinMotorSpeedHz = 5;
+inline constexpr std::uint16_t kMaxMotorSpeedHz = 20;
+inline constexpr std::uint16_t kAngleStepGranuleTicks = 2;
+
+struct SectorPlan {
+  std::uint16_t angle_step_ticks = 4;
+  // Sector 0 measures from -apex/2 to +apex/2 around +x (D5: angle 0 is +x), wrapping through
+  // 0; sector 1 blanks the rest; write_sector_table ends the table after them.
+  std::vector<driver::SectorDefinition> sectors;
+  std::uint16_t half_apex_ticks = 0;
+  std::uint32_t beams_per_profile = 0;  // 2 * half_apex / step + 1
+  double mean_pulse_frequency_hz = 0.0;
+  double max_pulse_frequency_hz = 0.0;
+};
+
+Expected<SectorPlan, std::string> plan_sectors(double horizontal_apex_deg, double horizontal_resolution_deg,
+                                               std::uint16_t motor_speed_hz);
+
+struct LayerPlan {
+  std::uint32_t layer_count = 1;       // round(apex / resolution) + 1
+  std::uint32_t steps_per_layer = 0;   // resolution / step size of `mode` (an integer)
+  StepMode mode = StepMode::full_step;
+  std::int64_t start_steps = 0;        // the low apex, in steps of `mode` from level (<= 0)
+
+  std::int64_t half_steps_per_step() const { return mode == StepMode::half_step ? 1 : 2; }
+  // The commanded position of layer `layer`, in half-steps (D8).
+  std::int64_t layer_half_steps(std::uint32_t layer) const {
+    return (start_steps + static_cast<std::int64_t>(layer) * steps_per_layer) * half_steps_per_step();
+  }
+  double layer_tilt_deg(std::uint32_t layer) const {
+    return static_cast<double>(layer_half_steps(layer)) * protocol::kOutputShaftHalfStepDeg;
+  }
+};
+
+Expected<LayerPlan, std::string> plan_layers(double vertical_apex_deg, double vertical_resolution_deg, bool half_step);
+
+}  // namespace ldoem::scan

@@ -1,0 +1,128 @@
+// ldoem-scan: parse, plan, open the device, acquire, write (docs/scan.md).
+#include <poll.h>
+#include <signal.h>
+#include <sys/signalfd.h>
+#include <unistd.h>
+
+#include <iostream>
+
+#include "ldoem/cloud/progress_bar.hpp"
+#include "ldoem/cloud/range_image.hpp"
+#include "ldoem/hub/hub_client.hpp"
+#include "ldoem/hub/scanner_device.hpp"
+#include "ldoem/scan/scan_options.hpp"
+#include "ldoem/scan/scene_fit.hpp"
+
+namespace {
+
+using namespace ldoem;
+using scan::kExitFailure;
+
+protocol::Expected<std::unique_ptr<hub::Device>, driver::DriverError> open_device(const scan::ScanOptions& options) {
+  if (options.hub) {
+    auto client = hub::HubClient::connect(*options.hub, options.timeout);
+    if (!client) {
+      return protocol::Unexpected<driver::DriverError>(client.error());
+    }
+    return std::unique_ptr<hub::Device>(std::make_unique<hub::HubDevice>(std::move(client.value()), options.hub_device));
+  }
+  hub::ScannerDeviceOptions device_options;
+  device_options.scanner.request_timeout = options.timeout;
+  device_options.stepper.step_rate_hz = options.step_rate_hz;
+  return std::unique_ptr<hub::Device>(hub::ScannerDevice::from_endpoints(
+      driver::format_endpoint(*options.device), *options.device, options.lpt, device_options));
+}
+
+// The signal that arrived, if any (0: none); never blocks.
+int pending_signal(int signal_fd) {
+  pollfd entry{signal_fd, POLLIN, 0};
+  if (poll(&entry, 1, 0) <= 0) {
+    return 0;
+  }
+  signalfd_siginfo info{};
+  return read(signal_fd, &info, sizeof info) == static_cast<ssize_t>(sizeof info) ? static_cast<int>(info.ssi_signo) : 0;
+}
+
+int write_outputs(const scan::ScanOptions& options, const scan::Scan& result) {
+  const auto format = scan::output_format(options.out_path, options.encoding);
+  auto written = cloud::write_cloud_file(options.out_path, result.cloud, *format);
+  if (!written) {
+    std::cerr << "ldoem-scan: write " << options.out_path << ": " << cloud::to_string(written.error()) << "\n";
+    return kExitFailure;
+  }
+  std::cerr << "ldoem-scan: " << result.cloud.size() << " points in " << result.layers_done << " layers written to "
+            << options.out_path << "\n";
+  if (options.preview_path) {
+    auto preview = cloud::write_range_image_png(*options.preview_path, result.cloud);
+    if (!preview) {
+      std::cerr << "ldoem-scan: write " << *options.preview_path << ": " << cloud::to_string(preview.error()) << "\n";
+      return kExitFailure;
+    }
+  }
+  if (options.fit) {
+    auto fit = scan::fit_scene(result.cloud);
+    if (!fit) {
+      std::cerr << "ldoem-scan: fit: " << fit.error() << "\n";
+      return kExitFailure;
+    }
+    std::cout << scan::describe(*fit) << "\n";
+  }
+  return scan::kExitOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::vector<std::string_view> args(argv + 1, argv + argc);
+  auto options = scan::parse_scan_options(args);
+  if (!options) {
+    std::cerr << "ldoem-scan: " << options.error() << "\n" << scan::scan_usage("ldoem-scan");
+    return scan::kExitUsage;
+  }
+  if (options->help) {
+    std::cout << scan::scan_usage("ldoem-scan");
+    return scan::kExitOk;
+  }
+  auto plan = scan::make_plan(*options);
+  if (!plan) {
+    std::cerr << "ldoem-scan: " << plan.error() << "\n";
+    return scan::kExitUsage;
+  }
+
+  sigset_t stop_signals;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGINT);
+  sigaddset(&stop_signals, SIGTERM);
+  // A shell starts background jobs with SIGINT ignored; an ignored signal never reaches the
+  // signalfd, so the default disposition is restored before the signals are blocked.
+  signal(SIGINT, SIG_DFL);
+  signal(SIGTERM, SIG_DFL);
+  sigprocmask(SIG_BLOCK, &stop_signals, nullptr);
+  const int signal_fd = signalfd(-1, &stop_signals, SFD_CLOEXEC);
+
+  auto device = open_device(*options);
+  if (!device) {
+    std::cerr << "ldoem-scan: " << driver::describe(device.error()) << "\n";
+    return kExitFailure;
+  }
+  cloud::ProgressBar progress = cloud::ProgressBar::for_stderr();
+  int signal_seen = 0;
+  scan::AcquisitionHooks hooks;
+  hooks.on_layer = [&progress](std::uint32_t done, std::uint32_t total) {
+    progress.update(done, total, driver::Clock::now().time_since_epoch());
+  };
+  hooks.should_stop = [&signal_seen, signal_fd] {
+    if (signal_seen == 0) {
+      signal_seen = pending_signal(signal_fd);
+    }
+    return signal_seen != 0;
+  };
+  auto result = scan::acquire(**device, *plan, hooks);
+  progress.finish();
+  if (!result) {
+    std::cerr << "ldoem-scan: " << scan::describe(result.error()) << "\n";
+    return result.error().failure == scan::AcquisitionFailure::stopped ? scan::kExitSignalBase + signal_seen
+                                                                        : kExitFailure;
+  }
+  return write_outputs(*options, *result);
+}

@@ -1,0 +1,62 @@
+#include "ldoem/scan/profile_points.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include "ldoem/scan/scan_plan.hpp"
+
+namespace ldoem::scan {
+namespace {
+
+constexpr double kRadiansPerDegree = std::numbers::pi / 180.0;
+// Spec 2.3: DISTANCE is in 1/256 m.
+constexpr double kMetresPerDistanceUnit = 1.0 / 256.0;
+
+}  // namespace
+
+double beam_angle_deg(const protocol::SectorBlock& sector, std::size_t point_index, bool has_direction) {
+  const std::int64_t ticks = has_direction
+                                 ? sector.points[point_index].direction_ticks
+                                 : static_cast<std::int64_t>(sector.start_dir_ticks) +
+                                       static_cast<std::int64_t>(point_index) * sector.dir_step_ticks;
+  std::int64_t wrapped = ticks % kTicksPerRevolution;
+  if (wrapped > static_cast<std::int64_t>(kTicksPerRevolution / 2)) {
+    wrapped -= kTicksPerRevolution;
+  }
+  return static_cast<double>(wrapped) / kTicksPerDegree;
+}
+
+Vector3 pivot_point(double range_m, double head_angle_deg, double tilt_deg, const Vector3& optical_offset_m) {
+  const double theta = head_angle_deg * kRadiansPerDegree;
+  const double phi = tilt_deg * kRadiansPerDegree;
+  const Vector3 head{optical_offset_m.x + range_m * std::cos(theta), optical_offset_m.y + range_m * std::sin(theta),
+                     optical_offset_m.z};
+  // R_y(-phi): x' = x cos phi - z sin phi, z' = x sin phi + z cos phi.
+  return {head.x * std::cos(phi) - head.z * std::sin(phi), head.y, head.x * std::sin(phi) + head.z * std::cos(phi)};
+}
+
+std::vector<BeamPoint> profile_to_points(const protocol::Profile& profile, double tilt_deg,
+                                         const Vector3& optical_offset_m) {
+  const bool has_direction = (profile.format & protocol::profile_bits::kDirection) != 0;
+  const bool has_distance = (profile.format & protocol::profile_bits::kDistance) != 0;
+  const bool has_echo = (profile.format & protocol::profile_bits::kEcho) != 0;
+  std::vector<BeamPoint> points;
+  std::uint32_t beam = 0;
+  for (const protocol::SectorBlock& sector : profile.sectors) {
+    for (std::size_t k = 0; k < sector.points.size(); ++k, ++beam) {
+      const protocol::ProfilePoint& point = sector.points[k];
+      if (!has_distance || point.distance_q8_m == 0) {
+        continue;
+      }
+      const Vector3 position = pivot_point(point.distance_q8_m * kMetresPerDistanceUnit,
+                                           beam_angle_deg(sector, k, has_direction), tilt_deg, optical_offset_m);
+      points.push_back(BeamPoint{{static_cast<float>(position.x), static_cast<float>(position.y),
+                                  static_cast<float>(position.z)},
+                                 has_echo ? static_cast<float>(point.echo) : 0.0F,
+                                 beam});
+    }
+  }
+  return points;
+}
+
+}  // namespace ldoem::scan

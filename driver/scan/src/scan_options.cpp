@@ -1,0 +1,286 @@
+#include "ldoem/scan/scan_options.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <functional>
+#include <map>
+
+namespace ldoem::scan {
+namespace {
+
+using protocol::Unexpected;
+using OptionsResult = protocol::Expected<ScanOptions, std::string>;
+
+Unexpected<std::string> usage_error(std::string text) { return Unexpected<std::string>(std::move(text)); }
+
+std::optional<double> parse_double(std::string_view text) {
+  double value = 0.0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc{} || end != text.data() + text.size() || text.empty() || !std::isfinite(value)) {
+    return std::nullopt;
+  }
+  return value;
+}
+
+std::optional<Vector3> parse_vector(std::string_view text) {
+  double values[3];
+  for (int i = 0; i < 3; ++i) {
+    const std::size_t comma = text.find(',');
+    if ((i < 2) != (comma != std::string_view::npos)) {
+      return std::nullopt;
+    }
+    const auto value = parse_double(text.substr(0, comma));
+    if (!value) {
+      return std::nullopt;
+    }
+    values[i] = *value;
+    text = i < 2 ? text.substr(comma + 1) : std::string_view{};
+  }
+  return Vector3{values[0], values[1], values[2]};
+}
+
+using Setter = std::function<std::optional<std::string>(ScanOptions&, std::string_view)>;
+
+Setter number_into(double ScanOptions::*field, bool positive) {
+  return [field, positive](ScanOptions& options, std::string_view value) -> std::optional<std::string> {
+    const auto number = parse_double(value);
+    if (!number || (positive && *number <= 0.0) || *number < 0.0) {
+      return "`" + std::string(value) + "` is not a " + (positive ? "positive" : "non-negative") + " number";
+    }
+    options.*field = *number;
+    return std::nullopt;
+  };
+}
+
+std::optional<std::string> set_endpoint(std::optional<driver::Endpoint>& slot, std::string_view value, bool lpt) {
+  auto endpoint = driver::parse_endpoint(value);
+  if (!endpoint) {
+    return driver::describe(endpoint.error());
+  }
+  if (std::holds_alternative<driver::LptEndpoint>(endpoint.value()) != lpt) {
+    return lpt ? "not an lpt: endpoint" : "an lpt: endpoint is not a scanner";
+  }
+  slot = endpoint.value();
+  return std::nullopt;
+}
+
+const std::map<std::string_view, Setter>& setters() {
+  static const std::map<std::string_view, Setter> table{
+      {"--device", [](ScanOptions& o, std::string_view v) { return set_endpoint(o.device, v, false); }},
+      {"--lpt", [](ScanOptions& o, std::string_view v) { return set_endpoint(o.lpt, v, true); }},
+      {"--hub",
+       [](ScanOptions& o, std::string_view v) -> std::optional<std::string> {
+         auto address = hub::parse_listen_address(v);
+         if (!address) {
+           return address.error();
+         }
+         o.hub = address.value();
+         return std::nullopt;
+       }},
+      {"--hub-device",
+       [](ScanOptions& o, std::string_view v) -> std::optional<std::string> {
+         o.hub_device = std::string(v);
+         return std::nullopt;
+       }},
+      {"--horizontal-apex", number_into(&ScanOptions::horizontal_apex_deg, true)},
+      {"--horizontal-resolution", number_into(&ScanOptions::horizontal_resolution_deg, true)},
+      {"--vertical-apex", number_into(&ScanOptions::vertical_apex_deg, false)},
+      {"--vertical-resolution", number_into(&ScanOptions::vertical_resolution_deg, true)},
+      {"--step-rate", number_into(&ScanOptions::step_rate_hz, true)},
+      {"--speed",
+       [](ScanOptions& o, std::string_view v) -> std::optional<std::string> {
+         unsigned value = 0;
+         const auto [end, error] = std::from_chars(v.data(), v.data() + v.size(), value);
+         if (error != std::errc{} || end != v.data() + v.size() || value < 5 || value > 20) {
+           return "`" + std::string(v) + "` is not a motor speed of 5..20 Hz (spec 6)";
+         }
+         o.speed_hz = static_cast<std::uint16_t>(value);
+         return std::nullopt;
+       }},
+      {"--out",
+       [](ScanOptions& o, std::string_view v) -> std::optional<std::string> {
+         o.out_path = std::string(v);
+         return std::nullopt;
+       }},
+      {"--format",
+       [](ScanOptions& o, std::string_view v) -> std::optional<std::string> {
+         if (v != "ascii" && v != "binary") {
+           return "must be ascii or binary";
+         }
+         o.encoding = v == "ascii" ? CloudEncoding::ascii : CloudEncoding::binary;
+         return std::nullopt;
+       }},
+      {"--preview",
+       [](ScanOptions& o, std::string_view v) -> std::optional<std::string> {
+         o.preview_path = std::string(v);
+         return std::nullopt;
+       }},
+      {"--timeout",
+       [](ScanOptions& o, std::string_view v) -> std::optional<std::string> {
+         const auto seconds = parse_double(v);
+         if (!seconds || *seconds <= 0.0) {
+           return "`" + std::string(v) + "` is not a positive number of seconds";
+         }
+         o.timeout = std::chrono::milliseconds(static_cast<long long>(std::ceil(*seconds * 1000.0)));
+         return std::nullopt;
+       }},
+      {"--optical-offset",
+       [](ScanOptions& o, std::string_view v) -> std::optional<std::string> {
+         const auto offset = parse_vector(v);
+         if (!offset) {
+           return "`" + std::string(v) + "` is not X,Y,Z in metres";
+         }
+         o.optical_offset_m = *offset;
+         return std::nullopt;
+       }},
+  };
+  return table;
+}
+
+std::optional<std::string> check_combination(const ScanOptions& options) {
+  if (options.device.has_value() == options.hub.has_value()) {
+    return "give either --device ENDPOINT or --hub HOST:PORT --hub-device NAME";
+  }
+  if (options.hub && options.hub_device.empty()) {
+    return "--hub needs --hub-device NAME";
+  }
+  if (!options.hub && !options.hub_device.empty()) {
+    return "--hub-device needs --hub";
+  }
+  if (options.hub && options.lpt) {
+    return "--lpt is for --device; through a hub the hub drives the stepper";
+  }
+  if (options.out_path.empty()) {
+    return "--out FILE.ply or FILE.pcd is required";
+  }
+  if (!output_format(options.out_path, options.encoding)) {
+    return "--out: the file name must end in .ply or .pcd";
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+OptionsResult parse_scan_options(const std::vector<std::string_view>& args) {
+  ScanOptions options;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string_view option = args[i];
+    if (option == "--help" || option == "-h") {
+      options.help = true;
+      continue;
+    }
+    if (option == "--half-step") {
+      options.half_step = true;
+      continue;
+    }
+    if (option == "--fit") {
+      options.fit = true;
+      continue;
+    }
+    const auto setter = setters().find(option);
+    if (setter == setters().end()) {
+      return usage_error("unknown option `" + std::string(option) + "`");
+    }
+    if (i + 1 >= args.size()) {
+      return usage_error(std::string(option) + " needs a value");
+    }
+    if (auto problem = setter->second(options, args[++i])) {
+      return usage_error(std::string(option) + ": " + *problem);
+    }
+  }
+  if (options.help) {
+    return options;
+  }
+  if (auto problem = check_combination(options)) {
+    return usage_error(*problem);
+  }
+  return options;
+}
+
+std::optional<cloud::CloudFileFormat> output_format(std::string_view path, CloudEncoding encoding) {
+  if (path.size() < 4) {
+    return std::nullopt;
+  }
+  std::string extension(path.substr(path.size() - 4));
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const bool ascii = encoding == CloudEncoding::ascii;
+  if (extension == ".ply") {
+    return ascii ? cloud::CloudFileFormat::ply_ascii : cloud::CloudFileFormat::ply_binary;
+  }
+  if (extension == ".pcd") {
+    return ascii ? cloud::CloudFileFormat::pcd_ascii : cloud::CloudFileFormat::pcd_binary;
+  }
+  return std::nullopt;
+}
+
+protocol::Expected<AcquisitionPlan, std::string> make_plan(const ScanOptions& options) {
+  auto sectors = plan_sectors(options.horizontal_apex_deg, options.horizontal_resolution_deg, options.speed_hz);
+  if (!sectors) {
+    return usage_error(sectors.error());
+  }
+  auto layers = plan_layers(options.vertical_apex_deg, options.vertical_resolution_deg, options.half_step);
+  if (!layers) {
+    return usage_error(layers.error());
+  }
+  if (options.device && !options.lpt && layers->layer_count > 1) {
+    return usage_error("more than one layer needs --lpt ENDPOINT for the tilt stepper (or --vertical-apex 0)");
+  }
+  AcquisitionPlan plan;
+  plan.sectors = std::move(sectors.value());
+  plan.layers = layers.value();
+  plan.motor_speed_hz = options.speed_hz;
+  plan.step_rate_hz = options.step_rate_hz;
+  plan.optical_offset_m = options.optical_offset_m;
+  plan.profile_timeout = options.timeout;
+  return plan;
+}
+
+std::string scan_usage(std::string_view program) {
+  std::string text = "usage: " + std::string(program) +
+                     " (--device ENDPOINT [--lpt ENDPOINT] | --hub HOST:PORT --hub-device NAME) --out FILE [options]\n";
+  text += R"(
+3D acquisition (the paper's sequence): INITIALIZE, MOVEMOTOR to the low vertical apex, ROTATE,
+MEASURE, then per layer GET2DPROFILE and MOVEMOTOR one layer step, IDLE, MOVEMOTOR home.
+Points are written in the tilt pivot frame (x forward, y left, z up; D5).
+
+Device:
+  --device ENDPOINT            the scanner: can:IFACE[:REQ:RESP], tcp:HOST[:PORT], serial:PATH
+  --lpt ENDPOINT               the tilt stepper: lpt:pty:PATH, lpt:/dev/parportN, lpt:gpio:CHIP
+                               (needed with --device when there is more than one layer)
+  --hub HOST:PORT              go through ldoem-hub instead (its device drives the stepper)
+  --hub-device NAME            the hub's device name
+Geometry:
+  --horizontal-apex DEG        measured sector, centred on +x (default 20)
+  --horizontal-resolution DEG  head angle step, multiple of 0.125 (default 0.25)
+  --vertical-apex DEG          tilt range, centred on level (default 21.6)
+  --vertical-resolution DEG    tilt per layer: a whole number of 0.09 deg steps, or of
+                               0.045 deg with --half-step (default 0.18)
+  --optical-offset X,Y,Z       optical centre from the tilt pivot, metres (default 0,0,0)
+  --speed HZ                   head speed 5..20 (default 10)
+  --half-step                  drive the stepper in half steps (default full steps)
+  --step-rate HZ               stepper pulse rate (default 200)
+Output:
+  --out FILE                   .ply or .pcd (required)
+  --format ascii|binary        (default binary)
+  --preview FILE.png           range image, one row per layer
+  --fit                        fit the wall plane and a cylinder; print diameter, length and
+                               wall distance
+  --timeout SECONDS            wait for each profile (default 5)
+  --help                       this text
+
+Exit codes: 0 scan written, 1 device or file failure, 2 usage error or impossible plan,
+128+N after signal N (SIGINT, SIGTERM; the scanner is sent to IDLE and the tilt home first).
+
+Examples:
+  ldoem-scan --device can:vcan0 --lpt lpt:pty:/tmp/ldoem-lpt --out scan.ply
+  ldoem-scan --device tcp:127.0.0.1:49152 --lpt lpt:pty:/tmp/ldoem-lpt --out scan.pcd \
+             --format ascii --preview scan.png --fit
+  ldoem-scan --hub 127.0.0.1:49200 --hub-device left --half-step --vertical-resolution 0.045 \
+             --out scan.ply
+)";
+  return text;
+}
+
+}  // namespace ldoem::scan

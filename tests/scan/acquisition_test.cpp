@@ -1,0 +1,166 @@
+// Whole scans through ScannerDevice against the scripted LD: the sequence of services, the
+// tilt positions and every point of the cloud.
+#include "ldoem/scan/acquisition.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <unistd.h>
+#include <filesystem>
+
+#include "ldoem/cloud/cloud_file.hpp"
+#include "ldoem/hub/scanner_device.hpp"
+#include "ldoem/protocol/service_codes.hpp"
+#include "scripted_ld.hpp"
+
+namespace ldoem::scan {
+namespace {
+
+using test::ScriptedLd;
+using test::ScriptedTransport;
+using test::TiltLptPort;
+
+// Range in 1/256 m: 2 m plus a few mm per beam and per half-step of tilt.
+std::uint16_t scripted_range(std::uint32_t beam, std::int64_t tilt_half_steps) {
+  if (beam == 7) {
+    return 0;  // no echo on one beam
+  }
+  return static_cast<std::uint16_t>(512 + beam + 2 * (tilt_half_steps + 1000));
+}
+
+struct Bench {
+  std::shared_ptr<TiltLptPort> port_holder = std::make_shared<TiltLptPort>();
+  ScriptedLd ld{scripted_range, [this] { return port_holder->position_half_steps(); }};
+  std::unique_ptr<hub::ScannerDevice> device;
+
+  Bench() {
+    hub::TransportFactory transport = [this]() -> driver::Expected<std::unique_ptr<driver::Transport>, driver::DriverError> {
+      return std::unique_ptr<driver::Transport>(std::make_unique<ScriptedTransport>(ld));
+    };
+    hub::LptFactory lpt = [this]() -> driver::Expected<std::unique_ptr<driver::LptPort>, driver::DriverError> {
+      return std::unique_ptr<driver::LptPort>(std::make_unique<SharedPort>(port_holder));
+    };
+    device = std::make_unique<hub::ScannerDevice>("bench", transport, lpt, std::make_unique<test::VirtualSleeper>());
+  }
+
+  // Forwards to the shared port so the test can read the position after the device is gone.
+  struct SharedPort final : driver::LptPort {
+    explicit SharedPort(std::shared_ptr<TiltLptPort> port) : port_(std::move(port)) {}
+    driver::Status write_data(std::uint8_t value) override { return port_->write_data(value); }
+    const std::string& name() const override { return port_->name(); }
+    std::shared_ptr<TiltLptPort> port_;
+  };
+};
+
+AcquisitionPlan small_plan(bool half_step) {
+  AcquisitionPlan plan;
+  plan.sectors = plan_sectors(20.0, 0.25, 10).value();
+  plan.layers = plan_layers(1.8, 0.18, half_step).value();  // 11 layers
+  plan.step_rate_hz = 1000.0;
+  return plan;
+}
+
+TEST(Acquire, ScriptedDevice_CloudMatchesTheScriptedRanges) {
+  Bench bench;
+  const AcquisitionPlan plan = small_plan(false);
+  std::vector<std::uint32_t> progress;
+  AcquisitionHooks hooks;
+  hooks.on_layer = [&progress](std::uint32_t done, std::uint32_t) { progress.push_back(done); };
+  auto scan = acquire(*bench.device, plan, hooks);
+  ASSERT_TRUE(scan) << describe(scan.error());
+
+  const std::uint32_t layers = plan.layers.layer_count;
+  ASSERT_EQ(layers, 11u);
+  EXPECT_EQ(progress.size(), layers);
+  EXPECT_EQ(scan->layers_done, layers);
+  ASSERT_EQ(scan->cloud.size(), layers * (81u - 1u));  // beam 7 has no echo
+  std::size_t index = 0;
+  for (std::uint32_t layer = 0; layer < layers; ++layer) {
+    const std::int64_t half_steps = -20 + 4 * static_cast<std::int64_t>(layer);  // -0.9 deg .. +0.9 deg
+    const double phi = half_steps * 0.045 * M_PI / 180.0;
+    for (std::uint32_t beam = 0; beam < 81; ++beam) {
+      if (beam == 7) {
+        continue;
+      }
+      const double range_m = scripted_range(beam, half_steps) / 256.0;
+      const double theta = (-10.0 + 0.25 * beam) * M_PI / 180.0;
+      const cloud::PointRecord point = scan->cloud.record(index++);
+      EXPECT_NEAR(point.position.x_m, range_m * std::cos(theta) * std::cos(phi), 1e-5) << layer << "/" << beam;
+      EXPECT_NEAR(point.position.y_m, range_m * std::sin(theta), 1e-5) << layer << "/" << beam;
+      EXPECT_NEAR(point.position.z_m, range_m * std::cos(theta) * std::sin(phi), 1e-5) << layer << "/" << beam;
+      EXPECT_EQ(point.ring, layer);
+      EXPECT_EQ(point.image_position, (cloud::ImagePosition{layer, beam}));
+      EXPECT_FLOAT_EQ(point.intensity, 100.0F + beam);
+    }
+  }
+  // The scan ends in IDLE with the plate home.
+  EXPECT_EQ(bench.ld.mode(), protocol::SensorMode::idle);
+  EXPECT_EQ(bench.port_holder->position_half_steps(), 0);
+  EXPECT_EQ(bench.ld.global().angle_step_ticks, 4);
+  EXPECT_EQ(bench.ld.profiles_sent(), layers);
+}
+
+TEST(Acquire, Sequence_FollowsThePaper) {
+  Bench bench;
+  auto scan = acquire(*bench.device, small_plan(true));
+  ASSERT_TRUE(scan) << describe(scan.error());
+  const auto& seen = bench.ld.requests;
+  const auto code = [](protocol::Service s) { return static_cast<std::uint16_t>(s); };
+  ASSERT_FALSE(seen.empty());
+  EXPECT_EQ(seen.front(), code(protocol::Service::get_status));
+  const auto first = [&](protocol::Service s) {
+    return std::find(seen.begin(), seen.end(), code(s)) - seen.begin();
+  };
+  EXPECT_LT(first(protocol::Service::get_identification), first(protocol::Service::set_function));
+  EXPECT_LT(first(protocol::Service::set_function), first(protocol::Service::trans_rotate));
+  EXPECT_LT(first(protocol::Service::trans_rotate), first(protocol::Service::trans_measure));
+  EXPECT_LT(first(protocol::Service::trans_measure), first(protocol::Service::get_profile));
+  EXPECT_EQ(std::count(seen.begin(), seen.end(), code(protocol::Service::get_profile)), 11);
+  EXPECT_EQ(seen.back(), code(protocol::Service::trans_idle));
+  EXPECT_EQ(bench.port_holder->position_half_steps(), 0);
+}
+
+TEST(Acquire, DeviceRefusesMidScan_ReportsTheLayerAndCleansUp) {
+  Bench bench;
+  bench.ld.refuse_profiles_after = 3;
+  auto scan = acquire(*bench.device, small_plan(false));
+  ASSERT_FALSE(scan);
+  EXPECT_EQ(scan.error().failure, AcquisitionFailure::device_error);
+  EXPECT_EQ(scan.error().stage, "GET2DPROFILE layer 3");
+  ASSERT_TRUE(scan.error().error);
+  EXPECT_EQ(scan.error().error->kind, driver::ErrorKind::service_failure);
+  EXPECT_FALSE(scan.error().cleanup_error);
+  EXPECT_EQ(bench.ld.mode(), protocol::SensorMode::idle);
+  EXPECT_EQ(bench.port_holder->position_half_steps(), 0);
+}
+
+TEST(Acquire, StopRequest_EndsWithCleanUp) {
+  Bench bench;
+  int polls = 0;
+  AcquisitionHooks hooks;
+  hooks.should_stop = [&polls] { return ++polls > 4; };
+  auto scan = acquire(*bench.device, small_plan(false), hooks);
+  ASSERT_FALSE(scan);
+  EXPECT_EQ(scan.error().failure, AcquisitionFailure::stopped);
+  EXPECT_EQ(bench.ld.mode(), protocol::SensorMode::idle);
+  EXPECT_EQ(bench.port_holder->position_half_steps(), 0);
+}
+
+TEST(Acquire, CloudFile_RoundTripsThroughPly) {
+  Bench bench;
+  auto scan = acquire(*bench.device, small_plan(false));
+  ASSERT_TRUE(scan) << describe(scan.error());
+  const auto path = std::filesystem::temp_directory_path() / ("ldoem_scan_test_" + std::to_string(::getpid()) + ".ply");
+  ASSERT_TRUE(cloud::write_cloud_file(path, scan->cloud, cloud::CloudFileFormat::ply_binary));
+  auto back = cloud::read_cloud_file(path);
+  std::filesystem::remove(path);
+  ASSERT_TRUE(back);
+  ASSERT_EQ(back->size(), scan->cloud.size());
+  for (std::size_t i = 0; i < back->size(); i += 97) {
+    EXPECT_EQ(back->positions()[i], scan->cloud.positions()[i]);
+  }
+}
+
+}  // namespace
+}  // namespace ldoem::scan
