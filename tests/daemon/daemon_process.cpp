@@ -104,14 +104,27 @@ void DaemonProcess::signal(int signal_number) {
 std::optional<int> DaemonProcess::wait(std::chrono::milliseconds limit) {
   if (exit_status_) return exit_status_;
   const auto deadline = std::chrono::steady_clock::now() + limit;
-  while (std::chrono::steady_clock::now() < deadline) {
+  for (;;) {  // looks at least once, so a zero limit asks "has it exited?"
     int status = 0;
     const pid_t done = ::waitpid(pid_, &status, WNOHANG);
     if (done == pid_) {
       exit_status_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
       return exit_status_;
     }
+    if (std::chrono::steady_clock::now() >= deadline) return std::nullopt;
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+}
+
+bool DaemonProcess::alive() {
+  if (pid_ <= 0 || exit_status_) return false;
+  return !wait(std::chrono::milliseconds(0)).has_value();
+}
+
+std::optional<std::uint64_t> DaemonProcess::rss_kib() const {
+  std::ifstream status("/proc/" + std::to_string(pid_) + "/status");
+  for (std::string line; std::getline(status, line);) {
+    if (line.rfind("VmRSS:", 0) == 0) return std::stoull(line.substr(6));
   }
   return std::nullopt;
 }

@@ -31,6 +31,11 @@ class DaemonProcess {
   std::uint16_t tcp_port() const;
 
   void signal(int signal_number);
+  pid_t pid() const { return pid_; }
+  // Still running (not exited, not reaped).
+  bool alive();
+  // VmRSS from /proc/PID/status in KiB; nothing once the process is gone.
+  std::optional<std::uint64_t> rss_kib() const;
   // Exit status (WEXITSTATUS, or 128 + signal when killed by one); nothing after `limit`.
   std::optional<int> wait(std::chrono::milliseconds limit = std::chrono::seconds(20));
   std::string stderr_text() const;

@@ -8,6 +8,7 @@
 
 #include "daemon_process.hpp"
 #include "host_link.hpp"
+#include "isotp_host.hpp"
 #include "ldoem/daemon/isotp_channel.hpp"
 #include "ldoem/io/can_interface.hpp"
 #include "ldoem/io/can_socket.hpp"
@@ -61,49 +62,6 @@ TEST(DaemonVcan, CansendGetStatus_CandumpSeesTheExactSingleFrameReply) {
   EXPECT_EQ(reply, "6C1#06810200000001");  // GET_STATUS reply, IDLE, unpadded (D1)
 }
 
-// A host on CAN_RAW with the project's ISO-TP machines, ids swapped.
-class IsoTpHost {
- public:
-  explicit IsoTpHost(CanIdPair ids) : channel_(IsoTpChannelConfig{CanIdPair{ids.response_id, ids.request_id}}) {
-    auto socket = io::CanRawSocket::open("vcan0", std::vector<io::CanIdFilter>{io::exact_standard_id(ids.response_id)});
-    EXPECT_TRUE(socket) << socket.error().message();
-    if (socket) socket_.emplace(std::move(*socket));
-  }
-
-  // Sends `request` and returns the next telegram from the LD, within `limit`.
-  std::optional<Bytes> exchange(const Bytes& request, std::chrono::milliseconds limit = 10s) {
-    transmit(channel_.send(elapsed(), request).frames);
-    return next(limit);
-  }
-
-  std::optional<Bytes> next(std::chrono::milliseconds limit = 10s) {
-    const auto deadline = std::chrono::steady_clock::now() + limit;
-    while (std::chrono::steady_clock::now() < deadline) {
-      if (!wait_readable(socket_->fd(), 20ms)) continue;
-      for (;;) {
-        auto frame = socket_->receive();
-        if (!frame || !frame->has_value()) break;
-        auto out = channel_.on_frame(elapsed(), **frame);
-        transmit(out.frames);  // our flow control
-        if (!out.telegrams.empty()) return out.telegrams.front();
-      }
-    }
-    return std::nullopt;
-  }
-
- private:
-  SimTime elapsed() const { return std::chrono::steady_clock::now() - start_; }
-  void transmit(const std::vector<protocol::CanFrame>& frames) {
-    for (const auto& frame : frames) {
-      auto sent = socket_->send(frame);
-      EXPECT_TRUE(sent) << sent.error().message();
-    }
-  }
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
-  IsoTpChannel channel_;
-  std::optional<io::CanRawSocket> socket_;
-};
-
 TEST(DaemonVcan, GetProfileOverIsoTp_ArrivesWholeAndDecodes) {
   LDOEM_REQUIRE_VCAN0();
   CanDaemon daemon({"--time-scale", "4"});
@@ -129,6 +87,49 @@ TEST(DaemonVcan, SecondHostOnAnotherIdPair_IsItsOwnConnection) {
   EXPECT_EQ(second.exchange(telegram("GET_CONFIG 0010")),
             std::optional<Bytes>(telegram("GET_CONFIG reply 0010 0001 000a 0004")));
   EXPECT_FALSE(first.next(300ms).has_value());  // the second host's reply went only to it
+}
+
+// With --virtual-time, a request heard while the daemon idles (its 50 ms wait for hosts) must
+// still give the host its wall-time grace for flow control: the 8-byte TRANS_MEASURE reply is a
+// first frame that waits for ours (regression: the clock jumped over N_Bs and dropped it).
+TEST(DaemonVcan, VirtualTimeAfterIdling_MultiFrameReplyWaitsForTheHostsFlowControl) {
+  LDOEM_REQUIRE_VCAN0();
+  CanDaemon daemon({"--virtual-time"});
+  ASSERT_TRUE(daemon.process && daemon.process->wait_ready()) << daemon.process->stderr_text();
+  IsoTpHost host(CanIdPair{0x6C0, 0x6C1});
+  std::this_thread::sleep_for(1200ms);  // longer than the grace: the daemon is idle
+  EXPECT_EQ(host.exchange(telegram("TRANS_ROTATE 0000")), std::optional<Bytes>(telegram("TRANS_ROTATE reply 0000 0002")));
+  std::this_thread::sleep_for(1200ms);
+  EXPECT_EQ(host.exchange(telegram("TRANS_MEASURE")), std::optional<Bytes>(telegram("TRANS_MEASURE reply 0000 0003 0000")));
+}
+
+// D9 bus_timing with SET_CONFIG key 0x0002 BITRATE 1 (125 kbit/s, D1): a 2.2 kB profile takes
+// about 280 ms on the bus, so at 10 Hz revolutions are skipped while it is sent (D10):
+// PROFILECOUNT jumps by 3 or more between consecutive profiles, PROFILESENT stays consecutive.
+TEST(DaemonVcan, BusTimingAt125k_SlowsProfilesSoRevolutionsAreSkipped) {
+  LDOEM_REQUIRE_VCAN0();
+  TempDir dir;
+  const std::string scene = dir.write("scene.yaml", "effects: [bus_timing]\n" + minimal_scene_text());
+  auto process = DaemonProcess::start({"--scene", scene, "--can", "vcan0", "--no-flash", "--virtual-time", "--timeout", "120"});
+  ASSERT_TRUE(process && process->wait_ready()) << (process ? process->stderr_text() : "");
+  IsoTpHost host(CanIdPair{0x6C0, 0x6C1});
+  EXPECT_EQ(host.exchange(telegram("SET_CONFIG 0002 0001 06c0 06c1 0000 0000")),
+            std::optional<Bytes>(telegram("SET_CONFIG reply 0000")));
+  EXPECT_EQ(host.exchange(telegram("TRANS_ROTATE 0000")), std::optional<Bytes>(telegram("TRANS_ROTATE reply 0000 0002")));
+  EXPECT_EQ(host.exchange(telegram("TRANS_MEASURE")), std::optional<Bytes>(telegram("TRANS_MEASURE reply 0000 0003 0000")));
+  host.send(telegram("GET_PROFILE 0004 39ff"));
+  std::vector<protocol::Profile> profiles;
+  while (profiles.size() < 4) {
+    const auto payload = host.next();
+    ASSERT_TRUE(payload) << "after " << profiles.size() << " profiles";
+    auto profile = protocol::decode_profile(*payload);
+    ASSERT_TRUE(profile) << to_hex(*payload);
+    profiles.push_back(*profile);
+  }
+  for (std::size_t i = 1; i < profiles.size(); ++i) {
+    EXPECT_EQ(profiles[i].profile_sent, profiles[i - 1].profile_sent + 1);
+    EXPECT_GE(profiles[i].profile_count - profiles[i - 1].profile_count, 3) << i;
+  }
 }
 
 }  // namespace

@@ -14,7 +14,9 @@
 #include "ldoem/control/flash_image.hpp"
 #include "ldoem/control/revolution_timing.hpp"
 #include "ldoem/control/scene_defaults.hpp"
+#include "ldoem/daemon/can_bus_pacer.hpp"
 #include "ldoem/daemon/file_flash_store.hpp"
+#include "ldoem/daemon/head_track.hpp"
 #include "ldoem/daemon/isotp_channel.hpp"
 #include "ldoem/daemon/logger.hpp"
 #include "ldoem/daemon/output_queue.hpp"
@@ -103,6 +105,9 @@ struct CanBus {
   std::vector<std::optional<SimTime>> scheduled_polls;
   std::deque<protocol::CanFrame> backlog;  // frames the interface's queue refused
   bool first_pair_from_flash = true;       // pair 1 follows SET_CONFIG key 2 (D1)
+  std::optional<CanBusPacer> pacer;        // D9 bus_timing only: frames leave at the bit rate
+  std::optional<SimTime> pacer_scheduled;  // the pacer's release deadline already queued
+  IsoTpChannelCounters retired;            // counts of channels replaced by a new CAN configuration
 };
 
 // ------------------------------------------------------------------------------------- the core
@@ -124,6 +129,9 @@ struct Daemon::Impl final : control::TransportQuery {
   std::unique_ptr<TiltTrack> tilt;
   std::optional<LptDriveBoard> board;
   std::unique_ptr<SpinUpHeadModel> head;
+  std::unique_ptr<HeadTrack> head_track;  // D9 head_dynamics only
+  // The control unit's head target last passed to head_track: (target Hz, epoch or reach time).
+  std::pair<std::uint16_t, SimTime> mirrored_head_target{0, SimTime::zero()};
   std::unique_ptr<SceneMeasurement> measurement;
   std::unique_ptr<control::FlashStore> flash;
   std::unique_ptr<control::ControlUnit> unit;
@@ -154,9 +162,12 @@ struct Daemon::Impl final : control::TransportQuery {
       }
       case TransportKind::serial:
         return serial && !serial->output.empty();
-      case TransportKind::can:
-        return can && connection.index >= 1 && connection.index <= can->channels.size() &&
-               can->channels[connection.index - 1].busy();
+      case TransportKind::can: {
+        if (!can || connection.index < 1 || connection.index > can->channels.size()) return false;
+        const IsoTpChannel& channel = can->channels[connection.index - 1];
+        // With bus_timing a telegram is still being sent while its frames wait for the bus.
+        return channel.busy() || (can->pacer && can->pacer->pending_for(channel.config().ids.response_id));
+      }
     }
     return false;
   }
@@ -166,7 +177,9 @@ struct Daemon::Impl final : control::TransportQuery {
   bool waiting_for_host() const {
     if (!can) return false;
     for (const IsoTpChannel& channel : can->channels) {
-      if (channel.waiting_for_host()) return true;
+      // A host cannot answer a frame the paced bus has not delivered yet: jump to its release.
+      const bool frames_on_the_way = can->pacer && can->pacer->pending_for(channel.config().ids.response_id);
+      if (channel.waiting_for_host() && !frames_on_the_way) return true;
     }
     return false;
   }
@@ -183,6 +196,7 @@ struct Daemon::Impl final : control::TransportQuery {
   void deliver(ConnectionId from, const Bytes& payload);
   void framing_error(ConnectionId from, const protocol::FramingError& error);
   void perform(const control::Actions& actions);
+  void follow_head_target(SimTime at);
   void send_telegram(const control::OutgoingTelegram& telegram);
   void after_event();
 
@@ -199,6 +213,7 @@ struct Daemon::Impl final : control::TransportQuery {
   void handle_channel_output(std::size_t channel, IsoTpChannelOutput output);
   void schedule_channel_poll(std::size_t channel);
   void transmit_can(const std::vector<protocol::CanFrame>& frames);
+  void release_paced_frames(SimTime at);
   void flush_can_backlog();
   void apply_can_config_changes();
   void set_can_filters();
@@ -212,6 +227,7 @@ struct Daemon::Impl final : control::TransportQuery {
   int run();
   void save_flash();
   void on_signal(int signal_number);
+  void collect_counters();
 };
 
 std::optional<StartFailure> Daemon::Impl::build_models() {
@@ -224,6 +240,9 @@ std::optional<StartFailure> Daemon::Impl::build_models() {
   tilt = std::make_unique<TiltTrack>(motor::make_tilt_motor(scene));
   board.emplace(*tilt);
   head = std::make_unique<SpinUpHeadModel>(scene.scanner.head);
+  if (scene.effects.has(scene::Effect::head_dynamics)) {
+    head_track = std::make_unique<HeadTrack>(scene.scanner.head);
+  }
   measurement = std::make_unique<SceneMeasurement>(
       *sensor, *tilt, scene.effects.has(scene::Effect::sweep_motion),
       [this](std::uint64_t revolution, SimTime first_beam_time) {
@@ -234,7 +253,8 @@ std::optional<StartFailure> Daemon::Impl::build_models() {
         }
         const std::uint64_t k = revolution - head_state.revolutions_before_epoch - 1;
         return control::revolution_time(head_state.epoch_start, head_state.speed_hz, k, 0);
-      });
+      },
+      head_track.get());
 
   if (options.flash_mode == FlashMode::file) {
     flash = std::make_unique<FileFlashStore>(options.flash_path);
@@ -315,8 +335,11 @@ std::optional<StartFailure> Daemon::Impl::open_can() {
   if (!socket) {
     return StartFailure{kExitUsageError, socket.error().message()};
   }
-  can.emplace(CanBus{std::move(*socket), {}, {}, {}, options.can_id_pairs.empty()});
+  can.emplace(CanBus{std::move(*socket), {}, {}, {}, options.can_id_pairs.empty(), {}, {}, {}});
   const protocol::CanConfig& ram = unit->state().ram.can;
+  if (scene.effects.has(scene::Effect::bus_timing)) {
+    can->pacer.emplace(can_bit_rate_bps(ram.bitrate_code));  // D1 BITRATE, D9
+  }
   std::vector<CanIdPair> pairs = options.can_id_pairs;
   if (pairs.empty()) {
     pairs.push_back(CanIdPair{ram.request_id, ram.response_id});  // D1 via flash
@@ -387,6 +410,7 @@ void Daemon::Impl::deliver(ConnectionId from, const Bytes& payload) {
   logger.log(LogLevel::info, control::to_string(from) + " -> " + protocol::format_telegram(payload));
   const SimTime at = now();
   perform(unit->handle_request(at, from, payload, *this));
+  follow_head_target(at);
   apply_can_config_changes();
 }
 
@@ -394,7 +418,9 @@ void Daemon::Impl::framing_error(ConnectionId from, const protocol::FramingError
   ++counters.framing_errors;
   logger.log(LogLevel::info, control::to_string(from) + " -> framing error: " +
                                  std::string(protocol::describe(error.detail)));
-  perform(unit->on_framing_error(now(), from, error));
+  const SimTime at = now();
+  perform(unit->on_framing_error(at, from, error));
+  follow_head_target(at);
 }
 
 void Daemon::Impl::perform(const control::Actions& actions) {
@@ -404,6 +430,7 @@ void Daemon::Impl::perform(const control::Actions& actions) {
   for (const control::TimerRequest& timer : actions.timers) {
     deadlines.add(timer.at, [this, id = timer.id](SimTime at) {
       perform(unit->on_timer(at, id, *this));
+      follow_head_target(at);
     });
   }
   if (actions.flash_image) {
@@ -412,6 +439,20 @@ void Daemon::Impl::perform(const control::Actions& actions) {
       logger.log(LogLevel::error, file->last_error());
     }
   }
+}
+
+// D9 head_dynamics: the ripple model follows every change of the head's target that the control
+// unit makes (a spin-up starts with its SpinUp record; a stop ends the epoch at `at`). A spin-up
+// that completes keeps its key (to_hz, reached_at), so completion is not a new target.
+void Daemon::Impl::follow_head_target(SimTime at) {
+  if (!head_track) return;
+  const control::DeviceState& state = unit->state();
+  const std::pair<std::uint16_t, SimTime> target =
+      state.spin_up ? std::pair{state.spin_up->to_hz, state.spin_up->reached_at}
+                    : std::pair{state.head.speed_hz, state.head.epoch_start};
+  if (target == mirrored_head_target) return;
+  mirrored_head_target = target;
+  head_track->set_target(at, target.first);
 }
 
 void Daemon::Impl::send_telegram(const control::OutgoingTelegram& telegram) {
@@ -646,10 +687,33 @@ void Daemon::Impl::schedule_channel_poll(std::size_t channel) {
 }
 
 void Daemon::Impl::transmit_can(const std::vector<protocol::CanFrame>& frames) {
+  if (can->pacer) {
+    const SimTime at = now();
+    for (const protocol::CanFrame& frame : frames) {
+      can->pacer->push(at, frame);
+    }
+    release_paced_frames(at);
+    return;
+  }
   for (const protocol::CanFrame& frame : frames) {
     can->backlog.push_back(frame);
   }
   flush_can_backlog();
+}
+
+// D9 bus_timing: frames whose last bit is on the bus go to the socket; the next one is a deadline.
+void Daemon::Impl::release_paced_frames(SimTime at) {
+  for (const protocol::CanFrame& frame : can->pacer->take_due(at)) {
+    can->backlog.push_back(frame);
+  }
+  flush_can_backlog();
+  const std::optional<SimTime> due = can->pacer->deadline();
+  if (!due || (can->pacer_scheduled && *can->pacer_scheduled <= *due)) return;
+  can->pacer_scheduled = *due;
+  deadlines.add(*due, [this, scheduled_for = *due](SimTime now_at) {
+    if (can->pacer_scheduled == scheduled_for) can->pacer_scheduled.reset();
+    release_paced_frames(now_at);
+  });
 }
 
 void Daemon::Impl::flush_can_backlog() {
@@ -675,6 +739,9 @@ void Daemon::Impl::apply_can_config_changes() {
   if (ram == applied_can_config) return;
   applied_can_config = ram;
   if (!can) return;
+  if (can->pacer) {
+    can->pacer->set_bit_rate(can_bit_rate_bps(ram.bitrate_code));  // frames from now on (D1, D9)
+  }
   // D1: SET_CONFIG key 0x0002 (or a reset to flash) moves the first host's pair and sets our
   // BS/STmin; the reply that confirmed it already left on the old identifiers.
   for (std::size_t channel = 0; channel < can->channels.size(); ++channel) {
@@ -684,6 +751,10 @@ void Daemon::Impl::apply_can_config_changes() {
     }
     config.block_size = static_cast<std::uint8_t>(ram.block_size);
     config.st_min = std::chrono::milliseconds(ram.st_min_ms);
+    const IsoTpChannelCounters& old = can->channels[channel].counters();
+    can->retired.receive_errors += old.receive_errors;
+    can->retired.send_failures += old.send_failures;
+    can->retired.queue_overflows += old.queue_overflows;
     can->channels[channel] = IsoTpChannel(config);
     can->scheduled_polls[channel].reset();
   }
@@ -761,13 +832,28 @@ void Daemon::Impl::arm_wall_timer() {
 
 void Daemon::Impl::on_signal(int signal_number) {
   if (signal_number == SIGUSR1) {
-    counters.skipped_profiles = unit->diagnostics().skipped_profiles;
-    counters.profiles_sent = unit->diagnostics().profiles_sent;
+    collect_counters();
     logger.log(LogLevel::error, format_counters(counters));  // asked for: shown at every level
     return;
   }
   stop_signal = signal_number;
   stop_loop();
+}
+
+// The counters kept elsewhere (control unit, ISO-TP channels) into the one DaemonCounters line.
+void Daemon::Impl::collect_counters() {
+  counters.skipped_profiles = unit->diagnostics().skipped_profiles;
+  counters.profiles_sent = unit->diagnostics().profiles_sent;
+  if (!can) return;
+  IsoTpChannelCounters sum = can->retired;
+  for (const IsoTpChannel& channel : can->channels) {
+    sum.receive_errors += channel.counters().receive_errors;
+    sum.send_failures += channel.counters().send_failures;
+    sum.queue_overflows += channel.counters().queue_overflows;
+  }
+  counters.isotp_receive_errors = sum.receive_errors;
+  counters.isotp_send_failures = sum.send_failures;
+  counters.isotp_queue_overflows = sum.queue_overflows;
 }
 
 void Daemon::Impl::save_flash() {
@@ -804,6 +890,10 @@ int Daemon::Impl::run() {
           fatal = true;
           break;
         }
+        // A host heard during the idle wait is activity too: without this, a request that
+        // arrived there started its reply's N_Bs wait with an old last_activity_wall, and the
+        // clock jumped over the host's flow control at once (D1 send failure).
+        if (activity != before) last_activity_wall = io::EventLoop::now();
       }
       after_event();
     }
@@ -824,8 +914,7 @@ int Daemon::Impl::run() {
     }
   }
   save_flash();
-  counters.skipped_profiles = unit->diagnostics().skipped_profiles;
-  counters.profiles_sent = unit->diagnostics().profiles_sent;
+  collect_counters();
   logger.log(LogLevel::info, format_counters(counters));
   if (stop_signal) return kExitSignalBase + *stop_signal;
   return fatal ? kExitRuntimeFailure : kExitOk;
@@ -859,7 +948,10 @@ protocol::Expected<std::unique_ptr<Daemon>, StartFailure> Daemon::create(Options
 
 int Daemon::run() { return impl_->run(); }
 
-DaemonCounters Daemon::counters() const { return impl_->counters; }
+DaemonCounters Daemon::counters() const {
+  impl_->collect_counters();
+  return impl_->counters;
+}
 
 std::optional<std::uint16_t> Daemon::tcp_port() const {
   if (!impl_->tcp) return std::nullopt;

@@ -29,8 +29,12 @@ SimTime SpinUpHeadModel::time_to_reach(double from_hz, double to_hz) const {
 }
 
 SceneMeasurement::SceneMeasurement(const sensor::SensorModel& sensor, TiltTrack& tilt, bool sweep_motion,
-                                   RevolutionStart revolution_start)
-    : sensor_(sensor), tilt_(tilt), sweep_motion_(sweep_motion), revolution_start_(std::move(revolution_start)) {}
+                                   RevolutionStart revolution_start, const HeadTrack* head)
+    : sensor_(sensor),
+      tilt_(tilt),
+      sweep_motion_(sweep_motion),
+      revolution_start_(std::move(revolution_start)),
+      head_(head) {}
 
 void SceneMeasurement::measure(std::uint64_t revolution, std::span<const control::BeamQuery> beams,
                                std::span<control::BeamReturn> returns) {
@@ -51,6 +55,11 @@ void SceneMeasurement::measure(std::uint64_t revolution, std::span<const control
     requests_[i] = sensor::BeamRequest{head_ticks_to_rad(beams[i].angle_ticks),
                                        sweep_motion_ ? tilt_.tilt_at(beams[i].time) : frozen_tilt,
                                        beams[i].beam_index};
+  }
+  if (head_ != nullptr) {  // D9 head_dynamics: the ray goes where the mirror really points
+    for (std::size_t i = 0; i < beams.size(); ++i) {
+      requests_[i].head_angle_rad += head_->deviation_rad(beams[i].time);
+    }
   }
   // D6 keys the noise by revolution; the sensor takes 32 bits (wraps after 13 years at 10 Hz).
   sensor_.measure(static_cast<std::uint32_t>(revolution), requests_, samples_);

@@ -2,12 +2,15 @@
 // - HeadModel: how long a head speed change takes, from the D7 spin-up curve of motor/head_drive.
 // - MeasurementSource: the ranges of one revolution, from the sensor model with the head angle
 //   of each point (1/16 deg ticks, D5) and the plate's tilt from the tilt track: at each point's
-//   own time with sweep_motion, otherwise frozen at the revolution's start (D9).
+//   own time with sweep_motion, otherwise frozen at the revolution's start (D9). With
+//   head_dynamics each ray is cast at the head's true angle (nominal + HeadTrack's deviation at
+//   the point's time); the reported angles stay nominal (head_track.hpp).
 #pragma once
 
 #include <functional>
 
 #include "ldoem/control/ports.hpp"
+#include "ldoem/daemon/head_track.hpp"
 #include "ldoem/daemon/tilt_track.hpp"
 #include "ldoem/scene/scene.hpp"
 #include "ldoem/sensor/sensor_model.hpp"
@@ -35,8 +38,10 @@ class SceneMeasurement final : public control::MeasurementSource {
   // from the control unit's head epoch).
   using RevolutionStart = std::function<SimTime(std::uint64_t revolution, SimTime first_beam_time)>;
 
+  // `head` is null without head_dynamics (D9): then every ray is cast at its nominal angle and
+  // nothing is computed per point for the head.
   SceneMeasurement(const sensor::SensorModel& sensor, TiltTrack& tilt, bool sweep_motion,
-                   RevolutionStart revolution_start);
+                   RevolutionStart revolution_start, const HeadTrack* head = nullptr);
 
   void measure(std::uint64_t revolution, std::span<const control::BeamQuery> beams,
                std::span<control::BeamReturn> returns) override;
@@ -48,6 +53,7 @@ class SceneMeasurement final : public control::MeasurementSource {
   TiltTrack& tilt_;
   bool sweep_motion_;
   RevolutionStart revolution_start_;
+  const HeadTrack* head_;
   std::vector<sensor::BeamRequest> requests_;  // reused per revolution
   std::vector<sensor::BeamSample> samples_;
   std::uint64_t revolutions_measured_ = 0;

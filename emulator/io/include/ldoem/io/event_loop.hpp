@@ -65,6 +65,11 @@ class EventLoop {
   std::size_t pending_timers() const { return timers_.size(); }
 
   // Blocks the signals for this thread and delivers them through a signalfd as loop events.
+  // pthread_sigmask acts on the calling thread only: a thread started earlier keeps the old
+  // mask and may take the signal itself (its default action kills the process). Callers that
+  // start threads (Embree/TBB workers, std::thread) must block these signals before doing so,
+  // so that every later thread inherits the mask; ldoem-emud does it first thing in
+  // Daemon::create.
   IoStatus on_signals(const std::vector<int>& signal_numbers, SignalCallback callback);
   // SIGINT and SIGTERM stop the loop; stop_signal() then tells which one (exit 128 + it).
   IoStatus stop_on_termination_signals();

@@ -1,0 +1,122 @@
+#!/bin/bash
+# Request-to-reply latency and sustained profile output of ldoem-emud, as a host sees them:
+#   - GET_STATUS round trips (median, p99) on TCP (host) and on vcan0 (inside UML);
+#   - profiles/s and bytes/s of a GET_PROFILE stream at 20 Hz, 0.5 deg (a scene whose flash has
+#     motor_speed_hz 20 and angle_step_ticks 8), with --virtual-time and at --time-scale 1.
+# Prints one Markdown table (docs/latency.md holds the last one measured).
+#
+# Usage: scripts/bench-latency.sh [BUILD_DIR] [--requests N] [--seconds S] [--no-uml]
+#   BUILD_DIR   a build with ldoem-emud and ldoem-latency (default build/default)
+#   --requests  GET_STATUS round trips per transport (default 2000)
+#   --seconds   length of each profile stream (default 10)
+#   --no-uml    skip the vcan rows (no UML here)
+# Inside UML (LDOEM_IN_UML=1) the script measures only the vcan rows and prints them as
+# key=value lines; the host run calls itself through scripts/uml/run.sh for that.
+set -euo pipefail
+
+root=$(cd "$(dirname "$0")/.." && pwd)
+build=$root/build/default
+requests=2000
+seconds=10
+uml=1
+while [ $# -gt 0 ]; do
+  case $1 in
+    --requests) requests=$2; shift 2 ;;
+    --seconds) seconds=$2; shift 2 ;;
+    --no-uml) uml=0; shift ;;
+    -*) echo "bench-latency.sh: unknown option $1" >&2; exit 2 ;;
+    *) build=$(cd "$1" && pwd); shift ;;
+  esac
+done
+emud=$build/emulator/daemon/ldoem-emud
+client=$build/tests/robustness/ldoem-latency
+for program in "$emud" "$client"; do
+  [ -x "$program" ] || { echo "bench-latency.sh: $program missing (build tests/robustness)" >&2; exit 2; }
+done
+
+work=$(mktemp -d /tmp/ldoem-latency.XXXXXX)
+daemon_pid=
+cleanup() {
+  if [ -n "$daemon_pid" ]; then kill "$daemon_pid" 2>/dev/null || true; wait "$daemon_pid" 2>/dev/null || true; fi
+  rm -rf "$work"
+}
+trap cleanup EXIT
+
+# The minimal scene at 20 Hz and 0.5 deg (D4 flash defaults otherwise).
+scene=$work/scene-20hz.yaml
+cat > "$scene" <<'YAML'
+scanner:
+  flash: {motor_speed_hz: 20, angle_step_ticks: 8}
+objects:
+  - name: wall
+    box: {size_m: [0.2, 20, 6]}
+    pose: {position_m: [5.1, 0, 0]}
+    reflectance: 0.8
+YAML
+
+# start_daemon ARGS...: runs ldoem-emud, waits for "ready", sets daemon_pid and tcp_port.
+start_daemon() {
+  local out=$work/daemon.out
+  "$emud" --scene "$scene" --no-flash --timeout 600 "$@" > "$out" 2> "$work/daemon.err" &
+  daemon_pid=$!
+  for _ in $(seq 1 200); do
+    grep -q '^ready$' "$out" 2>/dev/null && break
+    sleep 0.05
+  done
+  grep -q '^ready$' "$out" || { echo "bench-latency.sh: ldoem-emud not ready: $(cat "$work/daemon.err")" >&2; exit 1; }
+  tcp_port=$(sed -n 's/^tcp .*:\([0-9]*\)$/\1/p' "$out")
+}
+stop_daemon() { kill "$daemon_pid" 2>/dev/null || true; wait "$daemon_pid" 2>/dev/null || true; daemon_pid=; }
+
+# measure LABEL TRANSPORT_ARGS DAEMON_ARGS: one ldoem-latency run against a fresh daemon.
+measure() {
+  local label=$1 link=$2; shift 2
+  start_daemon "$@"
+  # shellcheck disable=SC2086
+  "$client" $link --requests "$requests" | sed "s/^/label=$label-requests /"
+  stop_daemon
+  start_daemon "$@"
+  # shellcheck disable=SC2086
+  "$client" $link --profiles "$seconds" | sed "s/^/label=$label-profiles /"
+  stop_daemon
+}
+
+if [ "${LDOEM_IN_UML:-0}" = 1 ]; then
+  measure can-virtual "--can vcan0" --can vcan0 --virtual-time
+  measure can-scale1 "--can vcan0" --can vcan0 --time-scale 1
+  exit 0
+fi
+
+results=$work/results.txt
+: > "$results"
+for mode in virtual scale1; do
+  time_arguments=--virtual-time
+  [ $mode = scale1 ] && time_arguments="--time-scale 1"
+  start_daemon --no-can --tcp 127.0.0.1:0 $time_arguments
+  "$client" --tcp "127.0.0.1:$tcp_port" --requests "$requests" | sed "s/^/label=tcp-$mode-requests /" >> "$results"
+  stop_daemon
+  start_daemon --no-can --tcp 127.0.0.1:0 $time_arguments
+  "$client" --tcp "127.0.0.1:$tcp_port" --profiles "$seconds" | sed "s/^/label=tcp-$mode-profiles /" >> "$results"
+  stop_daemon
+done
+if [ $uml = 1 ]; then
+  "$root/scripts/uml/run.sh" --timeout 900 -- "$0" "$build" --requests "$requests" --seconds "$seconds" |
+    grep '^label=' >> "$results" || echo "bench-latency.sh: the vcan run in UML failed" >&2
+fi
+
+# key=value lines -> one table.
+field() { sed -n "s/.*[ ^]$1=\([^ ]*\).*/\1/p" <<< "$2"; }
+echo "| transport | time | GET_STATUS median (us) | GET_STATUS p99 (us) | profiles/s | bytes/s |"
+echo "|---|---|---|---|---|---|"
+for transport in tcp can; do
+  for mode in virtual scale1; do
+    req=$(grep "^label=$transport-$mode-requests " "$results" || true)
+    pro=$(grep "^label=$transport-$mode-profiles " "$results" || true)
+    [ -z "$req$pro" ] && continue
+    where=host; [ $transport = can ] && where="vcan0 in UML"
+    time_text="--virtual-time"; [ $mode = scale1 ] && time_text="--time-scale 1"
+    echo "| $transport ($where) | $time_text | $(field median_us "$req") | $(field p99_us "$req") | $(field profiles_per_s "$pro") | $(field bytes_per_s "$pro") |"
+  done
+done
+echo
+echo "($requests GET_STATUS round trips; $seconds s of GET_PROFILE 0000 39ff at 20 Hz, 0.5 deg; $(nproc) CPUs, load $(cut -d' ' -f1 /proc/loadavg))"
