@@ -4,21 +4,21 @@
 
 namespace ldoem::raycast {
 
-OdeRayCaster::OdeRayCaster(const OdeWorld& world)
-    : world_(world), probes_(std::make_unique<detail::RayGeomPool>()) {}
+OdeRayCaster::OdeRayCaster(const OdeWorld& world) : world_(world) {}
 
 OdeRayCaster::~OdeRayCaster() = default;
 
 std::optional<Hit> OdeRayCaster::cast(const Ray& ray) const {
   const auto checked = detail::check_ray(ray);
   if (!checked) return std::nullopt;
-  const auto probe = probes_->borrow(*checked);
-  std::optional<Hit> nearest;
+  const dGeomID probe = detail::aim_thread_probe(*checked);
+  std::optional<detail::Contact> nearest;
   for (std::size_t i = 0; i < world_.object_count(); ++i) {
-    const auto hit = detail::collide(probe.geom(), *checked, world_, i);
-    if (hit && (!nearest || hit->range_m < nearest->range_m)) nearest = hit;
+    const auto contact = detail::collide(probe, *checked, world_, i);
+    if (contact && (!nearest || contact->range_m < nearest->range_m)) nearest = contact;
   }
-  return nearest;
+  if (!nearest) return std::nullopt;
+  return detail::to_hit(*nearest, *checked, world_);
 }
 
 }  // namespace ldoem::raycast

@@ -2,7 +2,8 @@
 // - Primitives (box, sphere, cylinder, capsule) are one Embree user geometry whose bounds are
 //   the ODE geoms' AABBs (padded, rounded outwards to float); its intersect callback runs
 //   dCollide(ray, geom) in double precision, so answers equal OdeRayCaster's.
-// - Planes are unbounded: they are tested directly, before the BVH query.
+// - Planes are unbounded: they are tested directly, before the BVH query (dCollide runs only
+//   when a conservative test on ODE's plane parameters cannot rule a hit out).
 // - Meshes are Embree triangle geometry in a RTC_SCENE_FLAG_ROBUST scene (watertight at
 //   edges); the range of the triangle hit is then recomputed in double precision.
 // Embree works in float, so its coordinates are relative to the centre of the scene's bounds
@@ -23,7 +24,7 @@ class EmbreeRayCaster final : public RayCaster {
   EmbreeRayCaster(const EmbreeRayCaster&) = delete;
   EmbreeRayCaster& operator=(const EmbreeRayCaster&) = delete;
 
-  // Const and thread-safe.
+  // Const and thread-safe (each thread casts with its own ODE ray geom; no lock).
   std::optional<Hit> cast(const Ray& ray) const override;
 
  private:

@@ -7,23 +7,18 @@
 #include "ldoem/raycast/ode_world.hpp"
 #include "ldoem/raycast/ray_caster.hpp"
 
-#include <memory>
-
 namespace ldoem::raycast {
-
-namespace detail { class RayGeomPool; }
 
 class OdeRayCaster final : public RayCaster {
  public:
   explicit OdeRayCaster(const OdeWorld& world);  // world must outlive the caster
   ~OdeRayCaster() override;
 
-  // Thread-safe: each call borrows its own ODE ray geom from a pool.
+  // Thread-safe: each thread casts with its own ODE ray geom.
   std::optional<Hit> cast(const Ray& ray) const override;
 
  private:
   const OdeWorld& world_;
-  std::unique_ptr<detail::RayGeomPool> probes_;
 };
 
 }  // namespace ldoem::raycast
