@@ -1,6 +1,7 @@
 #include "fake_casters.hpp"
 
 #include <ldoem/scene/optics.hpp>
+#include <ldoem/sensor/beam_geometry.hpp>
 #include <ldoem/sensor/sensor_model.hpp>
 
 #include <gtest/gtest.h>
@@ -56,6 +57,36 @@ std::vector<BeamRequest> fan_of_beams(std::size_t count) {
 TEST(EffectPipeline, NoEffects_OnlySingleRayStage) {
   const auto pipeline = EffectPipeline::build(scene::ScannerConfig{}, scene::EffectSet{});
   EXPECT_EQ(pipeline.stage_names(), (std::vector<std::string_view>{"single_ray"}));
+}
+
+// The no-effect pipeline skips the stage machinery; its answers must be those of the single-ray
+// stage followed by the encoder, for hits, misses, out-of-limit and broken ranges alike.
+TEST(EffectPipeline, NoEffectsFastPath_EqualsSingleRayStageAndEncoder) {
+  const scene::ScannerConfig scanner;
+  const auto pipeline = EffectPipeline::build(scanner, scene::EffectSet{});
+  const auto single_ray = make_single_ray_stage();
+  const PlaneCaster near_wall = wall_at(0.5);
+  const PlaneCaster wall = wall_at(7.3);
+  const PlaneCaster far_wall = wall_at(80.0);
+  const MissCaster miss;
+  const BrokenRangeCaster broken(std::nan(""));
+  const raycast::RayCaster* casters[] = {&near_wall, &wall, &far_wall, &miss, &broken};
+  for (const raycast::RayCaster* caster : casters) {
+    for (const BeamRequest& request : fan_of_beams(25)) {
+      const raycast::Ray ray = beam_ray(scanner, request.head_angle_rad, 0.0, pipeline.cast_range_m());
+      const BeamContext context{.caster = *caster, .seed = 1, .revolution = 0, .beam_index = request.beam_index};
+      BeamCounters fast_counters;
+      BeamCounters staged_counters;
+      BeamState staged;
+      staged.ray = ray;
+      single_ray->apply(staged, context, staged_counters);
+      const BeamSample expected = encode_beam(staged, pipeline.limits());
+      const BeamSample fast = pipeline.run(ray, context, fast_counters);
+      EXPECT_EQ(fast.distance, expected.distance);
+      EXPECT_EQ(fast.echo, expected.echo);
+      EXPECT_EQ(fast_counters.rays_cast, staged_counters.rays_cast);
+    }
+  }
 }
 
 TEST(EffectPipeline, OrderIsFixed_NotTheOrderEffectsWereNamed) {

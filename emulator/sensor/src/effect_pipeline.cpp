@@ -1,3 +1,5 @@
+#include "hit_geometry.hpp"
+
 #include <ldoem/sensor/effects.hpp>
 
 namespace ldoem::sensor {
@@ -17,14 +19,26 @@ EffectPipeline EffectPipeline::build(const scene::ScannerConfig& scanner, const 
   }
   if (effects.has(Effect::intensity)) pipeline.stages_.push_back(make_intensity_stage(scanner.optics, use_incidence));
   if (effects.has(Effect::noise)) pipeline.stages_.push_back(make_noise_stage(scanner.noise));
+  pipeline.bare_ = pipeline.stages_.size() == 1 && !effects.has(Effect::mixed_pixels);
   return pipeline;
 }
 
 BeamSample EffectPipeline::run(const raycast::Ray& ray, const BeamContext& context, BeamCounters& counters) const {
+  if (bare_) return run_bare(ray, context, counters);
   BeamState beam;
   beam.ray = ray;
   for (const auto& stage : stages_) stage->apply(beam, context, counters);
   return encode_beam(beam, limits_);
+}
+
+BeamSample EffectPipeline::run_bare(const raycast::Ray& ray, const BeamContext& context,
+                                    BeamCounters& counters) const {
+  ++counters.rays_cast;
+  const std::optional<raycast::Hit> hit = context.caster.cast(ray);
+  if (!hit || !detail::usable_hit(*hit)) return {};
+  const std::optional<std::uint16_t> distance = quantise_range(hit->range_m, limits_);
+  if (!distance) return {};
+  return BeamSample{.distance = *distance, .echo = kEchoWithoutIntensity};
 }
 
 std::vector<std::string_view> EffectPipeline::stage_names() const {

@@ -94,8 +94,13 @@ class EffectPipeline {
 
  private:
   EffectPipeline() = default;
+  // A scene that names no effect gets one cast and the encoder per beam, with no stage calls:
+  // what a scene does not ask for costs nothing (D9).
+  [[nodiscard]] BeamSample run_bare(const raycast::Ray& ray, const BeamContext& context,
+                                    BeamCounters& counters) const;
   std::vector<std::unique_ptr<const BeamStage>> stages_;
   RangeLimits limits_;
+  bool bare_ = false;
 };
 
 // The encoder's rule (D3, D6): no return or an out-of-limit range -> {0, 0}; otherwise the
