@@ -102,7 +102,7 @@ struct SerialPort {
 struct CanBus {
   io::CanRawSocket socket;
   std::vector<IsoTpChannel> channels;  // channel i is ConnectionId{can, i + 1}
-  std::vector<std::optional<SimTime>> scheduled_polls;
+  std::vector<std::optional<DeadlineQueue::Key>> scheduled_polls;  // the one queued poll per channel
   std::deque<protocol::CanFrame> backlog;  // frames the interface's queue refused
   bool first_pair_from_flash = true;       // pair 1 follows SET_CONFIG key 2 (D1)
   std::optional<CanBusPacer> pacer;        // D9 bus_timing only: frames leave at the bit rate
@@ -406,6 +406,11 @@ std::optional<StartFailure> Daemon::Impl::open_lpt() {
 // ------------------------------------------------------------------------- control unit events
 
 void Daemon::Impl::deliver(ConnectionId from, const Bytes& payload) {
+  // D8: a host pulses the stepper, then asks for the next profile. When the register bytes and
+  // the request are ready in the same loop round, epoll may hand us the request first, and the
+  // profile would be measured at the old tilt (with virtual time, at once). Bytes that are
+  // already readable were written before this telegram: they count first.
+  if (lpt_pty) on_lpt_pty_ready();
   ++counters.telegrams_received;
   logger.log(LogLevel::info, control::to_string(from) + " -> " + protocol::format_telegram(payload));
   const SimTime at = now();
@@ -678,10 +683,18 @@ void Daemon::Impl::schedule_channel_poll(std::size_t channel) {
   if (!can || channel >= can->channels.size()) return;
   const auto due = can->channels[channel].deadline();
   auto& scheduled = can->scheduled_polls[channel];
-  if (!due || (scheduled && *scheduled <= *due)) return;
-  scheduled = *due;
-  deadlines.add(*due, [this, channel, at = *due](SimTime now_at) {
-    if (can->scheduled_polls[channel] == at) can->scheduled_polls[channel].reset();
+  if (scheduled && due && scheduled->first == *due) return;
+  // Exactly the channel's own deadline stays queued: a transfer that ended (or a timer that moved)
+  // leaves no stale poll behind, which with virtual time would jump the clock by N_Bs/N_Cr (D1,
+  // D7) after every multi-frame telegram, so that a scan over CAN would see other revolutions
+  // (and other D6 noise) than the same scan over TCP.
+  if (scheduled) {
+    deadlines.cancel(*scheduled);
+    scheduled.reset();
+  }
+  if (!due) return;
+  scheduled = deadlines.add(*due, [this, channel](SimTime now_at) {
+    can->scheduled_polls[channel].reset();  // this entry has just been taken off the queue
     handle_channel_output(channel, can->channels[channel].poll(now_at));
   });
 }
@@ -756,6 +769,7 @@ void Daemon::Impl::apply_can_config_changes() {
     can->retired.send_failures += old.send_failures;
     can->retired.queue_overflows += old.queue_overflows;
     can->channels[channel] = IsoTpChannel(config);
+    if (can->scheduled_polls[channel]) deadlines.cancel(*can->scheduled_polls[channel]);
     can->scheduled_polls[channel].reset();
   }
   set_can_filters();

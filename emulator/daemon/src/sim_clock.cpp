@@ -27,9 +27,13 @@ WallTime SimClock::wall_deadline(SimTime at, WallTime wall_now) const {
 
 void SimClock::advance_to(SimTime at) { floor_ = std::max(floor_, at); }
 
-void DeadlineQueue::add(SimTime at, Action action) {
-  entries_.emplace(std::make_pair(at, next_sequence_++), std::move(action));
+DeadlineQueue::Key DeadlineQueue::add(SimTime at, Action action) {
+  const Key key{at, next_sequence_++};
+  entries_.emplace(key, std::move(action));
+  return key;
 }
+
+void DeadlineQueue::cancel(const Key& key) { entries_.erase(key); }
 
 std::optional<SimTime> DeadlineQueue::earliest() const {
   if (entries_.empty()) {

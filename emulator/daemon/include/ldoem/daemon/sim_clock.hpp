@@ -54,7 +54,13 @@ class DeadlineQueue {
  public:
   using Action = std::function<void(SimTime now)>;
 
-  void add(SimTime at, Action action);
+  using Key = std::pair<SimTime, std::uint64_t>;
+  // Returns the entry's key for cancel().
+  Key add(SimTime at, Action action);
+  // Removes an entry that has not fired yet (nothing if it has). A deadline nobody needs any more
+  // must not stay queued: with virtual time the loop jumps to the earliest one (D7), so a stale
+  // entry would move simulated time for nothing.
+  void cancel(const Key& key);
   std::optional<SimTime> earliest() const;
   // Removes and returns the earliest action due at `now`, if any (one at a time, so that an
   // action may add new deadlines, even ones due at once).

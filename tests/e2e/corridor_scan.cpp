@@ -1,0 +1,195 @@
+#include "corridor_scan.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <regex>
+#include <sstream>
+
+#include "ldoem/cloud/cloud_file.hpp"
+#include "ldoem/cloud/fitting.hpp"
+
+namespace ldoem::e2e {
+namespace {
+
+using namespace std::chrono_literals;
+
+// Start-up in UML under load is the slow case: loading the scene and building the BVH.
+constexpr auto kReadyLimit = 60s;
+// A virtual-time scan takes ~3 s on the host; real time ~40 s. Generous, never a hang.
+constexpr auto kScanLimit = 300s;
+// Every daemon also stops by itself (--timeout) should the test process die.
+const std::string kDaemonSelfStopS = "900";
+
+// The paper's settings (Koceski & Koceska 2013): 20 deg x 21.6 deg at 0.25 deg x 0.18 deg, 10 Hz.
+const std::vector<std::string> kPaperSettings{"--horizontal-apex", "20",   "--horizontal-resolution", "0.25",
+                                              "--vertical-apex",   "21.6", "--vertical-resolution",   "0.18",
+                                              "--speed",           "10"};
+
+// Where the cylinder stands in the scanner's pivot frame (docs/scenes.md: axis at x = 2.9 m, y = 0).
+constexpr double kCylinderAxisX = 2.9;
+constexpr double kCylinderAxisY = 0.0;
+constexpr double kCylinderSearchRadius = 0.3;  // the nearest box corner is further away
+
+bool uses_hub(Route route) { return route == Route::hub_can || route == Route::hub_tcp; }
+bool uses_can(Route route) { return route == Route::can || route == Route::hub_can; }
+
+std::string tcp_address(const ChildProcess& daemon) {
+  std::istringstream lines(daemon.stdout_text());
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("tcp ", 0) == 0) return line.substr(4);
+  }
+  return {};
+}
+
+std::string hub_port(const ChildProcess& hub) {
+  std::smatch match;
+  const std::string text = hub.stderr_text();
+  static const std::regex listening(R"(listening on [^ ]*:([0-9]+))");
+  return std::regex_search(text, match, listening) ? match[1].str() : std::string{};
+}
+
+}  // namespace
+
+const char* to_string(Route route) {
+  switch (route) {
+    case Route::can: return "can";
+    case Route::tcp: return "tcp";
+    case Route::hub_can: return "hub->can";
+    case Route::hub_tcp: return "hub->tcp";
+  }
+  return "?";
+}
+
+ScanRun scan_corridor(const TempDir& dir, const std::string& name, Route route, const ScanSettings& settings) {
+  ScanRun run;
+  const std::string lpt = dir.path(name + "-lpt");
+  std::vector<std::string> daemon_args{"--scene", std::string(LDOEM_SOURCE_DIR) + "/scenes/corridor.yaml",
+                                       "--lpt",   "pty:" + lpt,
+                                       "--no-flash", "--timeout", kDaemonSelfStopS};
+  if (uses_can(route)) {
+    daemon_args.insert(daemon_args.end(), {"--can", "vcan0"});
+  } else {
+    daemon_args.insert(daemon_args.end(), {"--no-can", "--tcp", "127.0.0.1:0"});
+  }
+  daemon_args.insert(daemon_args.end(), settings.clock_args.begin(), settings.clock_args.end());
+  auto daemon = ChildProcess::start(LDOEM_EMUD_PATH, daemon_args, dir.path(name + "-daemon"));
+  if (!daemon || !daemon->wait_for_line("ready", false, kReadyLimit)) {
+    run.failure = "ldoem-emud not ready: " + (daemon ? daemon->stderr_text() : std::string("spawn failed"));
+    return run;
+  }
+  const std::string scanner = uses_can(route) ? "can:vcan0" : "tcp:" + tcp_address(*daemon);
+
+  std::optional<ChildProcess> hub;
+  std::vector<std::string> device_args;
+  if (uses_hub(route)) {
+    const std::string config = dir.write(name + "-hub.yaml", "devices:\n"
+                                                             "  - name: corridor\n"
+                                                             "    scanner: " + scanner + "\n"
+                                                             "    lpt: lpt:pty:" + lpt + "\n");
+    if (auto started = ChildProcess::start(LDOEM_HUB_PATH, {"--config", config, "--listen", "127.0.0.1:0"},
+                                           dir.path(name + "-hub"))) {
+      hub.emplace(std::move(*started));
+    }
+    if (!hub || !hub->wait_for_line("listening on", true, kReadyLimit) || hub_port(*hub).empty()) {
+      run.failure = "ldoem-hub not listening: " + (hub ? hub->stderr_text() : std::string("spawn failed"));
+      return run;
+    }
+    device_args = {"--hub", "127.0.0.1:" + hub_port(*hub), "--hub-device", "corridor"};
+  } else {
+    device_args = {"--device", scanner, "--lpt", "lpt:pty:" + lpt};
+  }
+  run.started = true;
+
+  run.ply_path = dir.path(name + ".ply");
+  std::vector<std::string> scan_args = device_args;
+  scan_args.insert(scan_args.end(), kPaperSettings.begin(), kPaperSettings.end());
+  scan_args.insert(scan_args.end(), {"--out", run.ply_path, "--fit"});
+  scan_args.insert(scan_args.end(), settings.extra_scan_args.begin(), settings.extra_scan_args.end());
+  const auto started = std::chrono::steady_clock::now();
+  auto scan = ChildProcess::start(LDOEM_SCAN_PATH, scan_args, dir.path(name + "-scan"));
+  if (!scan) {
+    run.failure = "ldoem-scan did not start";
+    return run;
+  }
+  const std::optional<int> status = scan->wait(kScanLimit);
+  run.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  run.exit_status = status ? *status : scan->stop();
+  run.scan_stdout = scan->stdout_text();
+  run.scan_stderr = scan->stderr_text();
+  run.ply_bytes = read_file(run.ply_path);
+  if (hub) hub->stop();
+  daemon->stop();
+  if (run.exit_status != 0) {
+    run.failure = "ldoem-scan exit " + std::to_string(run.exit_status) + ": " + run.scan_stderr +
+                  "\nldoem-emud: " + daemon->stderr_text() + (hub ? "\nldoem-hub: " + hub->stderr_text() : "");
+  }
+  return run;
+}
+
+std::optional<CorridorFit> parse_tool_fit(const std::string& scan_stdout) {
+  static const std::regex line(
+      R"(wall distance ([0-9.]+) m \([0-9]+ points\); cylinder diameter ([0-9.]+) m, length ([0-9.]+) m)");
+  std::smatch match;
+  if (!std::regex_search(scan_stdout, match, line)) return std::nullopt;
+  CorridorFit fit;
+  fit.wall_distance_m = std::stod(match[1].str());
+  fit.cylinder_diameter_m = std::stod(match[2].str());
+  fit.cylinder_length_m = std::stod(match[3].str());
+  return fit;
+}
+
+std::optional<CorridorFit> fit_corridor_ply(const std::string& ply_path, std::string& why) {
+  auto cloud = cloud::read_cloud_file(ply_path);
+  if (!cloud) {
+    why = "cannot read " + ply_path;
+    return std::nullopt;
+  }
+  CorridorFit result;
+  result.point_count = cloud->size();
+  std::vector<Eigen::Vector3d> remaining = cloud::finite_positions(*cloud);
+
+  // The two large planes: the floor (normal z) and the wall (normal x), in whichever order.
+  std::optional<double> wall_distance;
+  for (int plane_index = 0; plane_index < 2; ++plane_index) {
+    auto plane = cloud::fit_plane_ransac(remaining);
+    if (!plane) {
+      why = "plane " + std::to_string(plane_index) + ": " + std::string(cloud::to_string(plane.error()));
+      return std::nullopt;
+    }
+    if (std::abs(plane->normal.x()) > 0.9) wall_distance = plane->offset_m;
+    std::vector<Eigen::Vector3d> rest;
+    std::size_t next_inlier = 0;
+    for (std::size_t i = 0; i < remaining.size(); ++i) {
+      if (next_inlier < plane->inliers.size() && plane->inliers[next_inlier] == i) {
+        ++next_inlier;
+      } else {
+        rest.push_back(remaining[i]);
+      }
+    }
+    remaining = std::move(rest);
+  }
+  if (!wall_distance) {
+    why = "no plane facing +x among the two largest";
+    return std::nullopt;
+  }
+  result.wall_distance_m = *wall_distance;
+
+  std::vector<Eigen::Vector3d> near_cylinder;
+  for (const Eigen::Vector3d& point : remaining) {
+    if (std::hypot(point.x() - kCylinderAxisX, point.y() - kCylinderAxisY) <= kCylinderSearchRadius) {
+      near_cylinder.push_back(point);
+    }
+  }
+  cloud::CylinderRansacOptions options;
+  options.axis_hint = cloud::AxisHint{Eigen::Vector3d::UnitZ(), 0.1};
+  auto cylinder = cloud::fit_cylinder_ransac(near_cylinder, options);
+  if (!cylinder) {
+    why = "cylinder: " + std::string(cloud::to_string(cylinder.error()));
+    return std::nullopt;
+  }
+  result.cylinder_diameter_m = 2.0 * cylinder->radius_m;
+  result.cylinder_length_m = cylinder->length_m;
+  return result;
+}
+
+}  // namespace ldoem::e2e

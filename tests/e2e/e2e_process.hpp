@@ -1,0 +1,68 @@
+// Child processes for the end-to-end tests: ldoem-emud, ldoem-hub and ldoem-scan (or any
+// program) with stdout and stderr captured in files, a wall-clock limit on every wait, and a
+// destructor that never leaves a child behind (SIGTERM, then SIGKILL).
+#pragma once
+
+#include <sys/types.h>
+
+#include <chrono>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace ldoem::e2e {
+
+// A fresh folder under /tmp, removed with everything in it at the end.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  std::string path(const std::string& name) const { return dir_ + "/" + name; }
+  // Writes `text` to path(name) and returns that path.
+  std::string write(const std::string& name, const std::string& text) const;
+
+ private:
+  std::string dir_;
+};
+
+class ChildProcess {
+ public:
+  // Starts `program` with `arguments`; stdout and stderr go to `<log_prefix>.out` and `.err`.
+  // `environment` entries (NAME=VALUE) are added to the caller's environment.
+  static std::optional<ChildProcess> start(const std::string& program, const std::vector<std::string>& arguments,
+                                           const std::string& log_prefix,
+                                           const std::vector<std::string>& environment = {});
+  ChildProcess(ChildProcess&& other) noexcept;
+  ChildProcess& operator=(ChildProcess&&) = delete;
+  ChildProcess(const ChildProcess&) = delete;
+  ChildProcess& operator=(const ChildProcess&) = delete;
+  ~ChildProcess();
+
+  // Exit status (WEXITSTATUS, or 128 + N after signal N); nothing when `limit` passes first.
+  std::optional<int> wait(std::chrono::milliseconds limit);
+  // SIGTERM, then SIGKILL after `grace`; returns the exit status.
+  int stop(std::chrono::milliseconds grace = std::chrono::seconds(5));
+  // Polls stdout (or stderr) until a line contains `text`; false when the child exits first or
+  // `limit` passes.
+  bool wait_for_line(const std::string& text, bool in_stderr, std::chrono::milliseconds limit);
+
+  std::string stdout_text() const;
+  std::string stderr_text() const;
+  pid_t pid() const { return pid_; }
+
+ private:
+  ChildProcess(pid_t pid, std::string log_prefix) : pid_(pid), log_prefix_(std::move(log_prefix)) {}
+  bool reap(bool block);
+
+  pid_t pid_ = -1;
+  std::string log_prefix_;
+  std::optional<int> exit_status_;
+};
+
+// The whole text of a file (empty when it cannot be read).
+std::string read_file(const std::string& path);
+
+}  // namespace ldoem::e2e
