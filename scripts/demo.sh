@@ -5,6 +5,8 @@
 # Where this kernel has no vcan0 (no CAN support), the same job runs inside User-Mode Linux.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+cache=${LDOEM_CACHE:-$HOME/.cache/ldoem}
+export CCACHE_DIR=${CCACHE_DIR:-$cache/ccache} CCACHE_BASEDIR=$PWD CCACHE_NOHASHDIR=1
 
 scripts/install-deps.sh
 cmake --preset default >/dev/null

@@ -3,7 +3,7 @@
 # non-interactive; run as root (or with sudo available). Debian 12 (bookworm).
 set -euo pipefail
 packages=(
-  cmake ninja-build g++ clang libclang-rt-14-dev pkg-config
+  cmake ninja-build ccache g++ clang libclang-rt-14-dev pkg-config
   libode-dev libyaml-cpp-dev libembree-dev libassimp-dev libeigen3-dev
   libsocketcan-dev libgpiod-dev gpiod libpng-dev
   libgtest-dev libgmock-dev libbenchmark-dev
