@@ -3,7 +3,6 @@
 // the LPT pty moving the tilt, exit codes, SIGTERM saving the flash, SIGUSR1 counters.
 #include <fcntl.h>
 #include <signal.h>
-#include <sys/socket.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -172,11 +171,6 @@ TEST(DaemonTcp, StreamToAHostThatDoesNotRead_SkipsProfilesAndCountsThem) {
   ASSERT_TRUE(daemon.ready()) << daemon.process->stderr_text();
   auto host = TcpHost::connect(daemon.process->tcp_port());
   ASSERT_TRUE(host);
-  // A small fixed receive buffer (no autotuning) so that the connection backs up after a few
-  // profiles, not after megabytes: the point is what the daemon does then, not how big the
-  // kernel's buffers may grow.
-  const int receive_buffer_bytes = 4096;
-  ASSERT_EQ(::setsockopt(host->fd(), SOL_SOCKET, SO_RCVBUF, &receive_buffer_bytes, sizeof receive_buffer_bytes), 0);
   exchange(*host, "TRANS_ROTATE 0000");
   exchange(*host, "TRANS_MEASURE");
   host->send(telegram("GET_PROFILE 0000 39ff"));
