@@ -1,6 +1,7 @@
 #include "isotp_host.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/socket.h>
 
 #include "host_link.hpp"
 
@@ -12,7 +13,16 @@ IsoTpHost::IsoTpHost(CanIdPair ids, std::string_view interface_name)
     : channel_(IsoTpChannelConfig{CanIdPair{ids.response_id, ids.request_id}}) {
   auto socket = io::CanRawSocket::open(interface_name, std::vector<io::CanIdFilter>{io::exact_standard_id(ids.response_id)});
   EXPECT_TRUE(socket) << socket.error().message();
-  if (socket) socket_.emplace(std::move(*socket));
+  if (!socket) return;
+  // With BS 0 (D1) the LD sends a whole profile back to back: ~170 frames for the D4 table. Each
+  // queued frame costs about 1 KiB of receive buffer, so the 208 KiB default can overflow while
+  // this process is descheduled (UML has one CPU), and a lost frame loses the telegram. Hosts
+  // that keep BS 0 need a bigger buffer; as root (in UML) we may force one, as the driver does.
+  const int receive_buffer_bytes = 4 << 20;
+  if (::setsockopt(socket->fd(), SOL_SOCKET, SO_RCVBUFFORCE, &receive_buffer_bytes, sizeof receive_buffer_bytes) != 0) {
+    (void)::setsockopt(socket->fd(), SOL_SOCKET, SO_RCVBUF, &receive_buffer_bytes, sizeof receive_buffer_bytes);
+  }
+  socket_.emplace(std::move(*socket));
 }
 
 std::optional<protocol::Bytes> IsoTpHost::exchange(const protocol::Bytes& request, std::chrono::milliseconds limit) {
