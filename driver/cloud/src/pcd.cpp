@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "codec_support.hpp"
+#include "record_writer.hpp"
 #include "record_reader.hpp"
 
 namespace ldoem::cloud {
@@ -41,37 +42,6 @@ std::string pcd_header(const PointCloud& cloud, PcdEncoding encoding) {
   detail::append_uint_text(header, cloud.size());
   header += encoding == PcdEncoding::ascii ? "\nDATA ascii\n" : "\nDATA binary\n";
   return header;
-}
-
-void append_ascii_body(std::string& out, const PointCloud& cloud) {
-  for (std::size_t index = 0; index < cloud.size(); ++index) {
-    const PointRecord record = cloud.record(index);
-    detail::append_float_text(out, record.position.x_m);
-    out += ' ';
-    detail::append_float_text(out, record.position.y_m);
-    out += ' ';
-    detail::append_float_text(out, record.position.z_m);
-    if (cloud.channels().intensity) {
-      out += ' ';
-      detail::append_float_text(out, record.intensity);
-    }
-    if (cloud.channels().ring) {
-      out += ' ';
-      detail::append_uint_text(out, record.ring);
-    }
-    out += '\n';
-  }
-}
-
-void append_binary_body(std::string& out, const PointCloud& cloud) {
-  for (std::size_t index = 0; index < cloud.size(); ++index) {
-    const PointRecord record = cloud.record(index);
-    detail::append_float_le(out, record.position.x_m);
-    detail::append_float_le(out, record.position.y_m);
-    detail::append_float_le(out, record.position.z_m);
-    if (cloud.channels().intensity) detail::append_float_le(out, record.intensity);
-    if (cloud.channels().ring) detail::append_uint_le(out, record.ring);
-  }
 }
 
 // Header entries in the order PCD v0.7 mandates.
@@ -219,9 +189,9 @@ Expected<std::string, CloudIoError> encode_pcd(const PointCloud& cloud, PcdEncod
   }
   std::string file = pcd_header(cloud, encoding);
   if (encoding == PcdEncoding::ascii) {
-    append_ascii_body(file, cloud);
+    detail::append_ascii_records(file, cloud);
   } else {
-    append_binary_body(file, cloud);
+    detail::append_binary_records(file, cloud);
   }
   return file;
 }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "codec_support.hpp"
+#include "record_writer.hpp"
 #include "record_reader.hpp"
 
 namespace ldoem::cloud {
@@ -27,37 +28,6 @@ std::string ply_header(const PointCloud& cloud, PlyEncoding encoding, std::strin
   if (cloud.channels().ring) header += "property ushort ring\n";
   header += "end_header\n";
   return header;
-}
-
-void append_ascii_body(std::string& out, const PointCloud& cloud) {
-  for (std::size_t index = 0; index < cloud.size(); ++index) {
-    const PointRecord record = cloud.record(index);
-    detail::append_float_text(out, record.position.x_m);
-    out += ' ';
-    detail::append_float_text(out, record.position.y_m);
-    out += ' ';
-    detail::append_float_text(out, record.position.z_m);
-    if (cloud.channels().intensity) {
-      out += ' ';
-      detail::append_float_text(out, record.intensity);
-    }
-    if (cloud.channels().ring) {
-      out += ' ';
-      detail::append_uint_text(out, record.ring);
-    }
-    out += '\n';
-  }
-}
-
-void append_binary_body(std::string& out, const PointCloud& cloud) {
-  for (std::size_t index = 0; index < cloud.size(); ++index) {
-    const PointRecord record = cloud.record(index);
-    detail::append_float_le(out, record.position.x_m);
-    detail::append_float_le(out, record.position.y_m);
-    detail::append_float_le(out, record.position.z_m);
-    if (cloud.channels().intensity) detail::append_float_le(out, record.intensity);
-    if (cloud.channels().ring) detail::append_uint_le(out, record.ring);
-  }
 }
 
 std::optional<ScalarType> ply_scalar_type(std::string_view name) {
@@ -193,9 +163,9 @@ Expected<std::string, CloudIoError> encode_ply(const PointCloud& cloud, PlyEncod
   }
   std::string file = ply_header(cloud, encoding, comment);
   if (encoding == PlyEncoding::ascii) {
-    append_ascii_body(file, cloud);
+    detail::append_ascii_records(file, cloud);
   } else {
-    append_binary_body(file, cloud);
+    detail::append_binary_records(file, cloud);
   }
   return file;
 }
