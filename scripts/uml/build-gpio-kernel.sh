@@ -1,8 +1,8 @@
 #!/bin/sh
-# Build (once) the small User-Mode Linux kernel that has gpio-sim AND vcan/CAN_RAW built in, and
-# print its path on stdout. Debian's stock linux.uml has no GPIOLIB at all, so the gpio back end of
-# the pseudo-LPT (D8) can only be tested in this kernel. Recipe: /work/shared/vcan/uml-gpio-sim.md
-# and gpio-kernel.config.sh next to this script.
+# Build (once) the small User-Mode Linux kernel that has gpio-sim AND vcan/CAN_RAW/CAN_ISOTP built
+# in, and print its path on stdout. Debian's stock linux.uml has no GPIOLIB and no can-isotp, so the
+# gpio back end of the pseudo-LPT (D8) and the kernel ISO-TP transport can only be tested in this
+# kernel. The recipe (which options and why) is gpio-kernel.config.sh next to this script.
 #
 # The kernel is cached OUTSIDE the clone, keyed by a hash of this script and the config fragment:
 #   ${LDOEM_CACHE:-$HOME/.cache/ldoem}/uml-gpio-<hash>/linux
