@@ -52,11 +52,19 @@ TiltDriveLimits tilt_drive_limits(const scene::TiltMotorConfig& config) {
   return limits;
 }
 
+int physics_substeps(double world_step_s) {
+  if (!(world_step_s > kLongestPhysicsStep_s)) return 1;
+  // The small tolerance keeps 1e-2 s at 10 sub-steps although 1e-2 / 1e-3 is 10.000000000000002.
+  return static_cast<int>(std::ceil(world_step_s / kLongestPhysicsStep_s - 1e-9));
+}
+
 DynamicTiltMotor::DynamicTiltMotor(const scene::TiltMotorConfig& config)
     : config_(config),
       limits_(tilt_drive_limits(config)),
       half_step_rad_(half_step_rad(config)),
-      world_step_(std::chrono::duration_cast<SimTime>(std::chrono::duration<double>(config.world_step_s))),
+      substeps_(physics_substeps(config.world_step_s)),
+      world_step_(std::chrono::duration_cast<SimTime>(
+          std::chrono::duration<double>(config.world_step_s / physics_substeps(config.world_step_s)))),
       ode_(std::make_unique<Ode>()) {
   ensure_ode_initialised();
   ode_->world = dWorldCreate();
@@ -171,6 +179,7 @@ std::string DynamicTiltMotor::dump() const {
        << "speed_rad_s: " << speed_rad_s() << "\n"
        << "feed_forward_rad_s: " << feed_forward_rad_s_ << "\n"
        << "world_steps_taken: " << world_steps_taken_ << "\n"
+       << "physics_substeps: " << substeps_ << "\n"
        << "stall_torque_n_m: " << limits_.stall_torque_n_m << "\n"
        << "no_load_speed_rad_s: " << limits_.no_load_speed_rad_s << "\n"
        << "total_inertia_kg_m2: " << limits_.total_inertia_kg_m2 << "\n";

@@ -1,6 +1,7 @@
 #include "paper_scan.hpp"
 
 #include <ldoem/motor/head_drive.hpp>
+#include <ldoem/motor/head_ripple_track.hpp>
 #include <ldoem/motor/tilt_motor.hpp>
 #include <ldoem/sensor/beam_geometry.hpp>
 
@@ -8,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <span>
 
 namespace ldoem::bench {
@@ -50,6 +52,13 @@ PaperScanResult run_paper_scan(const scene::Scene& scene, const sensor::SensorMo
   timeline.revolution_s = 1.0 / options.revolution_hz;
   timeline.head_rad_s = 2.0 * std::numbers::pi * options.revolution_hz;
   head->set_target(SimTime::zero(), options.revolution_hz);
+  // head_dynamics: the daemon's model (motor/head_ripple_track.hpp): points stay at their nominal
+  // angles and fire at shifted times.
+  std::optional<motor::HeadRippleTrack> ripple;
+  if (head_dynamics) {
+    ripple.emplace(scene.scanner.head);
+    ripple->set_target(SimTime::zero(), options.revolution_hz);
+  }
   // D7: the scan starts once TRANS_ROTATE would have answered, plus a margin.
   timeline.scan_start = head->reached_at(options.revolution_hz).value_or(SimTime::zero()) + from_seconds(0.5);
 
@@ -76,19 +85,15 @@ PaperScanResult run_paper_scan(const scene::Scene& scene, const sensor::SensorMo
     const std::size_t layer_first = result.beams.size();
     for (int beam = 0; beam < options.head.count; ++beam) {
       const double nominal_rad = options.head.angle_rad(beam);
-      beam_times[beam] =
-          revolution_start + from_seconds((nominal_rad - kRevolutionStartAngleRad) / timeline.head_rad_s);
+      const double since_start_rad = nominal_rad - kRevolutionStartAngleRad;
+      beam_times[beam] = revolution_start + from_seconds(since_start_rad / timeline.head_rad_s);
+      if (ripple) beam_times[beam] += ripple->fire_time_shift(revolution_start, since_start_rad);
     }
     tilt_motor->advance_to(beam_times.front());
     const double frozen_tilt_rad = tilt_motor->tilt_rad();
-    const double head_at_start_rad = head_dynamics ? head->angle_rad(revolution_start) : 0.0;
     for (int beam = 0; beam < options.head.count; ++beam) {
       sensor::BeamRequest request;
       request.head_angle_rad = options.head.angle_rad(beam);
-      if (head_dynamics) {  // the head model's own angle, relative to where the revolution began
-        const double elapsed_s = std::chrono::duration<double>(beam_times[beam] - revolution_start).count();
-        request.head_angle_rad += head->angle_rad(beam_times[beam]) - head_at_start_rad - timeline.head_rad_s * elapsed_s;
-      }
       if (sweep_motion) {
         tilt_motor->advance_to(beam_times[beam]);
         request.tilt_rad = tilt_motor->tilt_rad();
