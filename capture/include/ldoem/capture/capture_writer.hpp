@@ -1,0 +1,97 @@
+// Writes what crosses ldoem's wires into a pcapng file that Wireshark and tshark open
+// (docs/capture.md). Every file holds four interfaces, one per transport:
+//   0 "can"    LINKTYPE_CAN_SOCKETCAN  every CAN frame, ISO-TP flow control included
+//   1 "tcp"    LINKTYPE_IPV4           synthesized IPv4/TCP: device 127.0.0.2:49152, host
+//                                      127.0.0.1:(40000 + connection), a SYN handshake when a
+//                                      connection first appears in a file, sequence numbers
+//                                      counting the real bytes, segments of at most 1460 bytes
+//   2 "serial" LINKTYPE_USER0          direction byte + the bytes of the line
+//   3 "lpt"    LINKTYPE_USER1          direction byte 0 + data-register values (D8)
+// Timestamps are device time (D7) in nanoseconds. Each call writes its blocks with one write(2),
+// so a crash loses at most the telegram being written. With a size cap the file rotates:
+// FILE is always the newest, older ones are FILE.1, FILE.2, ... up to max_files in all.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "ldoem/protocol/bytes.hpp"
+#include "ldoem/protocol/can_frame.hpp"
+#include "ldoem/protocol/capture_packets.hpp"
+#include "ldoem/protocol/expected.hpp"
+#include "ldoem/protocol/sim_time.hpp"
+
+namespace ldoem::capture {
+
+using protocol::ByteView;
+using protocol::SimTime;
+using protocol::WireDirection;
+
+inline constexpr std::uint32_t kCaptureCanInterface = 0;
+inline constexpr std::uint32_t kCaptureTcpInterface = 1;
+inline constexpr std::uint32_t kCaptureSerialInterface = 2;
+inline constexpr std::uint32_t kCaptureLptInterface = 3;
+inline constexpr std::uint32_t kSynthesizedDeviceIp = 0x7F000002;  // 127.0.0.2
+inline constexpr std::uint32_t kSynthesizedHostIp = 0x7F000001;    // 127.0.0.1
+inline constexpr std::uint16_t kSynthesizedHostPortBase = 40000;
+inline constexpr std::size_t kSynthesizedSegmentBytes = 1460;
+
+struct CaptureWriterOptions {
+  std::filesystem::path path;
+  std::uint64_t max_file_bytes = 0;  // 0: no cap, one file that grows
+  unsigned max_files = 10;           // with a cap: files kept, the current one included (>= 1)
+  std::string application = "ldoem";
+};
+
+struct CaptureWriterCounters {
+  std::uint64_t records = 0;  // calls that wrote something
+  std::uint64_t bytes = 0;    // bytes written to the current file
+  std::uint64_t rotations = 0;
+};
+
+class CaptureWriter {
+ public:
+  // Creates (truncates) the file and writes the section and interface blocks.
+  [[nodiscard]] static protocol::Expected<std::unique_ptr<CaptureWriter>, std::string> open(CaptureWriterOptions options);
+  ~CaptureWriter();
+  CaptureWriter(const CaptureWriter&) = delete;
+  CaptureWriter& operator=(const CaptureWriter&) = delete;
+
+  // Each returns an error text ("write FILE: No space left on device") or an empty string.
+  [[nodiscard]] std::string write_can(SimTime time, const protocol::CanFrame& frame, WireDirection direction);
+  [[nodiscard]] std::string write_tcp(SimTime time, std::uint32_t connection, WireDirection direction, ByteView bytes);
+  // FIN both ways: the connection ended. A later write on the same index starts a new one.
+  [[nodiscard]] std::string close_tcp(SimTime time, std::uint32_t connection);
+  [[nodiscard]] std::string write_serial(SimTime time, WireDirection direction, ByteView bytes);
+  [[nodiscard]] std::string write_lpt(SimTime time, ByteView values);
+
+  const CaptureWriterCounters& counters() const { return counters_; }
+  const std::filesystem::path& path() const { return options_.path; }
+
+ private:
+  struct TcpConnection {
+    std::uint32_t host_next = 1;    // next sequence number host -> device
+    std::uint32_t device_next = 1;  // next sequence number device -> host
+    bool announced = false;         // handshake written in the current file
+  };
+  explicit CaptureWriter(CaptureWriterOptions options);
+  std::string start_file();
+  std::string rotate();
+  std::string commit(const std::function<protocol::Bytes()>& build);
+  std::string write_all(const protocol::Bytes& blocks);
+  protocol::TcpSegment segment(std::uint32_t connection, WireDirection direction, std::uint8_t flags,
+                               const TcpConnection& state) const;
+  void append_packet(protocol::Bytes& out, std::uint32_t interface, SimTime time, ByteView data,
+                     WireDirection direction) const;
+
+  CaptureWriterOptions options_;
+  int fd_ = -1;
+  CaptureWriterCounters counters_;
+  std::map<std::uint32_t, TcpConnection> connections_;
+};
+
+}  // namespace ldoem::capture

@@ -1,0 +1,232 @@
+#include "ldoem/capture/capture_writer.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <functional>
+#include <system_error>
+
+#include "ldoem/protocol/pcapng.hpp"
+#include "ldoem/protocol/tcp_framing.hpp"
+
+namespace ldoem::capture {
+
+using protocol::Bytes;
+using protocol::LinkType;
+using protocol::PacketDirection;
+
+namespace {
+
+PacketDirection packet_direction(WireDirection direction) {
+  return direction == WireDirection::host_to_device ? PacketDirection::inbound : PacketDirection::outbound;
+}
+
+std::filesystem::path numbered(const std::filesystem::path& path, unsigned index) {
+  return path.string() + "." + std::to_string(index);
+}
+
+std::string errno_text(const char* operation, const std::filesystem::path& path) {
+  return std::string(operation) + " " + path.string() + ": " + std::strerror(errno);
+}
+
+}  // namespace
+
+CaptureWriter::CaptureWriter(CaptureWriterOptions options) : options_(std::move(options)) {}
+
+CaptureWriter::~CaptureWriter() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+protocol::Expected<std::unique_ptr<CaptureWriter>, std::string> CaptureWriter::open(CaptureWriterOptions options) {
+  if (options.path.empty()) return protocol::Unexpected(std::string("capture: no file name"));
+  if (options.max_files == 0) return protocol::Unexpected(std::string("capture: max_files must be at least 1"));
+  std::unique_ptr<CaptureWriter> writer(new CaptureWriter(std::move(options)));
+  if (std::string error = writer->start_file(); !error.empty()) return protocol::Unexpected(error);
+  return writer;
+}
+
+std::string CaptureWriter::start_file() {
+  fd_ = ::open(options_.path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd_ < 0) return errno_text("open", options_.path);
+  counters_.bytes = 0;
+  for (auto& [index, connection] : connections_) connection.announced = false;
+  Bytes header = protocol::encode_pcapng_section_header(options_.application);
+  const std::pair<LinkType, const char*> interfaces[] = {
+      {LinkType::can_socketcan, "can"}, {LinkType::ipv4, "tcp"}, {LinkType::user0, "serial"}, {LinkType::user1, "lpt"}};
+  for (const auto& [link_type, name] : interfaces) {
+    const Bytes block = protocol::encode_pcapng_interface(link_type, name);
+    header.insert(header.end(), block.begin(), block.end());
+  }
+  return write_all(header);
+}
+
+std::string CaptureWriter::rotate() {
+  ::close(fd_);
+  fd_ = -1;
+  std::error_code ignored;
+  if (options_.max_files == 1) {
+    std::filesystem::remove(options_.path, ignored);
+  } else {
+    std::filesystem::remove(numbered(options_.path, options_.max_files - 1), ignored);
+    for (unsigned index = options_.max_files - 1; index > 1; --index) {
+      std::filesystem::rename(numbered(options_.path, index - 1), numbered(options_.path, index), ignored);
+    }
+    std::error_code error;
+    std::filesystem::rename(options_.path, numbered(options_.path, 1), error);
+    if (error) return "rename " + options_.path.string() + ": " + error.message();
+  }
+  ++counters_.rotations;
+  return start_file();
+}
+
+std::string CaptureWriter::commit(const std::function<Bytes()>& build) {
+  Bytes blocks = build();
+  // The cap: a record never makes a file exceed it, except a record too large for any file.
+  // Rotation resets what a new file must repeat (TCP handshakes), so the record is rebuilt.
+  if (options_.max_file_bytes > 0 && counters_.bytes > 0 &&
+      counters_.bytes + blocks.size() > options_.max_file_bytes) {
+    if (std::string error = rotate(); !error.empty()) return error;
+    blocks = build();
+  }
+  return write_all(blocks);
+}
+
+std::string CaptureWriter::write_all(const Bytes& blocks) {
+  if (fd_ < 0) return "write " + options_.path.string() + ": capture file is not open";
+  std::size_t done = 0;
+  while (done < blocks.size()) {
+    const ssize_t written = ::write(fd_, blocks.data() + done, blocks.size() - done);
+    if (written < 0) {
+      if (errno == EINTR) continue;
+      return errno_text("write", options_.path);
+    }
+    done += static_cast<std::size_t>(written);
+  }
+  counters_.bytes += blocks.size();
+  return {};
+}
+
+void CaptureWriter::append_packet(Bytes& out, std::uint32_t interface, SimTime time, ByteView data,
+                                  WireDirection direction) const {
+  const auto time_ns = static_cast<std::uint64_t>(std::max<std::int64_t>(0, time.count()));
+  const Bytes block = protocol::encode_pcapng_packet(interface, time_ns, data, packet_direction(direction));
+  out.insert(out.end(), block.begin(), block.end());
+}
+
+std::string CaptureWriter::write_can(SimTime time, const protocol::CanFrame& frame, WireDirection direction) {
+  ++counters_.records;
+  return commit([&] {
+    Bytes blocks;
+    append_packet(blocks, kCaptureCanInterface, time, protocol::encode_socketcan_packet(frame), direction);
+    return blocks;
+  });
+}
+
+protocol::TcpSegment CaptureWriter::segment(std::uint32_t connection, WireDirection direction, std::uint8_t flags,
+                                            const TcpConnection& state) const {
+  protocol::TcpSegment segment;
+  const auto host_port = static_cast<std::uint16_t>(kSynthesizedHostPortBase + connection % 20000);
+  const bool to_device = direction == WireDirection::host_to_device;
+  segment.source_ip = to_device ? kSynthesizedHostIp : kSynthesizedDeviceIp;
+  segment.destination_ip = to_device ? kSynthesizedDeviceIp : kSynthesizedHostIp;
+  segment.source_port = to_device ? host_port : protocol::kTcpServicePort;
+  segment.destination_port = to_device ? protocol::kTcpServicePort : host_port;
+  segment.sequence = to_device ? state.host_next : state.device_next;
+  segment.acknowledgement = to_device ? state.device_next : state.host_next;
+  segment.flags = flags;
+  return segment;
+}
+
+std::string CaptureWriter::write_tcp(SimTime time, std::uint32_t connection, WireDirection direction, ByteView bytes) {
+  TcpConnection* state = nullptr;
+  const auto build = [&] {
+    state = &connections_[connection];
+    Bytes blocks;
+    if (!state->announced) {
+      // SYN, SYN-ACK, ACK so that Wireshark sees the stream start and counts relative sequences.
+      TcpConnection before = *state;
+      before.host_next -= 1;
+      before.device_next -= 1;
+      auto syn = segment(connection, WireDirection::host_to_device, protocol::kTcpSyn, before);
+      syn.acknowledgement = 0;
+      append_packet(blocks, kCaptureTcpInterface, time, protocol::encode_ipv4_tcp_packet(syn),
+                    WireDirection::host_to_device);
+      auto syn_ack = segment(connection, WireDirection::device_to_host, protocol::kTcpSyn | protocol::kTcpAck, before);
+      syn_ack.acknowledgement = state->host_next;
+      append_packet(blocks, kCaptureTcpInterface, time, protocol::encode_ipv4_tcp_packet(syn_ack),
+                    WireDirection::device_to_host);
+      append_packet(blocks, kCaptureTcpInterface, time,
+                    protocol::encode_ipv4_tcp_packet(
+                        segment(connection, WireDirection::host_to_device, protocol::kTcpAck, *state)),
+                    WireDirection::host_to_device);
+    }
+    TcpConnection next = *state;
+    std::size_t offset = 0;
+    do {
+      const std::size_t size = std::min(kSynthesizedSegmentBytes, bytes.size() - offset);
+      auto data = segment(connection, direction, protocol::kTcpAck | protocol::kTcpPsh, next);
+      data.payload.assign(bytes.begin() + static_cast<std::ptrdiff_t>(offset),
+                          bytes.begin() + static_cast<std::ptrdiff_t>(offset + size));
+      append_packet(blocks, kCaptureTcpInterface, time, protocol::encode_ipv4_tcp_packet(data), direction);
+      (direction == WireDirection::host_to_device ? next.host_next : next.device_next) +=
+          static_cast<std::uint32_t>(size);
+      offset += size;
+    } while (offset < bytes.size());
+    return blocks;
+  };
+  ++counters_.records;
+  std::string error = commit(build);
+  if (error.empty()) {
+    state->announced = true;
+    (direction == WireDirection::host_to_device ? state->host_next : state->device_next) +=
+        static_cast<std::uint32_t>(bytes.size());
+  }
+  return error;
+}
+
+std::string CaptureWriter::close_tcp(SimTime time, std::uint32_t connection) {
+  const auto found = connections_.find(connection);
+  if (found == connections_.end()) return {};
+  TcpConnection state = found->second;
+  connections_.erase(found);
+  if (!state.announced) return {};
+  const std::uint8_t fin = protocol::kTcpFin | protocol::kTcpAck;
+  ++counters_.records;
+  return commit([&] {
+    Bytes blocks;
+    append_packet(blocks, kCaptureTcpInterface, time,
+                  protocol::encode_ipv4_tcp_packet(segment(connection, WireDirection::host_to_device, fin, state)),
+                  WireDirection::host_to_device);
+    TcpConnection after = state;
+    after.host_next += 1;
+    append_packet(blocks, kCaptureTcpInterface, time,
+                  protocol::encode_ipv4_tcp_packet(segment(connection, WireDirection::device_to_host, fin, after)),
+                  WireDirection::device_to_host);
+    return blocks;
+  });
+}
+
+std::string CaptureWriter::write_serial(SimTime time, WireDirection direction, ByteView bytes) {
+  ++counters_.records;
+  return commit([&] {
+    Bytes blocks;
+    append_packet(blocks, kCaptureSerialInterface, time,
+                  protocol::encode_serial_packet({direction, Bytes(bytes.begin(), bytes.end())}), direction);
+    return blocks;
+  });
+}
+
+std::string CaptureWriter::write_lpt(SimTime time, ByteView values) {
+  ++counters_.records;
+  return commit([&] {
+    Bytes blocks;
+    append_packet(blocks, kCaptureLptInterface, time,
+                  protocol::encode_lpt_packet({Bytes(values.begin(), values.end())}), WireDirection::host_to_device);
+    return blocks;
+  });
+}
+
+}  // namespace ldoem::capture

@@ -1,0 +1,96 @@
+// From captured packets to the telegrams they carried: TCP segments reassembled per connection
+// and direction and deframed (spec 4.1), serial bytes deframed (spec 4.2), CAN frames on the D1
+// identifiers reassembled by ISO-TP. Pure: packets and their times go in, telegrams come out.
+// The replay tool and `ldoem-conformance --against` are built on it (docs/capture.md).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <tuple>
+#include <vector>
+
+#include "ldoem/protocol/bytes.hpp"
+#include "ldoem/protocol/capture_packets.hpp"
+#include "ldoem/protocol/isotp.hpp"
+#include "ldoem/protocol/serial_framing.hpp"
+#include "ldoem/protocol/sim_time.hpp"
+#include "ldoem/protocol/tcp_framing.hpp"
+
+namespace ldoem::protocol {
+
+enum class WireTransport : std::uint8_t { tcp, serial, can };
+std::string_view transport_name(WireTransport transport);
+
+struct CapturedTelegram {
+  SimTime time{};  // when its last byte or frame was captured
+  WireTransport transport = WireTransport::tcp;
+  WireDirection direction = WireDirection::host_to_device;
+  std::uint32_t stream = 0;  // TCP: connection index in order of appearance; serial, CAN: 0
+  Bytes payload;             // service WORD then parameters
+  bool operator==(const CapturedTelegram&) const = default;
+};
+
+struct ConversationConfig {
+  std::uint16_t tcp_port = kTcpServicePort;  // the device's port (spec 4.1)
+  std::uint32_t request_can_id = kIsoTpHostToDeviceId;   // D1
+  std::uint32_t response_can_id = kIsoTpDeviceToHostId;  // D1
+  // ISO-TP reassembly bound. Profiles over CAN may exceed D3's 5816 bytes (D1 has no limit).
+  std::size_t max_telegram_bytes = kIsoTpDefaultMaxMessageBytes;
+};
+
+// What could not be turned into telegrams, so a user sees a capture's gaps instead of guessing.
+struct ConversationCounters {
+  std::uint64_t packets = 0;
+  std::uint64_t ignored_packets = 0;  // other protocols, ports, identifiers, LPT writes
+  std::uint64_t framing_errors = 0;   // bad checksums, CRCs, hex, broken ISO-TP sequences
+  std::uint64_t tcp_gaps = 0;         // bytes missing in a TCP stream (capture lost packets)
+  std::uint64_t lpt_writes = 0;
+};
+
+class ConversationExtractor {
+ public:
+  explicit ConversationExtractor(ConversationConfig config = {});
+  ~ConversationExtractor();
+  ConversationExtractor(const ConversationExtractor&) = delete;
+  ConversationExtractor& operator=(const ConversationExtractor&) = delete;
+
+  void add(SimTime time, const LinkPayload& payload);
+  // Telegrams completed so far, in capture order; the internal list is emptied.
+  std::vector<CapturedTelegram> take();
+  const ConversationCounters& counters() const { return counters_; }
+
+ private:
+  struct TcpDirection;
+  using FlowKey = std::tuple<std::uint32_t, std::uint16_t, std::uint32_t, std::uint16_t>;
+  void add_tcp(SimTime time, const TcpSegment& segment);
+  void add_can(SimTime time, const CanFrame& frame);
+  void add_serial(SimTime time, const SerialChunk& chunk);
+  void deliver(SimTime time, WireTransport transport, WireDirection direction, std::uint32_t stream,
+               std::vector<DeframerEvent> events);
+
+  ConversationConfig config_;
+  ConversationCounters counters_;
+  std::map<FlowKey, std::unique_ptr<TcpDirection>> tcp_flows_;  // key: source then destination
+  std::map<FlowKey, std::uint32_t> connections_;  // key: device then host
+  std::uint32_t next_connection_ = 0;
+  IsoTpReceiver can_requests_;
+  IsoTpReceiver can_replies_;
+  SerialDeframer serial_requests_;
+  SerialReplyReassembler serial_replies_;
+  std::vector<CapturedTelegram> telegrams_;
+};
+
+// All telegrams of a list of (time, payload) packets in one go.
+struct DecodedPacket {
+  SimTime time{};
+  LinkPayload payload;
+};
+struct Conversation {
+  std::vector<CapturedTelegram> telegrams;
+  ConversationCounters counters;
+};
+Conversation extract_conversation(const std::vector<DecodedPacket>& packets, ConversationConfig config = {});
+
+}  // namespace ldoem::protocol

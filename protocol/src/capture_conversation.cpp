@@ -1,0 +1,168 @@
+#include "ldoem/protocol/capture_conversation.hpp"
+
+#include <optional>
+#include <type_traits>
+
+namespace ldoem::protocol {
+
+std::string_view transport_name(WireTransport transport) {
+  switch (transport) {
+    case WireTransport::tcp: return "tcp";
+    case WireTransport::serial: return "serial";
+    case WireTransport::can: return "can";
+  }
+  return "?";
+}
+
+// One direction of one TCP connection: where the next byte belongs and the frames so far.
+struct ConversationExtractor::TcpDirection {
+  TcpDeframer deframer;
+  std::optional<std::uint32_t> next_sequence;
+};
+
+namespace {
+
+IsoTpReceiverConfig receiver_config(std::uint32_t flow_control_id, std::size_t max_bytes) {
+  IsoTpReceiverConfig config;
+  config.flow_control_id = flow_control_id;
+  config.max_message_bytes = max_bytes;
+  return config;
+}
+
+}  // namespace
+
+ConversationExtractor::ConversationExtractor(ConversationConfig config)
+    : config_(config),
+      can_requests_(receiver_config(config.response_can_id, config.max_telegram_bytes)),
+      can_replies_(receiver_config(config.request_can_id, config.max_telegram_bytes)) {}
+
+ConversationExtractor::~ConversationExtractor() = default;
+
+void ConversationExtractor::add(SimTime time, const LinkPayload& payload) {
+  ++counters_.packets;
+  std::visit(
+      [&](const auto& value) {
+        using T = std::decay_t<decltype(value)>;
+        if constexpr (std::is_same_v<T, TcpSegment>) {
+          add_tcp(time, value);
+        } else if constexpr (std::is_same_v<T, CanFrame>) {
+          add_can(time, value);
+        } else if constexpr (std::is_same_v<T, SerialChunk>) {
+          add_serial(time, value);
+        } else if constexpr (std::is_same_v<T, LptWrites>) {
+          counters_.lpt_writes += value.values.size();
+          ++counters_.ignored_packets;
+        } else {
+          ++counters_.ignored_packets;
+        }
+      },
+      payload);
+}
+
+std::vector<CapturedTelegram> ConversationExtractor::take() {
+  std::vector<CapturedTelegram> out;
+  out.swap(telegrams_);
+  return out;
+}
+
+void ConversationExtractor::add_tcp(SimTime time, const TcpSegment& segment) {
+  WireDirection direction;
+  if (segment.destination_port == config_.tcp_port) {
+    direction = WireDirection::host_to_device;
+  } else if (segment.source_port == config_.tcp_port) {
+    direction = WireDirection::device_to_host;
+  } else {
+    ++counters_.ignored_packets;
+    return;
+  }
+  const bool to_device = direction == WireDirection::host_to_device;
+  const auto connection_key = to_device
+      ? std::tuple{segment.destination_ip, segment.destination_port, segment.source_ip, segment.source_port}
+      : std::tuple{segment.source_ip, segment.source_port, segment.destination_ip, segment.destination_port};
+  const FlowKey flow_key{segment.source_ip, segment.source_port, segment.destination_ip, segment.destination_port};
+  const bool opening = (segment.flags & kTcpSyn) != 0;
+  auto connection = connections_.find(connection_key);
+  if (connection == connections_.end()) {
+    connection = connections_.emplace(connection_key, next_connection_++).first;
+  } else if (opening && to_device) {
+    connection->second = next_connection_++;  // a new connection on a reused port pair
+  }
+  auto& flow = tcp_flows_[flow_key];
+  if (!flow || opening) flow = std::make_unique<TcpDirection>();
+  if (opening) {
+    flow->next_sequence = segment.sequence + 1;
+    return;
+  }
+  if ((segment.flags & kTcpRst) != 0) {
+    flow = std::make_unique<TcpDirection>();
+    return;
+  }
+  ByteView data(segment.payload);
+  if (!data.empty()) {
+    if (!flow->next_sequence) flow->next_sequence = segment.sequence;
+    const auto ahead = static_cast<std::int32_t>(segment.sequence - *flow->next_sequence);
+    if (ahead > 0) {
+      // Bytes never captured: the frame in progress is lost, resynchronise on the next header.
+      ++counters_.tcp_gaps;
+      flow->deframer.reset();
+      flow->next_sequence = segment.sequence;
+    } else if (ahead < 0) {
+      const auto repeated = static_cast<std::size_t>(-static_cast<std::int64_t>(ahead));
+      data = repeated >= data.size() ? ByteView{} : data.subspan(repeated);
+    }
+    *flow->next_sequence += static_cast<std::uint32_t>(data.size());
+    deliver(time, WireTransport::tcp, direction, connection->second, flow->deframer.feed(data));
+  }
+  if ((segment.flags & kTcpFin) != 0 && flow->next_sequence) *flow->next_sequence += 1;
+}
+
+void ConversationExtractor::add_can(SimTime time, const CanFrame& frame) {
+  IsoTpReceiver* receiver = nullptr;
+  WireDirection direction = WireDirection::host_to_device;
+  if (frame.id == config_.request_can_id) {
+    receiver = &can_requests_;
+  } else if (frame.id == config_.response_can_id) {
+    receiver = &can_replies_;
+    direction = WireDirection::device_to_host;
+  } else {
+    ++counters_.ignored_packets;
+    return;
+  }
+  const IsoTpReceiveResult result = receiver->on_frame(time, frame);
+  if (result.error) ++counters_.framing_errors;
+  if (result.message) {
+    telegrams_.push_back(CapturedTelegram{time, WireTransport::can, direction, 0, *result.message});
+  }
+}
+
+void ConversationExtractor::add_serial(SimTime time, const SerialChunk& chunk) {
+  if (chunk.direction == WireDirection::host_to_device) {
+    deliver(time, WireTransport::serial, chunk.direction, 0, serial_requests_.feed(chunk.bytes));
+  } else {
+    deliver(time, WireTransport::serial, chunk.direction, 0, serial_replies_.feed(chunk.bytes));
+  }
+}
+
+void ConversationExtractor::deliver(SimTime time, WireTransport transport, WireDirection direction,
+                                    std::uint32_t stream, std::vector<DeframerEvent> events) {
+  for (auto& event : events) {
+    if (auto* telegram = std::get_if<Telegram>(&event)) {
+      telegrams_.push_back(CapturedTelegram{time, transport, direction, stream, std::move(telegram->payload)});
+    } else {
+      ++counters_.framing_errors;
+    }
+  }
+}
+
+Conversation extract_conversation(const std::vector<DecodedPacket>& packets, ConversationConfig config) {
+  ConversationExtractor extractor(config);
+  Conversation conversation;
+  for (const auto& packet : packets) {
+    extractor.add(packet.time, packet.payload);
+    for (auto& telegram : extractor.take()) conversation.telegrams.push_back(std::move(telegram));
+  }
+  conversation.counters = extractor.counters();
+  return conversation;
+}
+
+}  // namespace ldoem::protocol

@@ -1,0 +1,143 @@
+// CaptureWriter: the four interfaces, TCP synthesis with a handshake and split segments, one
+// flush per record, the size cap and rotation, and clear errors.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "ldoem/capture/capture_reader.hpp"
+#include "ldoem/capture/capture_writer.hpp"
+#include "ldoem/protocol/pcapng.hpp"
+#include "ldoem/protocol/tcp_framing.hpp"
+
+namespace ldoem::capture {
+namespace {
+
+namespace fs = std::filesystem;
+using protocol::Bytes;
+using std::chrono::milliseconds;
+
+class TempDir {
+ public:
+  TempDir() : path_(fs::temp_directory_path() / ("ldoem-capture-" + std::to_string(::getpid()) + "-" +
+                                                   ::testing::UnitTest::GetInstance()->current_test_info()->name())) {
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() { fs::remove_all(path_); }
+  fs::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  fs::path path_;
+};
+
+Bytes file_bytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return Bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+Bytes profile_like_payload(std::size_t size) {
+  Bytes payload{0x83, 0x01};
+  for (std::size_t i = 2; i < size; ++i) payload.push_back(static_cast<std::uint8_t>(i * 7));
+  return payload;
+}
+
+TEST(CaptureWriter, EveryRecord_IsOnDiskWhenTheCallReturns) {
+  TempDir dir;
+  auto writer = CaptureWriter::open({dir / "c.pcapng"});
+  ASSERT_TRUE(writer.has_value()) << writer.error();
+  const auto header_size = file_bytes(dir / "c.pcapng").size();
+  EXPECT_GT(header_size, 0u);
+  ASSERT_EQ((*writer)->write_can(milliseconds(5), *protocol::make_can_frame(0x6C0, Bytes{0x02, 0x01, 0x02}),
+                                 WireDirection::host_to_device), "");
+  // No close, no destructor: the bytes are already in the file (a crash loses nothing written).
+  const auto packets = protocol::decode_pcapng(file_bytes(dir / "c.pcapng"));
+  ASSERT_TRUE(packets.has_value());
+  ASSERT_EQ(packets->size(), 1u);
+  EXPECT_EQ((*packets)[0].link_type, protocol::LinkType::can_socketcan);
+  EXPECT_EQ((*packets)[0].time_ns, 5'000'000u);
+  EXPECT_EQ((*packets)[0].direction, protocol::PacketDirection::inbound);
+}
+
+TEST(CaptureWriter, TcpTelegrams_AreSynthesizedSegmentsThatReassembleToTheSamePayloads) {
+  TempDir dir;
+  auto writer = CaptureWriter::open({dir / "t.pcapng"});
+  ASSERT_TRUE(writer.has_value());
+  const Bytes request{0x03, 0x01, 0x00, 0x00, 0x39, 0xFF};
+  const Bytes reply = profile_like_payload(5000);  // four segments of at most 1460 bytes
+  ASSERT_EQ((*writer)->write_tcp(milliseconds(1), 0, WireDirection::host_to_device, protocol::encode_tcp_frame(request)), "");
+  ASSERT_EQ((*writer)->write_tcp(milliseconds(2), 0, WireDirection::device_to_host, protocol::encode_tcp_frame(reply)), "");
+  ASSERT_EQ((*writer)->write_tcp(milliseconds(3), 1, WireDirection::host_to_device, protocol::encode_tcp_frame(request)), "");
+  ASSERT_EQ((*writer)->close_tcp(milliseconds(4), 0), "");
+  const auto packets = read_capture_packets(dir / "t.pcapng");
+  ASSERT_TRUE(packets.has_value()) << packets.error();
+  // Handshake (3) + request (1) + reply (4) + second connection's handshake (3) + request (1) + FIN (2).
+  EXPECT_EQ(packets->packets.size(), 14u);
+  for (const auto& packet : packets->packets) {
+    const auto& segment = std::get<protocol::TcpSegment>(packet.payload);
+    EXPECT_LE(segment.payload.size(), kSynthesizedSegmentBytes);
+  }
+  const auto conversation = read_capture_conversation(dir / "t.pcapng");
+  ASSERT_TRUE(conversation.has_value());
+  const auto& telegrams = conversation->conversation.telegrams;
+  ASSERT_EQ(telegrams.size(), 3u);
+  EXPECT_EQ(telegrams[0].payload, request);
+  EXPECT_EQ(telegrams[1].payload, reply);
+  EXPECT_EQ(telegrams[1].time, milliseconds(2));
+  EXPECT_EQ(telegrams[2].stream, 1u);
+  EXPECT_EQ(conversation->conversation.counters.framing_errors, 0u);
+  EXPECT_EQ(conversation->conversation.counters.tcp_gaps, 0u);
+}
+
+TEST(CaptureWriter, SizeCap_RotatesAndKeepsAtMostMaxFiles) {
+  TempDir dir;
+  auto writer = CaptureWriter::open({dir / "r.pcapng", 4096, 3});
+  ASSERT_TRUE(writer.has_value());
+  const Bytes frame = protocol::encode_tcp_frame(profile_like_payload(1000));
+  for (int i = 0; i < 20; ++i) {
+    ASSERT_EQ((*writer)->write_tcp(milliseconds(i), 0, WireDirection::device_to_host, frame), "");
+  }
+  EXPECT_GT((*writer)->counters().rotations, 2u);
+  EXPECT_TRUE(fs::exists(dir / "r.pcapng"));
+  EXPECT_TRUE(fs::exists(dir / "r.pcapng.1"));
+  EXPECT_TRUE(fs::exists(dir / "r.pcapng.2"));
+  EXPECT_FALSE(fs::exists(dir / "r.pcapng.3"));
+  for (const char* name : {"r.pcapng", "r.pcapng.1", "r.pcapng.2"}) {
+    EXPECT_LE(fs::file_size(dir / name), 4096u) << name;
+    // Each file stands alone: its own header, a handshake, and whole telegrams.
+    const auto conversation = read_capture_conversation(dir / name);
+    ASSERT_TRUE(conversation.has_value()) << name << ": " << conversation.error();
+    EXPECT_FALSE(conversation->conversation.telegrams.empty()) << name;
+    EXPECT_EQ(conversation->conversation.counters.tcp_gaps, 0u) << name;
+  }
+  // The newest file holds the newest record.
+  const auto newest = read_capture_conversation(dir / "r.pcapng");
+  EXPECT_EQ(newest->conversation.telegrams.back().time, milliseconds(19));
+}
+
+TEST(CaptureWriter, SerialAndLpt_RoundTripWithDirection) {
+  TempDir dir;
+  auto writer = CaptureWriter::open({dir / "s.pcapng"});
+  ASSERT_TRUE(writer.has_value());
+  const Bytes line{0x02, 0x30, 0x03};
+  ASSERT_EQ((*writer)->write_serial(milliseconds(1), WireDirection::device_to_host, line), "");
+  ASSERT_EQ((*writer)->write_lpt(milliseconds(2), Bytes{0x02, 0x03}), "");
+  const auto packets = read_capture_packets(dir / "s.pcapng");
+  ASSERT_TRUE(packets.has_value());
+  ASSERT_EQ(packets->packets.size(), 2u);
+  EXPECT_EQ(std::get<protocol::SerialChunk>(packets->packets[0].payload),
+            (protocol::SerialChunk{WireDirection::device_to_host, line}));
+  EXPECT_EQ(std::get<protocol::LptWrites>(packets->packets[1].payload), (protocol::LptWrites{Bytes{0x02, 0x03}}));
+}
+
+TEST(CaptureWriter, UnwritablePath_IsAClearError) {
+  const auto writer = CaptureWriter::open({"/nonexistent-dir/x.pcapng"});
+  ASSERT_FALSE(writer.has_value());
+  EXPECT_NE(writer.error().find("/nonexistent-dir/x.pcapng"), std::string::npos) << writer.error();
+  EXPECT_NE(writer.error().find("No such file"), std::string::npos) << writer.error();
+}
+
+}  // namespace
+}  // namespace ldoem::capture
