@@ -26,7 +26,7 @@ cores="$(nproc)"
 started="$(date -u '+%Y-%m-%d %H:%M UTC')"
 
 if [[ $do_build -eq 1 ]]; then
-  cmake -S "$root" -B "$build" -G Ninja -DLDOEM_ONLY="protocol;emulator;driver/cloud;tests/bench" \
+  cmake -S "$root" -B "$build" -G Ninja -DLDOEM_ONLY="protocol;emulator;driver/cloud;driver/image;tests/bench" \
         -DLDOEM_BENCHMARKS=ON >/dev/null
   cmake --build "$build" -j2 --target ldoem_bench_perf ldoem_bench_rss >/dev/null
 fi
@@ -142,7 +142,7 @@ accuracy each speed buys is in [accuracy-vs-time.md](accuracy-vs-time.md).
 ## The run
 
 - Command: `@COMMAND@` (builds `@BUILD@` with
-  `-DLDOEM_ONLY="protocol;emulator;driver/cloud;tests/bench"`, RelWithDebInfo, g++ 12, then runs
+  `-DLDOEM_ONLY="protocol;emulator;driver/cloud;driver/image;tests/bench"`, RelWithDebInfo, g++ 12, then runs
   `ldoem_bench_perf --benchmark_min_time=@MIN_TIME@` and `ldoem_bench_rss` per scene).
 - Machine: @CORES@ cores, `@CPU@`, load average at the start `@LOAD@` (@DATE@). The machine was
   shared with other jobs compiling at the time, so absolute wall-clock figures are pessimistic.

@@ -59,6 +59,16 @@ std::vector<double> ranges_of(const PointCloud& cloud, const Point3f& origin) {
   return ranges;
 }
 
+RangeImageError from_png_error(image::PngError error) {
+  switch (error) {
+    case image::PngError::too_large: return RangeImageError::too_large;
+    case image::PngError::png_failed: return RangeImageError::png_failed;
+    case image::PngError::empty_image:
+    case image::PngError::size_mismatch: break;
+  }
+  return RangeImageError::empty_image;
+}
+
 }  // namespace
 
 std::string_view to_string(RangeImageError error) {
@@ -74,7 +84,7 @@ std::string_view to_string(RangeImageError error) {
   return "unknown";
 }
 
-Expected<RangeImage, RangeImageError> make_range_image(const PointCloud& cloud, const RangeImageOptions& options) {
+Expected<image::GrayImage, RangeImageError> make_range_image(const PointCloud& cloud, const RangeImageOptions& options) {
   if (cloud.empty()) return Unexpected(RangeImageError::empty_image);
   const Expected<OrganisedSize, RangeImageError> size = image_size(cloud);
   if (!size) return Unexpected(size.error());
@@ -93,34 +103,34 @@ Expected<RangeImage, RangeImageError> make_range_image(const PointCloud& cloud, 
     return Unexpected(RangeImageError::bad_range_scale);
   }
 
-  RangeImage image;
-  image.width = size->width;
-  image.height = size->height;
-  image.bit_depth = options.bit_depth;
-  image.pixels.assign(std::size_t{image.width} * image.height, 0);
-  std::vector<double> pixel_range(image.pixels.size(), std::numeric_limits<double>::infinity());
-  const double brightest = options.bit_depth == PngBitDepth::eight ? 255.0 : 65535.0;
+  image::GrayImage picture;
+  picture.width = size->width;
+  picture.height = size->height;
+  picture.depth = options.bit_depth;
+  picture.pixels.assign(std::size_t{picture.width} * picture.height, 0);
+  std::vector<double> pixel_range(picture.pixels.size(), std::numeric_limits<double>::infinity());
+  const double brightest = options.bit_depth == image::GrayDepth::eight ? 255.0 : 65535.0;
   for (std::size_t index = 0; index < cloud.size(); ++index) {
     if (std::isnan(ranges[index])) continue;
     PixelIndex pixel = pixel_of(cloud, index);
-    if (options.last_layer_on_top) pixel.row = image.height - 1 - pixel.row;
-    const std::size_t slot = std::size_t{pixel.row} * image.width + pixel.column;
+    if (options.last_layer_on_top) pixel.row = picture.height - 1 - pixel.row;
+    const std::size_t slot = std::size_t{pixel.row} * picture.width + pixel.column;
     if (!(ranges[index] < pixel_range[slot])) continue;  // keep the nearest echo
     pixel_range[slot] = ranges[index];
     // near -> brightest, far -> 1: level 0 stays reserved for "no echo".
     const double nearness = far_m > near_m ? std::clamp((far_m - ranges[index]) / (far_m - near_m), 0.0, 1.0) : 1.0;
-    image.pixels[slot] = static_cast<std::uint16_t>(std::lround(1.0 + nearness * (brightest - 1.0)));
+    picture.pixels[slot] = static_cast<std::uint16_t>(std::lround(1.0 + nearness * (brightest - 1.0)));
   }
-  return image;
+  return picture;
 }
 
 Expected<std::size_t, RangeImageError> write_range_image_png(const std::filesystem::path& path,
                                                               const PointCloud& cloud,
                                                               const RangeImageOptions& options) {
-  const Expected<RangeImage, RangeImageError> image = make_range_image(cloud, options);
-  if (!image) return Unexpected(image.error());
-  const Expected<std::string, RangeImageError> png = encode_png(*image);
-  if (!png) return Unexpected(png.error());
+  const Expected<image::GrayImage, RangeImageError> picture = make_range_image(cloud, options);
+  if (!picture) return Unexpected(picture.error());
+  const Expected<std::string, image::PngError> png = image::encode_gray_png(*picture);
+  if (!png) return Unexpected(from_png_error(png.error()));
   const Expected<std::size_t, CloudIoError> written = write_file_bytes(path, *png);
   if (!written) {
     return Unexpected(written.error() == CloudIoError::cannot_open_file ? RangeImageError::cannot_open_file

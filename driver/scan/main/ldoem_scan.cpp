@@ -6,10 +6,10 @@
 
 #include <iostream>
 
-#include "ldoem/cloud/progress_bar.hpp"
 #include "ldoem/cloud/range_image.hpp"
 #include "ldoem/hub/hub_client.hpp"
 #include "ldoem/hub/scanner_device.hpp"
+#include "ldoem/scan/progress_bar.hpp"
 #include "ldoem/scan/scan_options.hpp"
 #include "ldoem/scan/scene_fit.hpp"
 
@@ -18,18 +18,18 @@ namespace {
 using namespace ldoem;
 using scan::kExitFailure;
 
-protocol::Expected<std::unique_ptr<hub::Device>, driver::DriverError> open_device(const scan::ScanOptions& options) {
+protocol::Expected<std::unique_ptr<driver::Device>, driver::DriverError> open_device(const scan::ScanOptions& options) {
   if (options.hub) {
     auto client = hub::HubClient::connect(*options.hub, options.timeout);
     if (!client) {
       return protocol::Unexpected<driver::DriverError>(client.error());
     }
-    return std::unique_ptr<hub::Device>(std::make_unique<hub::HubDevice>(std::move(client.value()), options.hub_device));
+    return std::unique_ptr<driver::Device>(std::make_unique<hub::HubDevice>(std::move(client.value()), options.hub_device));
   }
   hub::ScannerDeviceOptions device_options;
   device_options.scanner.request_timeout = options.timeout;
   device_options.stepper.step_rate_hz = options.step_rate_hz;
-  return std::unique_ptr<hub::Device>(hub::ScannerDevice::from_endpoints(
+  return std::unique_ptr<driver::Device>(hub::ScannerDevice::from_endpoints(
       driver::format_endpoint(*options.device), *options.device, options.lpt, device_options));
 }
 
@@ -105,7 +105,7 @@ int main(int argc, char** argv) {
     std::cerr << "ldoem-scan: " << driver::describe(device.error()) << "\n";
     return kExitFailure;
   }
-  cloud::ProgressBar progress = cloud::ProgressBar::for_stderr();
+  scan::ProgressBar progress = scan::ProgressBar::for_stderr();
   int signal_seen = 0;
   scan::AcquisitionHooks hooks;
   hooks.on_layer = [&progress](std::uint32_t done, std::uint32_t total) {

@@ -5,8 +5,8 @@
 namespace ldoem::scan {
 namespace {
 
-using hub::MotorMove;
-using hub::TiltDirection;
+using driver::MotorMove;
+using driver::TiltDirection;
 using protocol::Unexpected;
 
 MotorMove move_by(std::int64_t steps, const AcquisitionPlan& plan) {
@@ -20,11 +20,11 @@ MotorMove move_by(std::int64_t steps, const AcquisitionPlan& plan) {
 
 class Run {
  public:
-  Run(hub::Device& device, const AcquisitionPlan& plan, const AcquisitionHooks& hooks)
+  Run(driver::Device& device, const AcquisitionPlan& plan, const AcquisitionHooks& hooks)
       : device_(device), plan_(plan), hooks_(hooks) {}
 
   protocol::Expected<Scan, AcquisitionError> execute() {
-    hub::InitializeRequest init;
+    driver::InitializeRequest init;
     init.motor_speed_hz = plan_.motor_speed_hz;
     init.angle_step_ticks = plan_.sectors.angle_step_ticks;
     init.sectors = plan_.sectors.sectors;
@@ -49,7 +49,7 @@ class Run {
  private:
   bool stop_requested() const { return hooks_.should_stop && hooks_.should_stop(); }
 
-  std::optional<AcquisitionError> device_failure(std::string stage, const hub::DriverError& error) const {
+  std::optional<AcquisitionError> device_failure(std::string stage, const driver::DriverError& error) const {
     return AcquisitionError{AcquisitionFailure::device_error, std::move(stage), error, {}};
   }
 
@@ -106,7 +106,7 @@ class Run {
     }
   }
 
-  protocol::Expected<hub::TiltPosition, hub::DriverError> move_to(std::int64_t target_half_steps) {
+  protocol::Expected<driver::TiltPosition, driver::DriverError> move_to(std::int64_t target_half_steps) {
     const std::int64_t delta_half = target_half_steps - position_half_steps_;
     const std::int64_t steps = delta_half / plan_.layers.half_steps_per_step();
     auto moved = device_.move_motor(move_by(steps, plan_));
@@ -116,10 +116,10 @@ class Run {
     return moved;
   }
 
-  protocol::Expected<hub::TiltPosition, hub::DriverError> go_home() { return move_to(0); }
+  protocol::Expected<driver::TiltPosition, driver::DriverError> go_home() { return move_to(0); }
 
-  std::optional<hub::DriverError> clean_up() {
-    std::optional<hub::DriverError> first;
+  std::optional<driver::DriverError> clean_up() {
+    std::optional<driver::DriverError> first;
     if (auto idle = device_.idle(); !idle) {
       first = idle.error();
     }
@@ -129,7 +129,7 @@ class Run {
     return first;
   }
 
-  hub::Device& device_;
+  driver::Device& device_;
   const AcquisitionPlan& plan_;
   const AcquisitionHooks& hooks_;
   Scan scan_;
@@ -148,7 +148,7 @@ std::string describe(const AcquisitionError& error) {
   return line;
 }
 
-protocol::Expected<Scan, AcquisitionError> acquire(hub::Device& device, const AcquisitionPlan& plan,
+protocol::Expected<Scan, AcquisitionError> acquire(driver::Device& device, const AcquisitionPlan& plan,
                                                    const AcquisitionHooks& hooks) {
   return Run(device, plan, hooks).execute();
 }

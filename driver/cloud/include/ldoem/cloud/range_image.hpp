@@ -1,6 +1,6 @@
 // Range-image preview of a scan: one row per layer, one column per beam, near = bright,
-// no echo = black. Encoded as a grayscale PNG (8 or 16 bit) through libpng, without time or
-// text chunks, so the same cloud always gives the same bytes.
+// no echo = black. Encoded as a grayscale PNG (8 or 16 bit) by driver/image, so the same cloud
+// always gives the same bytes.
 #pragma once
 
 #include <cstdint>
@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "ldoem/cloud/point_cloud.hpp"
+#include "ldoem/image/png.hpp"
 #include "ldoem/protocol/expected.hpp"
 
 namespace ldoem::cloud {
@@ -27,12 +28,10 @@ enum class RangeImageError : std::uint8_t {
 
 [[nodiscard]] std::string_view to_string(RangeImageError error);
 
-inline constexpr std::uint32_t max_range_image_side = 65535;
-
-enum class PngBitDepth : std::uint8_t { eight = 8, sixteen = 16 };
+inline constexpr std::uint32_t max_range_image_side = image::kMaxPngSide;
 
 struct RangeImageOptions {
-  PngBitDepth bit_depth = PngBitDepth::sixteen;
+  image::GrayDepth bit_depth = image::GrayDepth::sixteen;
   // Ranges mapped to full and to minimal brightness; by default the nearest and the furthest
   // echo of the cloud. Ranges beyond are clamped (an echo never becomes black).
   std::optional<double> near_m;
@@ -41,23 +40,13 @@ struct RangeImageOptions {
   bool last_layer_on_top = false;  // false: image row r is layer r
 };
 
-// Row-major pixels, 0 = no echo, 1..max = far..near (max 255 or 65535).
-struct RangeImage {
-  std::uint32_t width = 0;
-  std::uint32_t height = 0;
-  PngBitDepth bit_depth = PngBitDepth::sixteen;
-  std::vector<std::uint16_t> pixels;
-};
-
 // Positions come from the image_position channel (size = max row/column + 1), else from the
 // organised layout; several points on one pixel keep the nearest; NaN points are no echo.
-[[nodiscard]] protocol::Expected<RangeImage, RangeImageError> make_range_image(
+// Pixels are row-major, 0 = no echo, 1..max = far..near (max 255 or 65535).
+[[nodiscard]] protocol::Expected<image::GrayImage, RangeImageError> make_range_image(
     const PointCloud& cloud, const RangeImageOptions& options = {});
 
-// The PNG file's bytes.
-[[nodiscard]] protocol::Expected<std::string, RangeImageError> encode_png(const RangeImage& image);
-
-// make_range_image + encode_png + write; returns the number of bytes written.
+// make_range_image + image::encode_gray_png + write; returns the number of bytes written.
 [[nodiscard]] protocol::Expected<std::size_t, RangeImageError> write_range_image_png(
     const std::filesystem::path& path, const PointCloud& cloud, const RangeImageOptions& options = {});
 

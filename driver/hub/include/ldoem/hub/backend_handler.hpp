@@ -17,7 +17,7 @@
 #include <thread>
 
 #include "ldoem/driver/transport.hpp"
-#include "ldoem/hub/device.hpp"
+#include "ldoem/hub/device_vocabulary.hpp"
 #include "ldoem/hub/hub_config.hpp"
 #include "ldoem/hub/hub_protocol.hpp"
 

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "ldoem/driver/transport.hpp"
-#include "ldoem/hub/device.hpp"
+#include "ldoem/hub/device_vocabulary.hpp"
 #include "ldoem/hub/hub_config.hpp"
 #include "ldoem/hub/hub_protocol.hpp"
 

@@ -27,7 +27,7 @@
 #include <variant>
 #include <vector>
 
-#include "ldoem/hub/device.hpp"
+#include "ldoem/hub/device_vocabulary.hpp"
 #include "ldoem/protocol/expected.hpp"
 
 namespace ldoem::hub {

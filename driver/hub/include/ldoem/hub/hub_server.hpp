@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "ldoem/driver/error.hpp"
-#include "ldoem/hub/device.hpp"
+#include "ldoem/hub/device_vocabulary.hpp"
 #include "ldoem/hub/hub_config.hpp"
 
 namespace ldoem::hub {

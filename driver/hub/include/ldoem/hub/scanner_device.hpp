@@ -14,7 +14,7 @@
 #include "ldoem/driver/scanner.hpp"
 #include "ldoem/driver/tilt_stepper.hpp"
 #include "ldoem/driver/transport.hpp"
-#include "ldoem/hub/device.hpp"
+#include "ldoem/hub/device_vocabulary.hpp"
 
 namespace ldoem::hub {
 

@@ -12,7 +12,7 @@
 #include <string>
 
 #include "ldoem/cloud/point_cloud.hpp"
-#include "ldoem/hub/device.hpp"
+#include "ldoem/driver/device.hpp"
 #include "ldoem/scan/profile_points.hpp"
 #include "ldoem/scan/scan_plan.hpp"
 
@@ -36,7 +36,7 @@ struct AcquisitionHooks {
 
 struct Scan {
   cloud::PointCloud cloud{cloud::CloudChannels{true, true, true}};  // echo, ring = layer, image position
-  hub::DeviceInfo device;
+  driver::DeviceInfo device;
   std::uint32_t layers_done = 0;
 };
 
@@ -45,14 +45,14 @@ enum class AcquisitionFailure : std::uint8_t { device_error, stopped };
 struct AcquisitionError {
   AcquisitionFailure failure = AcquisitionFailure::device_error;
   std::string stage;                          // "INITIALIZE", "GET2DPROFILE layer 12", ...
-  std::optional<hub::DriverError> error;      // device_error
-  std::optional<hub::DriverError> cleanup_error;  // the first failure of IDLE / move home, if any
+  std::optional<driver::DriverError> error;      // device_error
+  std::optional<driver::DriverError> cleanup_error;  // the first failure of IDLE / move home, if any
 };
 
 std::string describe(const AcquisitionError& error);
 
 // The point cloud in the pivot frame; ring = layer, image position = (layer, beam).
-protocol::Expected<Scan, AcquisitionError> acquire(hub::Device& device, const AcquisitionPlan& plan,
+protocol::Expected<Scan, AcquisitionError> acquire(driver::Device& device, const AcquisitionPlan& plan,
                                                    const AcquisitionHooks& hooks = {});
 
 }  // namespace ldoem::scan

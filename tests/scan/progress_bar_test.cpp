@@ -2,9 +2,9 @@
 
 #include <sstream>
 
-#include "ldoem/cloud/progress_bar.hpp"
+#include "ldoem/scan/progress_bar.hpp"
 
-namespace ldoem::cloud {
+namespace ldoem::scan {
 namespace {
 
 using std::chrono::milliseconds;
@@ -82,4 +82,4 @@ TEST(ProgressBar, ZeroTotal_ShowsFull) {
 }
 
 }  // namespace
-}  // namespace ldoem::cloud
+}  // namespace ldoem::scan

@@ -17,11 +17,8 @@
 #include "ldoem/protocol/profile.hpp"
 #include "ldoem/protocol/status.hpp"
 
-namespace ldoem::hub {
+namespace ldoem::driver {
 
-using driver::DriverError;
-using driver::ErrorKind;
-using driver::Expected;
 using protocol::StatusBlock;
 using protocol::StepMode;
 using protocol::TiltDirection;
@@ -31,13 +28,13 @@ using protocol::TiltDirection;
 struct InitializeRequest {
   std::optional<std::uint16_t> motor_speed_hz;    // global config MOTORSPEED (spec 3.4)
   std::optional<std::uint16_t> angle_step_ticks;  // global config ANGLESTEP, 1/16 deg
-  std::vector<driver::SectorDefinition> sectors;  // written temporarily (not to flash) if any
+  std::vector<SectorDefinition> sectors;  // written temporarily (not to flash) if any
   bool operator==(const InitializeRequest&) const = default;
 };
 
 struct DeviceInfo {
   StatusBlock status;  // after INITIALIZE
-  std::vector<driver::IdentificationEntry> identification;
+  std::vector<IdentificationEntry> identification;
   bool operator==(const DeviceInfo&) const = default;
 };
 
@@ -82,4 +79,4 @@ class Device {
   virtual Expected<StatusBlock, DriverError> status() = 0;
 };
 
-}  // namespace ldoem::hub
+}  // namespace ldoem::driver

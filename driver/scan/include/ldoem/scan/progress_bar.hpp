@@ -9,7 +9,7 @@
 #include <ostream>
 #include <string>
 
-namespace ldoem::cloud {
+namespace ldoem::scan {
 
 struct ProgressBarOptions {
   std::string unit = "layer";  // word before "done/total"
@@ -44,4 +44,4 @@ class ProgressBar {
   bool finished_ = false;
 };
 
-}  // namespace ldoem::cloud
+}  // namespace ldoem::scan

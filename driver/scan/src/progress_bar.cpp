@@ -1,11 +1,11 @@
-#include "ldoem/cloud/progress_bar.hpp"
+#include "ldoem/scan/progress_bar.hpp"
 
 #include <unistd.h>
 
 #include <algorithm>
 #include <iostream>
 
-namespace ldoem::cloud {
+namespace ldoem::scan {
 
 ProgressBar::ProgressBar(std::ostream& out, bool is_terminal, ProgressBarOptions options)
     : out_(out), is_terminal_(is_terminal), options_(std::move(options)) {}
@@ -52,4 +52,4 @@ void ProgressBar::finish() {
   if (last_draw_) out_ << '\n' << std::flush;
 }
 
-}  // namespace ldoem::cloud
+}  // namespace ldoem::scan
