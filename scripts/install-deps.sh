@@ -9,6 +9,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   can-utils user-mode-linux kmod iproute2 procps python3
   gnuplot-nox
+  # the Wireshark dissector's tests (tshark) and its screenshot (scripts/wireshark-screenshot.sh)
+  tshark wireshark-qt xvfb xdotool x11-apps netpbm
   # for the gpio-sim UML kernel (scripts/uml/build-gpio-kernel.sh)
   linux-source-6.1 build-essential bc flex bison libelf-dev xz-utils
 )
