@@ -125,10 +125,10 @@ scene::Scene depth_step_scene(const std::vector<Effect>& effects) {
   step.source_path = "generated:depth-step";
   step.objects.push_back({"near", scene::Box{Eigen::Vector3d(0.2, 4.0, 4.0)},
                           {Eigen::Vector3d(kNearFace_m + 0.1, 2.0, 0.0), Eigen::Quaterniond::Identity()},
-                          kNearReflectance});
+                          kNearReflectance, {}, {}});
   step.objects.push_back({"wall", scene::Box{Eigen::Vector3d(0.2, 20.0, 20.0)},
                           {Eigen::Vector3d(kWallFace_m + 0.1, 0.0, 0.0), Eigen::Quaterniond::Identity()},
-                          kWallReflectance});
+                          kWallReflectance, {}, {}});
   return with_effects(step, effects);
 }
 

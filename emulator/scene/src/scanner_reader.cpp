@@ -1,6 +1,7 @@
 #include "scanner_reader.hpp"
 
 #include "ldoem/scene/optics.hpp"
+#include "motion_reader.hpp"
 #include "pose_reader.hpp"
 
 #include <charconv>
@@ -177,6 +178,16 @@ ScannerConfig read_scanner(const std::string& file, const YAML::Node& node, cons
   ScannerConfig scanner;
   MapReader map(file, node, path);
   if (auto pose = map.get("pivot_pose")) scanner.pivot_pose = read_pose(file, *pose, map.child_path("pivot_pose"));
+  if (auto motion = map.get("pivot_motion")) {  // D12: the platform carrying the scanner
+    scanner.pivot_motion = read_motion(file, *motion, map.child_path("pivot_motion"));
+    if (std::holds_alternative<Waypoints>(*scanner.pivot_motion)) {
+      if (map.has("pivot_pose")) {
+        fail(file, SceneErrorKind::conflicting_keys, *map.get("pivot_pose"), map.child_path("pivot_pose"),
+             "pivot_motion waypoints give absolute poses; drop pivot_pose or use velocities");
+      }
+      scanner.pivot_pose = pose_at(*scanner.pivot_motion, scanner.pivot_pose, 0.0);
+    }
+  }
   read_field(map, "optical_offset_m", scanner.optical_offset_m);
   read_ranges(map, scanner);
   const bool calibration_given = [&] {

@@ -4,6 +4,7 @@
 #include "ldoem/scene/scene_loader.hpp"
 
 #include "mesh_import.hpp"
+#include "motion_reader.hpp"
 #include "pose_reader.hpp"
 #include "scanner_reader.hpp"
 #include "yaml_fields.hpp"
@@ -101,6 +102,37 @@ Shape read_shape(const LoadContext& context, std::string_view kind, const YAML::
   return shape;
 }
 
+// D12: `motion` or `dynamics`, checked against the object's shape and pose.
+void read_object_motion(const LoadContext& context, MapReader& map, std::string_view shape_key, SceneObject& object) {
+  if (map.has("motion") && map.has("dynamics")) {
+    fail(context.file, SceneErrorKind::conflicting_keys, map.node(), map.child_path("dynamics"),
+         "an object moves by motion or by dynamics, not both");
+  }
+  for (std::string_view key : {"motion", "dynamics"}) {
+    if (map.has(key) && shape_key == "plane") {
+      fail(context.file, SceneErrorKind::conflicting_keys, *map.get(key), map.child_path(key),
+           "planes are unbounded and cannot move");
+    }
+  }
+  if (auto motion = map.get("motion")) {
+    object.motion = detail::read_motion(context.file, *motion, map.child_path("motion"));
+    if (std::holds_alternative<Waypoints>(*object.motion) && map.has("pose")) {
+      fail(context.file, SceneErrorKind::conflicting_keys, *map.get("pose"), map.child_path("pose"),
+           "waypoints give absolute poses; drop pose or use velocities");
+    }
+    if (std::holds_alternative<Waypoints>(*object.motion)) {
+      object.pose = pose_at(*object.motion, object.pose, 0.0);
+    }
+  }
+  if (auto dynamics = map.get("dynamics")) {
+    if (shape_key == "mesh") {
+      fail(context.file, SceneErrorKind::conflicting_keys, *dynamics, map.child_path("dynamics"),
+           "dynamics bodies are boxes, spheres, cylinders or capsules (a mesh has no ODE inertia here)");
+    }
+    object.dynamics = detail::read_dynamics(context.file, *dynamics, map.child_path("dynamics"));
+  }
+}
+
 SceneObject read_object(const LoadContext& context, const YAML::Node& node, std::size_t index) {
   const std::string path = "objects[" + std::to_string(index) + "]";
   MapReader map(context.file, node, path);
@@ -131,6 +163,7 @@ SceneObject read_object(const LoadContext& context, const YAML::Node& node, std:
     }
     object.pose = detail::read_pose(context.file, *pose, map.child_path("pose"));
   }
+  read_object_motion(context, map, shape_key, object);
   map.finish();
   return object;
 }
@@ -173,6 +206,7 @@ Scene read_scene(const LoadContext& context, const YAML::Node& root) {
   for (std::string_view key : {"scanner", "device"}) {
     if (auto section = map.get(key)) scene.scanner = detail::read_scanner(context.file, *section, std::string(key));
   }
+  if (auto world = map.get("world")) scene.world = detail::read_world(context.file, *world, "world");
   if (auto objects = map.get("objects")) {
     detail::require_sequence(context.file, *objects, "objects");
     for (std::size_t i = 0; i < objects->size(); ++i) {

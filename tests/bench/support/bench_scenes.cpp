@@ -42,7 +42,7 @@ scene::Scene random_primitive_scene(std::size_t count, std::uint64_t seed) {
   scene::Scene result;
   result.source_path = "generated:random-" + std::to_string(count);
   result.scanner.pivot_pose.position_m = Eigen::Vector3d(0, 0, 0.5);
-  result.objects.push_back({"floor", scene::Plane{Eigen::Vector3d::UnitZ(), 0.0}, {}, 0.4});
+  result.objects.push_back({"floor", scene::Plane{Eigen::Vector3d::UnitZ(), 0.0}, {}, 0.4, {}, {}});
   for (std::size_t i = 0; i < count; ++i) {
     const double radius_m = uniform(generator, 2.0, 15.0);
     const double azimuth = uniform(generator, -std::numbers::pi, std::numbers::pi);

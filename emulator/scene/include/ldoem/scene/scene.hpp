@@ -5,10 +5,13 @@
 
 #include <Eigen/Geometry>
 
+#include "ldoem/scene/motion.hpp"
+
 #include <array>
 #include <bitset>
 #include <cstdint>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -41,6 +44,11 @@ struct SceneObject {
   Shape shape;
   Pose pose;                 // ignored for planes
   double reflectance = 0.8;  // Lambertian albedo r in [0, 1] (D6)
+  // D12: at most one of the two; neither means the object never moves.
+  std::optional<Motion> motion;      // kinematic: constant velocity and spin, or waypoints
+  std::optional<Dynamics> dynamics;  // a rigid body on ODE
+
+  bool moves() const { return motion.has_value() || dynamics.has_value(); }
 };
 
 // D6: the paper's optics. l_max = 63.1 m * sqrt(r cos alpha) with the defaults.
@@ -118,6 +126,7 @@ struct Identification {
 
 struct ScannerConfig {
   Pose pivot_pose;                                           // T_world_pivot (D5)
+  std::optional<Motion> pivot_motion;  // D12: the platform carrying the scanner moves
   Eigen::Vector3d optical_offset_m = Eigen::Vector3d::Zero();  // optical centre from the pivot
   double min_range_m = 0.9;   // D_min (D6)
   double max_range_m = 30.0;  // D_max, <= 255.99 m
@@ -153,6 +162,16 @@ struct Scene {
   ScannerConfig scanner;
   EffectSet effects;
   std::uint64_t seed = 1;
+  WorldConfig world;  // D12: used only when something moves
+
+  // D12 effects on demand: false means the scene builds no per-beam time machinery.
+  bool moves() const {
+    if (scanner.pivot_motion) return true;
+    for (const SceneObject& object : objects) {
+      if (object.moves()) return true;
+    }
+    return false;
+  }
 };
 
 }  // namespace ldoem::scene
