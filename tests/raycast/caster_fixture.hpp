@@ -23,7 +23,7 @@ inline scene::SceneObject make_object(scene::Shape shape, Eigen::Vector3d positi
 }
 
 inline Ray make_ray(Eigen::Vector3d origin_m, Eigen::Vector3d direction, double max_range_m = 1e6) {
-  return Ray{origin_m, direction.normalized(), max_range_m};
+  return Ray{origin_m, direction.normalized(), max_range_m, 0.0};
 }
 
 // A scene, its ODE world and one caster of type Caster over it.

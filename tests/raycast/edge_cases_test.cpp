@@ -193,7 +193,7 @@ TYPED_TEST(EdgeCaseTest, InvalidRays_NoHitNoCrash) {
     }
   }
   // A non-unit direction is normalised: ranges stay in metres.
-  const auto scaled = rig->caster.cast(Ray{o, Eigen::Vector3d(7, 0, 0), 10});
+  const auto scaled = rig->caster.cast(Ray{o, Eigen::Vector3d(7, 0, 0), 10, 0.0});
   ASSERT_TRUE(scaled.has_value());
   EXPECT_NEAR(scaled->range_m, 2.0, 1e-12);
 }

@@ -119,7 +119,7 @@ std::vector<Ray> rays_near_plane(const Eigen::Vector3d& normal, double offset_m)
         if (std::isfinite(hit_m) && hit_m > 0.0 && hit_m < 1e8) {
           for (double factor : {1.0 - 1e-12, 1.0 - 1e-15, 1.0, 1.0 + 1e-15, 1.0 + 1e-12}) lengths_m.push_back(factor * hit_m);
         }
-        for (double length_m : lengths_m) rays.push_back(Ray{origin, direction, length_m});
+        for (double length_m : lengths_m) rays.push_back(Ray{origin, direction, length_m, 0.0});
       }
     }
   }

@@ -31,6 +31,7 @@
 #include "ldoem/io/tcp.hpp"
 #include "ldoem/motor/tilt_motor.hpp"
 #include "ldoem/protocol/serial_framing.hpp"
+#include "ldoem/world/scene_caster.hpp"
 #include "ldoem/protocol/tcp_framing.hpp"
 #include "ldoem/protocol/text.hpp"
 #include "ldoem/raycast/embree_ray_caster.hpp"
@@ -125,6 +126,7 @@ struct Daemon::Impl final : control::TransportQuery {
 
   std::unique_ptr<raycast::OdeWorld> world;
   std::unique_ptr<raycast::EmbreeRayCaster> caster;
+  std::unique_ptr<world::SceneCaster> moving_caster;  // D12: only when the scene moves
   std::unique_ptr<sensor::SensorModel> sensor;
   std::unique_ptr<TiltTrack> tilt;
   std::optional<LptDriveBoard> board;
@@ -234,9 +236,17 @@ std::optional<StartFailure> Daemon::Impl::build_models() {
   if (options.seed) {
     scene.seed = *options.seed;
   }
-  world = std::make_unique<raycast::OdeWorld>(scene);
-  caster = std::make_unique<raycast::EmbreeRayCaster>(*world);
-  sensor = std::make_unique<sensor::SensorModel>(scene, *caster);
+  std::optional<WorldTiming> world_timing;
+  if (scene.moves()) {  // D12; a scene in which nothing moves builds none of it
+    moving_caster = std::make_unique<world::SceneCaster>(scene);
+    sensor = std::make_unique<sensor::SensorModel>(scene, *moving_caster);
+    world_timing = WorldTiming{[this](double t0_s, double t1_s) { moving_caster->prepare(t0_s, t1_s); },
+                               scene.world.beam_time};
+  } else {
+    world = std::make_unique<raycast::OdeWorld>(scene);
+    caster = std::make_unique<raycast::EmbreeRayCaster>(*world);
+    sensor = std::make_unique<sensor::SensorModel>(scene, *caster);
+  }
   tilt = std::make_unique<TiltTrack>(motor::make_tilt_motor(scene));
   board.emplace(*tilt);
   head = std::make_unique<SpinUpHeadModel>(scene.scanner.head);
@@ -254,7 +264,7 @@ std::optional<StartFailure> Daemon::Impl::build_models() {
         const std::uint64_t k = revolution - head_state.revolutions_before_epoch - 1;
         return control::revolution_time(head_state.epoch_start, head_state.speed_hz, k, 0);
       },
-      head_track.get());
+      head_track.get(), std::move(world_timing));
 
   if (options.flash_mode == FlashMode::file) {
     flash = std::make_unique<FileFlashStore>(options.flash_path);

@@ -1,6 +1,8 @@
 #include "ldoem/daemon/scene_adapters.hpp"
 
 #include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <numbers>
 
 #include "ldoem/motor/head_drive.hpp"
@@ -13,6 +15,11 @@ namespace {
 constexpr SimTime kUnreachableSpinUp = std::chrono::seconds(10);
 
 double hz_to_rad_s(double hz) { return 2.0 * std::numbers::pi * hz; }
+
+double seconds(SimTime time) { return std::chrono::duration<double>(time).count(); }
+
+// A window of one instant (per_revolution) is widened to this so that it has a length.
+constexpr double kMinWorldWindow_s = 1e-6;
 
 }  // namespace
 
@@ -29,12 +36,14 @@ SimTime SpinUpHeadModel::time_to_reach(double from_hz, double to_hz) const {
 }
 
 SceneMeasurement::SceneMeasurement(const sensor::SensorModel& sensor, TiltTrack& tilt, bool sweep_motion,
-                                   RevolutionStart revolution_start, const HeadTrack* head)
+                                   RevolutionStart revolution_start, const HeadTrack* head,
+                                   std::optional<WorldTiming> world)
     : sensor_(sensor),
       tilt_(tilt),
       sweep_motion_(sweep_motion),
       revolution_start_(std::move(revolution_start)),
-      head_(head) {}
+      head_(head),
+      world_(std::move(world)) {}
 
 void SceneMeasurement::measure(std::uint64_t revolution, std::span<const control::BeamQuery> beams,
                                std::span<control::BeamReturn> returns) {
@@ -47,14 +56,27 @@ void SceneMeasurement::measure(std::uint64_t revolution, std::span<const control
     last_beam = std::max(last_beam, beam.time);
   }
   tilt_.advance_to(last_beam);
-  const double frozen_tilt = tilt_.tilt_at(revolution_start_(revolution, beams.front().time));
+  const SimTime revolution_start = revolution_start_(revolution, beams.front().time);
+  const double frozen_tilt = tilt_.tilt_at(revolution_start);
 
   requests_.resize(beams.size());
   samples_.resize(beams.size());
   for (std::size_t i = 0; i < beams.size(); ++i) {
     requests_[i] = sensor::BeamRequest{head_ticks_to_rad(beams[i].angle_ticks),
                                        sweep_motion_ ? tilt_.tilt_at(beams[i].time) : frozen_tilt,
-                                       beams[i].beam_index};
+                                       beams[i].beam_index, 0.0};
+  }
+  if (world_) {  // D12: each beam sees the world at its own instant (or all at the revolution's start)
+    const bool per_beam = world_->beam_time == scene::BeamTime::per_beam;
+    double first_s = INFINITY;
+    double last_s = -INFINITY;
+    for (std::size_t i = 0; i < beams.size(); ++i) {
+      const double t_s = seconds(per_beam ? beams[i].time : revolution_start);
+      requests_[i].time_s = t_s;
+      first_s = std::min(first_s, t_s);
+      last_s = std::max(last_s, t_s);
+    }
+    world_->prepare(first_s, std::max(last_s, first_s + kMinWorldWindow_s));
   }
   if (head_ != nullptr) {  // D9 head_dynamics: the ray goes where the mirror really points
     for (std::size_t i = 0; i < beams.size(); ++i) {

@@ -4,12 +4,17 @@
 
 namespace ldoem::sensor {
 
-Eigen::Isometry3d world_from_optical(const scene::ScannerConfig& scanner, double tilt_rad) {
+Eigen::Isometry3d world_from_optical(const scene::Pose& pivot, const Eigen::Vector3d& optical_offset_m,
+                                     double tilt_rad) {
   Eigen::Isometry3d world_from_pivot = Eigen::Isometry3d::Identity();
-  world_from_pivot.translate(scanner.pivot_pose.position_m);
-  world_from_pivot.rotate(scanner.pivot_pose.orientation.normalized());
+  world_from_pivot.translate(pivot.position_m);
+  world_from_pivot.rotate(pivot.orientation.normalized());
   const Eigen::AngleAxisd tilt(-tilt_rad, Eigen::Vector3d::UnitY());  // D5: R_y(-phi)
-  return world_from_pivot * tilt * Eigen::Translation3d(scanner.optical_offset_m);
+  return world_from_pivot * tilt * Eigen::Translation3d(optical_offset_m);
+}
+
+Eigen::Isometry3d world_from_optical(const scene::ScannerConfig& scanner, double tilt_rad) {
+  return world_from_optical(scanner.pivot_pose, scanner.optical_offset_m, tilt_rad);
 }
 
 Eigen::Vector3d beam_direction_optical(double head_angle_rad) {
@@ -18,7 +23,10 @@ Eigen::Vector3d beam_direction_optical(double head_angle_rad) {
 
 raycast::Ray beam_ray(const scene::ScannerConfig& scanner, double head_angle_rad, double tilt_rad,
                       double max_range_m) {
-  const Eigen::Isometry3d world_from_opt = world_from_optical(scanner, tilt_rad);
+  return beam_ray(world_from_optical(scanner, tilt_rad), head_angle_rad, max_range_m);
+}
+
+raycast::Ray beam_ray(const Eigen::Isometry3d& world_from_opt, double head_angle_rad, double max_range_m) {
   return raycast::Ray{
       .origin_m = world_from_opt.translation(),
       .direction = (world_from_opt.linear() * beam_direction_optical(head_angle_rad)).normalized(),

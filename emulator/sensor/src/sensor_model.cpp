@@ -23,7 +23,13 @@ MeasureStats SensorModel::measure_counted(std::uint32_t revolution, std::span<co
   const double cast_range_m = pipeline_.cast_range_m();
   for (std::size_t i = 0; i < measured; ++i) {
     const BeamRequest& request = beams[i];
-    const raycast::Ray ray = beam_ray(scanner_, request.head_angle_rad, request.tilt_rad, cast_range_m);
+    raycast::Ray ray = scanner_.pivot_motion
+                           ? beam_ray(world_from_optical(scene::pose_at(*scanner_.pivot_motion, scanner_.pivot_pose,
+                                                                        request.time_s),
+                                                         scanner_.optical_offset_m, request.tilt_rad),
+                                      request.head_angle_rad, cast_range_m)
+                           : beam_ray(scanner_, request.head_angle_rad, request.tilt_rad, cast_range_m);
+    ray.time_s = request.time_s;
     const BeamContext context{
         .caster = caster_, .seed = seed_, .revolution = revolution, .beam_index = request.beam_index};
     out[i] = pipeline_.run(ray, context, counters);

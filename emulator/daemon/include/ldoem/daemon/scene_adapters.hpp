@@ -8,6 +8,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 
 #include "ldoem/control/ports.hpp"
 #include "ldoem/daemon/head_track.hpp"
@@ -32,6 +33,13 @@ class SpinUpHeadModel final : public control::HeadModel {
   scene::HeadConfig config_;
 };
 
+// D12, set only when the scene moves: `prepare` readies the world for beams timed in [t0, t1]
+// (device seconds); `beam_time` gives each beam its own instant or the revolution's start.
+struct WorldTiming {
+  std::function<void(double t0_s, double t1_s)> prepare;
+  scene::BeamTime beam_time = scene::BeamTime::per_beam;
+};
+
 class SceneMeasurement final : public control::MeasurementSource {
  public:
   // The revolution's start time for a PROFILECOUNT revolution number (the daemon derives it
@@ -41,7 +49,8 @@ class SceneMeasurement final : public control::MeasurementSource {
   // `head` is null without head_dynamics (D9): then every ray is cast at its nominal angle and
   // nothing is computed per point for the head.
   SceneMeasurement(const sensor::SensorModel& sensor, TiltTrack& tilt, bool sweep_motion,
-                   RevolutionStart revolution_start, const HeadTrack* head = nullptr);
+                   RevolutionStart revolution_start, const HeadTrack* head = nullptr,
+                   std::optional<WorldTiming> world = std::nullopt);
 
   void measure(std::uint64_t revolution, std::span<const control::BeamQuery> beams,
                std::span<control::BeamReturn> returns) override;
@@ -54,6 +63,7 @@ class SceneMeasurement final : public control::MeasurementSource {
   bool sweep_motion_;
   RevolutionStart revolution_start_;
   const HeadTrack* head_;
+  std::optional<WorldTiming> world_;
   std::vector<sensor::BeamRequest> requests_;  // reused per revolution
   std::vector<sensor::BeamSample> samples_;
   std::uint64_t revolutions_measured_ = 0;

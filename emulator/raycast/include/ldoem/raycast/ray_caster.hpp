@@ -15,6 +15,9 @@ struct Ray {
   Eigen::Vector3d origin_m;
   Eigen::Vector3d direction;  // unit length; callers guarantee it, casters guard against others
   double max_range_m;
+  // D12: the instant the beam fires, in device seconds. Only casters of a world that moves
+  // read it; a static scene's casters ignore it.
+  double time_s = 0.0;
 };
 
 struct Hit {

@@ -21,6 +21,7 @@ struct BeamRequest {
   double head_angle_rad = 0.0;  // D5: 0 = +x, counter-clockwise seen from above
   double tilt_rad = 0.0;        // D5: positive raises the beam plane
   std::uint32_t beam_index = 0; // keys the noise stream together with the revolution (D6)
+  double time_s = 0.0;          // D12: when the beam fires (device s); read only if the world moves
 };
 
 struct MeasureStats {

@@ -1,0 +1,68 @@
+// D12: the caster for objects that move. Each ray carries its instant (Ray::time_s) and meets
+// every moving object at its pose of that instant, exactly (ODE's dCollide on the object's shape,
+// the ray taken into the object's frame). An Embree index over boxes that hold each object for a
+// whole time window finds the candidates; it is updated once per window (prepare), never per
+// beam. Static objects stay in EmbreeRayCaster; world::SceneCaster combines the two.
+//
+// Two indices, chosen by MovingCasterOptions (docs/dynamic-scenes.md has the measurements):
+// - refit_slices: the window is cut into `slices` equal slices, each with its own BVH of boxes
+//   swept over that slice, refitted on prepare; a ray uses the slice of its time.
+// - motion_blur: one Embree BVH with `slices` + 1 motion-blur time steps, the ray's time
+//   normalised over the window; Embree interpolates the boxes between steps.
+#pragma once
+
+#include "ldoem/raycast/ray_caster.hpp"
+#include "ldoem/scene/scene.hpp"
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace ldoem::raycast {
+
+// Where each moving object is. Implemented by emulator/world (kinematic paths, ODE bodies).
+// Const calls must be thread-safe.
+class MotionSource {
+ public:
+  virtual ~MotionSource() = default;
+  // Pose of moving object k at time t.
+  virtual scene::Pose pose_at(std::size_t k, double t_s) const = 0;
+  // A box holding object k's origin for every t in [t0, t1].
+  virtual scene::PathBounds origin_bounds(std::size_t k, double t0_s, double t1_s) const = 0;
+  // True if object k never turns (its box then keeps its axis-aligned extent).
+  virtual bool keeps_orientation(std::size_t k) const = 0;
+};
+
+enum class MovingIndex : std::uint8_t { refit_slices, motion_blur };
+
+struct MovingCasterOptions {
+  MovingIndex index = MovingIndex::refit_slices;
+  unsigned slices = 16;  // slices per window (refit_slices) or motion-blur segments (motion_blur)
+};
+
+class MovingRayCaster final : public RayCaster {
+ public:
+  // objects[k] is moving object k (its pose and motion are ignored: poses come from `motion`);
+  // hits report scene_indices[k]. `motion` must outlive the caster.
+  MovingRayCaster(const std::vector<scene::SceneObject>& objects, std::vector<std::uint32_t> scene_indices,
+                  const MotionSource& motion, MovingCasterOptions options = {});
+  ~MovingRayCaster() override;
+  MovingRayCaster(const MovingRayCaster&) = delete;
+  MovingRayCaster& operator=(const MovingRayCaster&) = delete;
+
+  // Readies the index for rays timed in [t0, t1] (t1 > t0). Not thread-safe: call it between
+  // batches of casts. A ray timed outside the prepared window is still answered exactly, by
+  // testing every moving object (slower, never wrong).
+  void prepare(double t0_s, double t1_s);
+
+  // Const and thread-safe between prepare calls.
+  std::optional<Hit> cast(const Ray& ray) const override;
+
+  std::size_t object_count() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace ldoem::raycast

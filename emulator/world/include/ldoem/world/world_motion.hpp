@@ -1,0 +1,62 @@
+// D12: where every moving object of a scene is, at any instant. Kinematic objects follow their
+// `motion` (scene/motion.hpp); `dynamics` objects are bodies of RigidBodies. Moving objects are
+// numbered in scene order ("moving index"); scene_indices() maps them back to Scene::objects.
+//
+// The control socket moves objects through move_object (docs/dynamic-scenes.md "Runtime moves").
+#pragma once
+
+#include "ldoem/raycast/moving_ray_caster.hpp"
+#include "ldoem/world/rigid_bodies.hpp"
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace ldoem::world {
+
+// At most this many pending moves per object: a control socket cannot grow memory without bound.
+inline constexpr std::size_t kMaxMovesPerObject = 1024;
+
+class WorldMotion final : public raycast::MotionSource {
+ public:
+  explicit WorldMotion(const scene::Scene& scene);
+
+  const std::vector<std::uint32_t>& scene_indices() const { return scene_indices_; }
+  std::vector<scene::SceneObject> moving_objects() const;
+
+  // Steps the rigid bodies so that poses in [t0, t1] are known (forgets older steps).
+  void advance(double t0_s, double t1_s);
+
+  // From device time at_s on, object `name` (its `name:` in the scene, or "object<N>") is at
+  // `pose` and stays there; a `dynamics` body restarts from rest there, under gravity. Only
+  // objects that move in the scene can be moved (a static object is in the static index; give it
+  // `motion: {linear_velocity_mps: [0, 0, 0]}` to make it movable). Not thread-safe: call it
+  // between batches of casts, as prepare. Returns the reason it refused, or nothing when done.
+  [[nodiscard]] std::optional<std::string> move_object(std::string_view name, const scene::Pose& pose, double at_s);
+
+  scene::Pose pose_at(std::size_t k, double t_s) const override;
+  scene::PathBounds origin_bounds(std::size_t k, double t0_s, double t1_s) const override;
+  bool keeps_orientation(std::size_t k) const override;
+
+  const RigidBodies& rigid_bodies() const { return bodies_; }
+
+ private:
+  struct Move {
+    double at_s;
+    scene::Pose pose;
+  };
+  struct Mover {
+    std::string name;
+    scene::SceneObject object;   // pose at t = 0 and motion (kinematic) or dynamics
+    std::ptrdiff_t body = -1;    // RigidBodies index for dynamics objects
+    std::vector<Move> moves;     // kinematic moves, sorted by at_s
+    bool keeps_orientation = true;
+  };
+
+  std::vector<Mover> movers_;
+  std::vector<std::uint32_t> scene_indices_;
+  RigidBodies bodies_;
+};
+
+}  // namespace ldoem::world

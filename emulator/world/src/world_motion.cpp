@@ -1,0 +1,94 @@
+#include "ldoem/world/world_motion.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ldoem::world {
+
+WorldMotion::WorldMotion(const scene::Scene& scene) : bodies_(scene) {
+  std::size_t body = 0;
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    const scene::SceneObject& object = scene.objects[i];
+    if (!object.moves()) continue;
+    Mover mover{object.name, object, -1, {}, true};
+    if (object.dynamics) {
+      mover.body = static_cast<std::ptrdiff_t>(body++);
+      mover.keeps_orientation = false;
+    } else {
+      mover.keeps_orientation = scene::keeps_orientation(*object.motion);
+    }
+    movers_.push_back(std::move(mover));
+    scene_indices_.push_back(static_cast<std::uint32_t>(i));
+  }
+}
+
+std::vector<scene::SceneObject> WorldMotion::moving_objects() const {
+  std::vector<scene::SceneObject> objects;
+  for (const Mover& mover : movers_) objects.push_back(mover.object);
+  return objects;
+}
+
+void WorldMotion::advance(double t0_s, double t1_s) { bodies_.advance(t0_s, t1_s); }
+
+std::optional<std::string> WorldMotion::move_object(std::string_view name, const scene::Pose& pose,
+                                                               double at_s) {
+  if (!std::isfinite(at_s) || !pose.position_m.allFinite() || !pose.orientation.coeffs().allFinite()) {
+    return std::string("move-object: time and pose must be finite");
+  }
+  if (pose.position_m.cwiseAbs().maxCoeff() > kWorldLimit_m) {
+    return std::string("move-object: position beyond 1e4 m");
+  }
+  const auto it = std::find_if(movers_.begin(), movers_.end(), [&](const Mover& m) { return m.name == name; });
+  if (it == movers_.end()) {
+    return "move-object: no moving object named '" + std::string(name) +
+                                "' (only objects with motion or dynamics can be moved)";
+  }
+  scene::Pose unit = pose;
+  unit.orientation.normalize();
+  if (it->body >= 0) {
+    bodies_.place(static_cast<std::size_t>(it->body), unit, at_s);
+    return std::nullopt;
+  }
+  if (it->moves.size() >= kMaxMovesPerObject) {
+    return "move-object: '" + std::string(name) + "' already has 1024 moves";
+  }
+  const auto at = std::upper_bound(it->moves.begin(), it->moves.end(), at_s,
+                                   [](double t, const Move& m) { return t < m.at_s; });
+  it->moves.insert(at, Move{at_s, unit});
+  // A move to another orientation turns the object: its boxes must hold any orientation now.
+  it->keeps_orientation = it->keeps_orientation && unit.orientation.coeffs() == it->object.pose.orientation.coeffs();
+  return std::nullopt;
+}
+
+scene::Pose WorldMotion::pose_at(std::size_t k, double t_s) const {
+  const Mover& mover = movers_[k];
+  if (mover.body >= 0) return bodies_.pose_at(static_cast<std::size_t>(mover.body), t_s);
+  if (!mover.moves.empty() && t_s >= mover.moves.front().at_s) {
+    const auto after = std::upper_bound(mover.moves.begin(), mover.moves.end(), t_s,
+                                        [](double t, const Move& m) { return t < m.at_s; });
+    return std::prev(after)->pose;
+  }
+  return scene::pose_at(*mover.object.motion, mover.object.pose, t_s);
+}
+
+scene::PathBounds WorldMotion::origin_bounds(std::size_t k, double t0_s, double t1_s) const {
+  const Mover& mover = movers_[k];
+  if (mover.body >= 0) return bodies_.origin_bounds(static_cast<std::size_t>(mover.body), t0_s, t1_s);
+  scene::PathBounds bounds{Eigen::Vector3d::Constant(INFINITY), Eigen::Vector3d::Constant(-INFINITY)};
+  const auto add = [&](const scene::PathBounds& b) {
+    bounds.lower_m = bounds.lower_m.cwiseMin(b.lower_m);
+    bounds.upper_m = bounds.upper_m.cwiseMax(b.upper_m);
+  };
+  // The scene's motion until the first move, then the poses moved to.
+  const double first_move = mover.moves.empty() ? INFINITY : mover.moves.front().at_s;
+  if (t0_s < first_move) add(scene::path_bounds(*mover.object.motion, mover.object.pose, t0_s, std::min(t1_s, first_move)));
+  for (std::size_t i = 0; i < mover.moves.size(); ++i) {
+    const double end = i + 1 < mover.moves.size() ? mover.moves[i + 1].at_s : INFINITY;
+    if (mover.moves[i].at_s <= t1_s && end >= t0_s) add({mover.moves[i].pose.position_m, mover.moves[i].pose.position_m});
+  }
+  return bounds;
+}
+
+bool WorldMotion::keeps_orientation(std::size_t k) const { return movers_[k].keeps_orientation; }
+
+}  // namespace ldoem::world
