@@ -1,5 +1,7 @@
 #include "ldoem/protocol/capture_conversation.hpp"
 
+#include <algorithm>
+#include <map>
 #include <optional>
 #include <type_traits>
 
@@ -163,6 +165,36 @@ Conversation extract_conversation(const std::vector<DecodedPacket>& packets, Con
   }
   conversation.counters = extractor.counters();
   return conversation;
+}
+
+std::vector<Exchange> exchanges_of(const std::vector<CapturedTelegram>& telegrams, WireTransport transport) {
+  std::vector<Exchange> exchanges;
+  SimTime request_time{};
+  for (const auto& telegram : telegrams) {
+    if (telegram.transport != transport) continue;
+    if (telegram.direction == WireDirection::host_to_device) {
+      exchanges.push_back(Exchange{telegram.payload, {}});
+      request_time = telegram.time;
+    } else if (!exchanges.empty()) {
+      const SimTime delay = std::max(SimTime::zero(), telegram.time - request_time);
+      exchanges.back().answers.push_back(RecordedAnswer{delay, telegram.payload});
+    }
+  }
+  return exchanges;
+}
+
+std::optional<WireTransport> busiest_transport(const std::vector<CapturedTelegram>& telegrams) {
+  std::map<WireTransport, std::size_t> counts;
+  for (const auto& telegram : telegrams) ++counts[telegram.transport];
+  std::optional<WireTransport> best;
+  std::size_t most = 0;
+  for (const auto& [transport, count] : counts) {
+    if (count > most) {
+      most = count;
+      best = transport;
+    }
+  }
+  return best;
 }
 
 }  // namespace ldoem::protocol

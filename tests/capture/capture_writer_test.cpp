@@ -141,3 +141,36 @@ TEST(CaptureWriter, UnwritablePath_IsAClearError) {
 
 }  // namespace
 }  // namespace ldoem::capture
+
+#include "ldoem/capture/telegram_recorder.hpp"
+
+namespace ldoem::capture {
+namespace {
+
+TEST(TelegramRecorder, EveryTransport_ReadsBackAsTheSameTelegrams) {
+  TempDir dir;
+  auto writer = CaptureWriter::open({dir / "rec.pcapng"});
+  ASSERT_TRUE(writer.has_value());
+  TelegramRecorder recorder(**writer);
+  const Bytes request{0x03, 0x01, 0x00, 0x00, 0x3D, 0xFF};
+  const Bytes long_reply = profile_like_payload(5000);  // ISO-TP with the 32-bit length escape
+  using protocol::WireTransport;
+  for (WireTransport transport : {WireTransport::tcp, WireTransport::serial, WireTransport::can}) {
+    ASSERT_EQ(recorder.record(milliseconds(1), transport, 0, WireDirection::host_to_device, request), "");
+    ASSERT_EQ(recorder.record(milliseconds(2), transport, 0, WireDirection::device_to_host, long_reply), "");
+  }
+  const auto conversation = read_capture_conversation(dir / "rec.pcapng");
+  ASSERT_TRUE(conversation.has_value()) << conversation.error();
+  const auto& telegrams = conversation->conversation.telegrams;
+  ASSERT_EQ(telegrams.size(), 6u);
+  for (std::size_t i = 0; i < 6; i += 2) {
+    EXPECT_EQ(telegrams[i].payload, request) << i;
+    EXPECT_EQ(telegrams[i + 1].payload, long_reply) << i;
+    EXPECT_EQ(telegrams[i + 1].direction, WireDirection::device_to_host);
+  }
+  EXPECT_EQ(telegrams[4].transport, WireTransport::can);
+  EXPECT_EQ(conversation->conversation.counters.framing_errors, 0u);
+}
+
+}  // namespace
+}  // namespace ldoem::capture

@@ -5,6 +5,7 @@
 #include <string_view>
 #include <vector>
 
+#include "against.hpp"
 #include "options.hpp"
 #include "runner.hpp"
 #include "vector_table.hpp"
@@ -20,6 +21,9 @@ int main(int argc, char** argv) {
   if (options->help) {
     std::cout << usage_text("ldoem-conformance");
     return kExitAllPassed;
+  }
+  if (options->against) {
+    return run_against(*options, std::cout, std::cerr);
   }
   std::string yaml(embedded_vectors_yaml());
   if (options->vectors_file) {

@@ -70,6 +70,14 @@ struct Parser {
       options.filters.emplace_back(value);
     } else if (name == "--vectors") {
       options.vectors_file = std::string(value);
+    } else if (name == "--against") {
+      options.against = std::string(value);
+    } else if (name == "--mask") {
+      if (value.empty()) return usage("--mask: empty pattern");
+      options.masks.emplace_back(value);
+    } else if (name == "--record") {
+      if (value.empty()) return usage("--record: empty file name");
+      options.record = std::string(value);
     } else {
       return usage("unknown option `" + std::string(name) + "` (try --help)");
     }
@@ -105,7 +113,8 @@ struct Parser {
 
 bool takes_value(std::string_view name) {
   return name == "--can" || name == "--ids" || name == "--tcp" || name == "--serial" || name == "--target" ||
-         name == "--time-scale" || name == "--timeout" || name == "--filter" || name == "--vectors";
+         name == "--time-scale" || name == "--timeout" || name == "--filter" || name == "--vectors" ||
+         name == "--against" || name == "--mask" || name == "--record";
 }
 
 }  // namespace
@@ -126,6 +135,11 @@ Expected<Options, UsageError> parse_options(std::span<const std::string_view> ar
       parser.options.virtual_time = true;
       continue;
     }
+    if (argument == "--mask-times" || argument == "--mask-counters") {
+      const auto& globs = argument == "--mask-times" ? kTimeFieldMasks : kCounterFieldMasks;
+      parser.options.masks.insert(parser.options.masks.end(), globs.begin(), globs.end());
+      continue;
+    }
     if (argument == "--verbose" || argument == "-v") {
       parser.options.verbose = true;
       continue;
@@ -143,6 +157,9 @@ Expected<Options, UsageError> parse_options(std::span<const std::string_view> ar
     }
     auto applied = parser.apply(name, *value);
     if (!applied) return Unexpected<UsageError>(applied.error());
+  }
+  if (!parser.options.masks.empty() && !parser.options.against) {
+    return usage("--mask, --mask-times and --mask-counters need --against");
   }
   auto finished = parser.finish();
   if (!finished) return Unexpected<UsageError>(finished.error());
@@ -189,6 +206,16 @@ std::string usage_text(std::string_view program_name) {
          "  --list                print the case names (for the given endpoint, else for all three)\n"
          "  --vectors FILE        spec-section7.yaml to use instead of the compiled-in copy\n"
          "  --verbose, -v         log every telegram on stderr in the text form of protocol/text.hpp\n"
+         "  --record FILE         also write every telegram sent and received to FILE (pcapng,\n"
+         "                        docs/capture.md): record a real device once, compare later\n"
+         "Against a capture (instead of the cases):\n"
+         "  --against CAPTURE     send the requests of CAPTURE (pcapng, pcap or candump log; the\n"
+         "                        transport with most telegrams) in order and compare each reply\n"
+         "                        with the recorded one field by field; prints the differing fields\n"
+         "  --mask GLOB           leave fields matching GLOB out (e.g. 'profile.sector*.point*.echo');\n"
+         "                        repeatable\n"
+         "  --mask-times          = --mask '*clock_ms' --mask 'profile.sector*.tstart' --mask 'profile.sector*.tend'\n"
+         "  --mask-counters       = --mask profile.sent --mask profile.count\n"
          "  --help, -h            this text\n"
          "\n"
          "Output: one line per case, `PASS NAME` or `FAIL NAME: why` followed by an indented hex\n"
@@ -206,7 +233,9 @@ std::string usage_text(std::string_view program_name) {
          "  " + p + " --tcp 127.0.0.1:49152 --time-scale 10\n"
          "  " + p + " --can vcan0 --ids 6C0,6C1 --filter '*/states/*'\n"
          "  " + p + " --serial /tmp/ldoem-serial --filter 'serial/conversation/*'\n"
-         "  " + p + " --tcp 192.168.1.10 --target device --timeout 10\n";
+         "  " + p + " --tcp 192.168.1.10 --target device --timeout 10\n"
+         "  " + p + " --tcp 192.168.1.10 --target device --record real-ld.pcapng\n"
+         "  " + p + " --tcp 127.0.0.1:49152 --against real-ld.pcapng --mask-times --mask-counters\n";
 }
 
 }  // namespace ldoem::conformance

@@ -35,7 +35,16 @@ struct Options {
   bool help = false;
   bool verbose = false;               // print every telegram sent and received on stderr
   std::optional<std::string> vectors_file;  // instead of the compiled-in copy
+  // --against CAPTURE: replay the capture's requests and compare the replies field by field
+  // (docs/conformance.md, "Against a capture") instead of running the cases.
+  std::optional<std::string> against;
+  std::vector<std::string> masks;  // field-name globs left out of the comparison
+  std::optional<std::string> record;  // write the run's telegrams to this capture file
 };
+
+// --mask-times and --mask-counters stand for these globs.
+inline const std::vector<std::string> kTimeFieldMasks{"*clock_ms", "profile.sector*.tstart", "profile.sector*.tend"};
+inline const std::vector<std::string> kCounterFieldMasks{"profile.sent", "profile.count"};
 
 struct UsageError {
   std::string message;  // one line naming the option

@@ -2,6 +2,7 @@
 
 #include "cases.hpp"
 #include "ldoem/driver/transport.hpp"
+#include "recording_transport.hpp"
 #include "session.hpp"
 
 namespace ldoem::conformance {
@@ -50,9 +51,9 @@ void list_cases(const Options& options, const VectorTable& vectors, std::ostream
 }
 
 int run_cases(const Options& options, const VectorTable& vectors, std::ostream& out, std::ostream& err) {
-  auto transport = driver::open_transport(*options.endpoint);
+  auto transport = open_suite_transport(options);
   if (!transport) {
-    err << "ldoem-conformance: " << driver::describe(transport.error()) << '\n';
+    err << "ldoem-conformance: " << transport.error() << '\n';
     out << "0 passed, 1 failed\n";
     return kExitFailed;
   }

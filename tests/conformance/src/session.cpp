@@ -6,6 +6,7 @@
 
 #include "ldoem/driver/error.hpp"
 #include "ldoem/protocol/text.hpp"
+#include "recording_transport.hpp"
 
 namespace ldoem::conformance {
 namespace {
@@ -219,8 +220,8 @@ std::uint16_t Session::read_clock_ms() {
 void Session::close_transport() { transport_->close(); }
 
 void Session::reopen_transport() {
-  auto reopened = driver::open_transport(endpoint());
-  if (!reopened) throw CaseFailed("reopen: " + driver::describe(reopened.error()));
+  auto reopened = open_suite_transport(options_);
+  if (!reopened) throw CaseFailed("reopen: " + reopened.error());
   transport_ = std::move(*reopened);
 }
 

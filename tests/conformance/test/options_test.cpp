@@ -78,3 +78,27 @@ TEST(Options, UsageText_ListsEveryOptionAndExitCodes) {
 
 }  // namespace
 }  // namespace ldoem::conformance
+
+namespace ldoem::conformance {
+namespace {
+
+TEST(OptionsAgainst, AgainstMasksAndRecord_AreParsed) {
+  const std::vector<std::string_view> args{"--tcp", "127.0.0.1:1", "--against", "c.pcapng", "--mask", "status.*",
+                                           "--mask-times", "--record=r.pcapng"};
+  const auto options = parse_options(args);
+  ASSERT_TRUE(options.has_value()) << options.error().message;
+  EXPECT_EQ(options->against, "c.pcapng");
+  EXPECT_EQ(options->record, "r.pcapng");
+  ASSERT_EQ(options->masks.size(), 1 + kTimeFieldMasks.size());
+  EXPECT_EQ(options->masks[0], "status.*");
+}
+
+TEST(OptionsAgainst, MaskWithoutAgainst_IsAUsageError) {
+  const std::vector<std::string_view> args{"--tcp", "127.0.0.1:1", "--mask-counters"};
+  const auto options = parse_options(args);
+  ASSERT_FALSE(options.has_value());
+  EXPECT_NE(options.error().message.find("--against"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace ldoem::conformance

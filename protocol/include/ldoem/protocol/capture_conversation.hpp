@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <tuple>
 #include <vector>
 
@@ -92,5 +93,26 @@ struct Conversation {
   ConversationCounters counters;
 };
 Conversation extract_conversation(const std::vector<DecodedPacket>& packets, ConversationConfig config = {});
+
+// A conversation cut into exchanges: one request from the host and every telegram the device
+// sent after it until the next request (its reply, and the profiles a GET_PROFILE streamed),
+// each with its delay after the request. Used by ldoem-replay and ldoem-conformance --against.
+struct RecordedAnswer {
+  SimTime delay{};
+  Bytes payload;
+  bool operator==(const RecordedAnswer&) const = default;
+};
+struct Exchange {
+  Bytes request;
+  std::vector<RecordedAnswer> answers;
+  bool operator==(const Exchange&) const = default;
+};
+
+// The exchanges of one transport (all its streams, in capture order). What the device sent
+// before the first request is dropped.
+std::vector<Exchange> exchanges_of(const std::vector<CapturedTelegram>& telegrams, WireTransport transport);
+
+// The transport with the most telegrams, or nothing for an empty conversation.
+std::optional<WireTransport> busiest_transport(const std::vector<CapturedTelegram>& telegrams);
 
 }  // namespace ldoem::protocol
