@@ -2,7 +2,8 @@
 
 #include <charconv>
 #include <map>
-#include <regex>
+#include <optional>
+#include <string_view>
 #include <sstream>
 
 namespace ldoem::interop {
@@ -49,57 +50,125 @@ protocol::Bytes data_bytes(const std::string& rest) {
   return bytes;
 }
 
+// A cursor over one line. std::regex is avoided: g++ 12 warns inside it under ASan at -O1.
+class Cursor {
+ public:
+  explicit Cursor(std::string_view text) : rest_(text) {}
+
+  // Skips blanks; true if at least `at_least` were skipped.
+  bool skip_blanks(std::size_t at_least = 0) {
+    std::size_t count = 0;
+    while (!rest_.empty() && (rest_.front() == ' ' || rest_.front() == '\t' || rest_.front() == '\r')) {
+      rest_.remove_prefix(1);
+      ++count;
+    }
+    return count >= at_least;
+  }
+  // The next run of non-blank characters (empty at the end).
+  std::string_view token() {
+    std::size_t length = 0;
+    while (length < rest_.size() && rest_[length] != ' ' && rest_[length] != '\t' && rest_[length] != '\r') ++length;
+    const std::string_view taken = rest_.substr(0, length);
+    rest_.remove_prefix(length);
+    return taken;
+  }
+  bool literal(std::string_view text) {
+    if (!rest_.starts_with(text)) return false;
+    rest_.remove_prefix(text.size());
+    return true;
+  }
+  // Between min and max digits of `base` (10 or 16).
+  std::optional<std::string> digits(int base, std::size_t min, std::size_t max) {
+    std::size_t length = 0;
+    while (length < rest_.size() && length < max && is_digit(rest_[length], base)) ++length;
+    if (length < min || (length < rest_.size() && length == max && is_digit(rest_[length], base))) return std::nullopt;
+    std::string taken(rest_.substr(0, length));
+    rest_.remove_prefix(length);
+    return taken;
+  }
+  // Moves past the first occurrence of `text`.
+  bool past(std::string_view text) {
+    const std::size_t at = rest_.find(text);
+    if (at == std::string_view::npos) return false;
+    rest_.remove_prefix(at + text.size());
+    return true;
+  }
+  bool at_blank() const { return !rest_.empty() && (rest_.front() == ' ' || rest_.front() == '\t'); }
+  std::string_view rest() const { return rest_; }
+
+ private:
+  static bool is_digit(char c, int base) {
+    if (c >= '0' && c <= '9') return true;
+    return base == 16 && ((c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F'));
+  }
+  std::string_view rest_;
+};
+
 bool fill_fields(IsoTpFrameType type, const std::string& rest, DumpedFrame& frame) {
-  std::smatch match;
+  Cursor cursor(rest);
   switch (type) {
     case IsoTpFrameType::single_frame:
     case IsoTpFrameType::first_frame: {
-      static const std::regex length(R"(^ln: (\d+)\s)");
-      if (!std::regex_search(rest, match, length)) return false;
-      frame.announced_length = number<std::uint64_t>(match[1], 10);
+      if (!cursor.literal("ln: ")) return false;
+      const auto length = cursor.digits(10, 1, 20);
+      if (!length || !cursor.at_blank()) return false;
+      frame.announced_length = number<std::uint64_t>(*length, 10);
       frame.data = data_bytes(rest);
       return frame.announced_length.has_value();
     }
     case IsoTpFrameType::consecutive_frame: {
-      static const std::regex sequence(R"(^sn: ([0-9A-Fa-f])\s)");
-      if (!std::regex_search(rest, match, sequence)) return false;
-      frame.sequence = number<std::uint8_t>(match[1], 16);
+      if (!cursor.literal("sn: ")) return false;
+      const auto sequence = cursor.digits(16, 1, 1);
+      if (!sequence || !cursor.at_blank()) return false;
+      frame.sequence = number<std::uint8_t>(*sequence, 16);
       frame.data = data_bytes(rest);
       return true;
     }
     case IsoTpFrameType::flow_control: {
-      static const std::regex fields(R"(^FC: (\d+) = \S+ # BS: (\d+).*# STmin: 0x([0-9A-Fa-f]{2}))");
-      if (!std::regex_search(rest, match, fields)) return false;
-      frame.flow_status = number<std::uint8_t>(match[1], 10);
-      frame.block_size = number<std::uint8_t>(match[2], 10);
-      frame.st_min_byte = number<std::uint8_t>(match[3], 16);
+      // "FC: <status> = <name> # BS: <n> ... # STmin: 0x<hh>"
+      if (!cursor.literal("FC: ")) return false;
+      const auto status = cursor.digits(10, 1, 3);
+      if (!status || !cursor.literal(" = ") || cursor.token().empty() || !cursor.literal(" # BS: ")) return false;
+      const auto block_size = cursor.digits(10, 1, 3);
+      if (!block_size || !cursor.past("# STmin: 0x")) return false;
+      const auto st_min = cursor.digits(16, 2, 2);
+      if (!st_min) return false;
+      frame.flow_status = number<std::uint8_t>(*status, 10);
+      frame.block_size = number<std::uint8_t>(*block_size, 10);
+      frame.st_min_byte = number<std::uint8_t>(*st_min, 16);
       return frame.flow_status && frame.block_size && frame.st_min_byte;
     }
   }
   return false;
 }
 
-std::optional<IsoTpFrameType> type_of(const std::string& name) {
-  if (name == "SF") return IsoTpFrameType::single_frame;
-  if (name == "FF") return IsoTpFrameType::first_frame;
-  if (name == "CF") return IsoTpFrameType::consecutive_frame;
-  if (name == "FC") return IsoTpFrameType::flow_control;
+std::optional<IsoTpFrameType> type_of(std::string_view name) {
+  if (name == "[SF]") return IsoTpFrameType::single_frame;
+  if (name == "[FF]") return IsoTpFrameType::first_frame;
+  if (name == "[CF]") return IsoTpFrameType::consecutive_frame;
+  if (name == "[FC]") return IsoTpFrameType::flow_control;
   return std::nullopt;
 }
 
+// "<interface> <id: 3..8 hex> [<dlc digit>] [SF|FF|CF|FC] <fields>"
 std::optional<DumpedFrame> parse_line(const std::string& line) {
-  static const std::regex head(R"(^\s*\S+\s+([0-9A-Fa-f]{3,8})\s+\[(\d)\]\s+\[(SF|FF|CF|FC)\]\s+(.*)$)");
-  std::smatch match;
-  if (!std::regex_match(line, match, head)) return std::nullopt;
+  Cursor cursor(line);
+  cursor.skip_blanks();
+  if (cursor.token().empty() || !cursor.skip_blanks(1)) return std::nullopt;
+  const auto id_digits = cursor.digits(16, 3, 8);
+  if (!id_digits || !cursor.skip_blanks(1) || !cursor.literal("[")) return std::nullopt;
+  const auto dlc_digit = cursor.digits(10, 1, 1);
+  if (!dlc_digit || !cursor.literal("]") || !cursor.skip_blanks(1)) return std::nullopt;
+  const auto type = type_of(cursor.token());
+  if (!type || !cursor.skip_blanks(1)) return std::nullopt;
   DumpedFrame frame;
-  const auto id = number<std::uint32_t>(match[1], 16);
-  const auto dlc = number<std::uint8_t>(match[2], 10);
-  const auto type = type_of(match[3]);
-  if (!id || !dlc || !type) return std::nullopt;
+  const auto id = number<std::uint32_t>(*id_digits, 16);
+  const auto dlc = number<std::uint8_t>(*dlc_digit, 10);
+  if (!id || !dlc) return std::nullopt;
   frame.id = *id;
   frame.dlc = *dlc;
   frame.type = *type;
-  if (!fill_fields(*type, match[4].str() + " ", frame)) return std::nullopt;
+  if (!fill_fields(*type, std::string(cursor.rest()) + " ", frame)) return std::nullopt;
   return frame;
 }
 

@@ -6,17 +6,26 @@
 #include <algorithm>
 #include <array>
 #include <cerrno>
-#include <regex>
+#include <string_view>
 
 namespace ldoem::io {
 namespace {
+
+// "gpiochip" followed by one or more decimal digits: a kernel chip name, not a label.
+bool is_chip_name(std::string_view chip) {
+  constexpr std::string_view prefix = "gpiochip";
+  if (!chip.starts_with(prefix) || chip.size() == prefix.size()) {
+    return false;
+  }
+  const std::string_view digits = chip.substr(prefix.size());
+  return std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
 
 gpiod_chip* open_chip(const std::string& chip) {
   if (!chip.empty() && chip.front() == '/') {
     return ::gpiod_chip_open(chip.c_str());
   }
-  static const std::regex chip_name_pattern("gpiochip[0-9]+");
-  if (std::regex_match(chip, chip_name_pattern)) {
+  if (is_chip_name(chip)) {
     return ::gpiod_chip_open_by_name(chip.c_str());
   }
   return ::gpiod_chip_open_by_label(chip.c_str());
