@@ -9,15 +9,21 @@
 
 namespace ldoem::scene::detail {
 
-std::optional<std::string> import_mesh(const std::filesystem::path& file, Mesh& mesh) {
+std::optional<std::string> import_mesh(const std::filesystem::path& file, Mesh& mesh, std::size_t max_triangles,
+                                       std::size_t max_vertices) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(file, ec)) return "mesh file not found: " + file.string();
+
+  const auto bytes = std::filesystem::file_size(file, ec);
+  if (ec || bytes > kMaxMeshFileBytes) {
+    return "mesh " + file.string() + " is larger than " + std::to_string(kMaxMeshFileBytes >> 20) + " MiB";
+  }
 
   Assimp::Importer importer;
   // Drop points and lines (we cast rays at surfaces), bake node transforms into one frame.
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   const aiScene* imported = importer.ReadFile(
-      file.string(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+      file.string(), aiProcess_ValidateDataStructure | aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
                          aiProcess_PreTransformVertices | aiProcess_SortByPType);
   if (imported == nullptr) {
     return "cannot read mesh " + file.string() + ": " + importer.GetErrorString();
@@ -28,6 +34,15 @@ std::optional<std::string> import_mesh(const std::filesystem::path& file, Mesh& 
   const Eigen::Vector3f scale = mesh.scale.cast<float>();
   for (unsigned m = 0; m < imported->mNumMeshes; ++m) {
     const aiMesh* part = imported->mMeshes[m];
+    if (part == nullptr || (part->mNumVertices > 0 && part->mVertices == nullptr) ||
+        (part->mNumFaces > 0 && part->mFaces == nullptr)) {
+      return "mesh " + file.string() + " has a part without vertex or face data";
+    }
+    if (mesh.vertices_m.size() + part->mNumVertices > max_vertices ||
+        mesh.triangles.size() + part->mNumFaces > max_triangles) {
+      return "mesh " + file.string() + " has more than the scene's remaining budget of " +
+             std::to_string(max_triangles) + " triangles or " + std::to_string(max_vertices) + " vertices";
+    }
     const auto base = static_cast<std::uint32_t>(mesh.vertices_m.size());
     for (unsigned v = 0; v < part->mNumVertices; ++v) {
       const aiVector3D& p = part->mVertices[v];
@@ -38,6 +53,10 @@ std::optional<std::string> import_mesh(const std::filesystem::path& file, Mesh& 
     for (unsigned f = 0; f < part->mNumFaces; ++f) {
       const aiFace& face = part->mFaces[f];
       if (face.mNumIndices != 3) continue;  // points and lines, if any survived
+      if (face.mIndices == nullptr || face.mIndices[0] >= part->mNumVertices ||
+          face.mIndices[1] >= part->mNumVertices || face.mIndices[2] >= part->mNumVertices) {
+        return "mesh " + file.string() + ": face " + std::to_string(f) + " indexes a vertex that does not exist";
+      }
       mesh.triangles.push_back({base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
     }
   }

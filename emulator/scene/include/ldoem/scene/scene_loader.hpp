@@ -6,6 +6,8 @@
 #include "ldoem/protocol/expected.hpp"
 #include "ldoem/scene/scene.hpp"
 
+#include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -42,6 +44,13 @@ struct SceneError {
 std::string_view to_string(SceneErrorKind kind);
 
 using SceneResult = protocol::Expected<Scene, SceneError>;
+
+// Limits on what one scene may ask for (docs/scenes.md): beyond them loading fails with
+// out_of_range (or io for the file size) instead of exhausting memory.
+inline constexpr std::size_t kMaxSceneObjects = 100'000;
+inline constexpr std::size_t kMaxSceneTriangles = 4'000'000;
+inline constexpr std::size_t kMaxSceneVertices = 12'000'000;
+inline constexpr std::uintmax_t kMaxSceneFileBytes = std::uintmax_t{64} << 20;
 
 // Reads and validates a scene file. Mesh paths are resolved relative to the file's folder.
 [[nodiscard]] SceneResult load_scene(const std::filesystem::path& path);
