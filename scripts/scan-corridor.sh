@@ -65,7 +65,9 @@ esac
 
 mkdir -p "$out_dir"
 work_dir="$(mktemp -d /tmp/ldoem-scan-corridor.XXXXXX)"
-lpt_path="/tmp/ldoem-lpt-$$"
+# The pty link lives inside the private mktemp folder: a predictable /tmp name could be taken
+# (or pointed elsewhere) by another user first.
+lpt_path="$work_dir/lpt"
 daemon_pid=""
 
 stop_daemon() {
@@ -79,7 +81,6 @@ stop_daemon() {
     wait "$daemon_pid" 2>/dev/null || true
   fi
   rm -rf "$work_dir"
-  rm -f "$lpt_path"
 }
 trap stop_daemon EXIT
 trap 'exit 130' INT

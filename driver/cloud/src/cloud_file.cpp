@@ -1,5 +1,11 @@
 #include "ldoem/cloud/cloud_file.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
 #include <fstream>
 #include <iterator>
 
@@ -58,13 +64,42 @@ Expected<PointCloud, CloudIoError> decode_cloud(std::string_view file_bytes) {
   return is_ply ? decode_ply(file_bytes) : decode_pcd(file_bytes);
 }
 
+namespace {
+
+bool write_all(int fd, std::string_view bytes) {
+  while (!bytes.empty()) {
+    const ssize_t written = ::write(fd, bytes.data(), bytes.size());
+    if (written < 0) {
+      if (errno == EINTR) continue;
+      return false;
+    }
+    bytes.remove_prefix(static_cast<std::size_t>(written));
+  }
+  return true;
+}
+
+}  // namespace
+
+// A temporary file in the target's folder (same file system, so the rename is atomic), written,
+// flushed to disk, then renamed over the target and the folder flushed: a reader sees the old
+// file or the whole new one, never a truncated one, and a crash loses no data already reported
+// as written. mkstemp opens with O_EXCL, so no symlink planted at the temporary name is followed.
 Expected<std::size_t, CloudIoError> write_file_bytes(const std::filesystem::path& path,
                                                      std::string_view bytes) {
-  std::ofstream file(path, std::ios::binary | std::ios::trunc);
-  if (!file) return Unexpected(CloudIoError::cannot_open_file);
-  file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  file.close();
-  if (!file) return Unexpected(CloudIoError::io_failed);
+  const std::filesystem::path folder = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+  std::string temporary = (folder / ("." + path.filename().string() + ".XXXXXX")).string();
+  const int fd = ::mkstemp(temporary.data());
+  if (fd < 0) return Unexpected(CloudIoError::cannot_open_file);
+  const bool written = write_all(fd, bytes) && ::fchmod(fd, 0644) == 0 && ::fsync(fd) == 0;
+  if (::close(fd) != 0 || !written || ::rename(temporary.c_str(), path.c_str()) != 0) {
+    ::unlink(temporary.c_str());
+    return Unexpected(CloudIoError::io_failed);
+  }
+  if (const int folder_fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); folder_fd >= 0) {
+    const bool synced = ::fsync(folder_fd) == 0;
+    ::close(folder_fd);
+    if (!synced) return Unexpected(CloudIoError::io_failed);
+  }
   return bytes.size();
 }
 

@@ -10,6 +10,7 @@ namespace ldoem::scan {
 namespace {
 
 using protocol::Unexpected;
+constexpr double kMaxTimeoutSeconds = 7.0 * 24 * 3600;  // a week
 using OptionsResult = protocol::Expected<ScanOptions, std::string>;
 
 Unexpected<std::string> usage_error(std::string text) { return Unexpected<std::string>(std::move(text)); }
@@ -119,8 +120,11 @@ const std::map<std::string_view, Setter>& setters() {
       {"--timeout",
        [](ScanOptions& o, std::string_view v) -> std::optional<std::string> {
          const auto seconds = parse_double(v);
-         if (!seconds || *seconds <= 0.0) {
-           return "`" + std::string(v) + "` is not a positive number of seconds";
+         // The upper bound keeps seconds * 1000 far inside a long long (a bigger value was
+         // undefined behaviour in the conversion below).
+         if (!seconds || !(*seconds > 0.0 && *seconds <= kMaxTimeoutSeconds)) {
+           return "`" + std::string(v) + "` is not a number of seconds in (0, " +
+                  std::to_string(static_cast<long long>(kMaxTimeoutSeconds)) + "]";
          }
          o.timeout = std::chrono::milliseconds(static_cast<long long>(std::ceil(*seconds * 1000.0)));
          return std::nullopt;

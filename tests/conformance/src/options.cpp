@@ -59,11 +59,17 @@ struct Parser {
       }
     } else if (name == "--time-scale") {
       const auto scale = parse_double(value);
-      if (!scale || *scale <= 0) return usage("--time-scale: must be a number > 0, got `" + std::string(value) + "`");
+      // Bounded so that wall = simulated / X stays a finite, representable number of ms.
+      if (!scale || !(*scale >= 1e-3 && *scale <= 1e6)) {
+        return usage("--time-scale: must be a number in [0.001, 1000000], got `" + std::string(value) + "`");
+      }
       options.time_scale = *scale;
     } else if (name == "--timeout") {
       const auto seconds = parse_double(value);
-      if (!seconds || *seconds <= 0) return usage("--timeout: must be seconds > 0, got `" + std::string(value) + "`");
+      // At most a week: seconds * 1000 must fit the integer it is converted to.
+      if (!seconds || !(*seconds > 0 && *seconds <= 604800)) {
+        return usage("--timeout: must be seconds in (0, 604800], got `" + std::string(value) + "`");
+      }
       options.reply_timeout = std::chrono::milliseconds(static_cast<std::int64_t>(std::ceil(*seconds * 1000)));
     } else if (name == "--filter") {
       if (value.empty()) return usage("--filter: empty pattern");

@@ -59,6 +59,9 @@ TEST(Options, BadValues_NameTheOption) {
   auto scale = parse({"--tcp", "h", "--time-scale", "0"});
   ASSERT_FALSE(scale);
   EXPECT_NE(scale.error().message.find("--time-scale"), std::string::npos);
+  // Values whose conversion to milliseconds used to overflow (undefined behaviour).
+  EXPECT_FALSE(parse({"--tcp", "h", "--timeout", "1e300"}));
+  EXPECT_FALSE(parse({"--tcp", "h", "--time-scale", "1e-300"}));
   auto target = parse({"--tcp", "h", "--target", "robot"});
   ASSERT_FALSE(target);
   EXPECT_NE(target.error().message.find("--target"), std::string::npos);
