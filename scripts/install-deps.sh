@@ -11,6 +11,8 @@ packages=(
   gnuplot-nox
   # the Wireshark dissector's tests (tshark) and its screenshot (scripts/wireshark-screenshot.sh)
   tshark wireshark-qt xvfb xdotool x11-apps netpbm
+  # sd_notify for the systemd units, systemd-analyze to check them (scripts/check-units.sh)
+  libsystemd-dev systemd
   # for the gpio-sim UML kernel (scripts/uml/build-gpio-kernel.sh)
   linux-source-6.1 build-essential bc flex bison libelf-dev xz-utils
 )

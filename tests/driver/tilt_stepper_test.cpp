@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <optional>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -123,7 +124,9 @@ TEST_F(TiltStepperTest, ZeroSteps_OnlySetsTheRegister) {
 }
 
 TEST_F(TiltStepperTest, BadRate_IsInvalidArgumentAndWritesNothing) {
-  for (double rate : {0.0, -5.0, std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN()}) {
+  // 1e-9 Hz and 1e-300 Hz: a step period the nanosecond clock cannot hold (was undefined behaviour).
+  for (double rate : {0.0, -5.0, 1e-9, 1e-300, std::numeric_limits<double>::infinity(),
+                      std::numeric_limits<double>::quiet_NaN()}) {
     auto moved = stepper_.move(1, TiltDirection::increasing, StepMode::full_step, rate);
     ASSERT_FALSE(moved) << rate;
     EXPECT_EQ(moved.error().kind, ErrorKind::invalid_argument);
@@ -137,6 +140,28 @@ TEST_F(TiltStepperTest, FailingWrite_StopsAndKeepsStepsAlreadyMade) {
   ASSERT_FALSE(moved);
   EXPECT_EQ(moved.error().operation, "write");
   EXPECT_EQ(stepper_.position_half_steps(), 4);  // two rising edges were written
+}
+
+TEST(TiltStepperCancel, InterruptedSleeper_EndsALongMoveWithClockLow) {
+  MonotonicSleeper sleeper;
+  FakeLptPort port(sleeper);
+  TiltStepper stepper(port, sleeper);
+  std::thread canceller([&] {
+    std::this_thread::sleep_for(50ms);
+    sleeper.interrupt();
+  });
+  const auto start = std::chrono::steady_clock::now();
+  auto moved = stepper.move(1000, TiltDirection::increasing, StepMode::full_step, 1.0);  // 1000 s
+  canceller.join();
+  EXPECT_LT(std::chrono::steady_clock::now() - start, 2s);
+  ASSERT_FALSE(moved);
+  EXPECT_EQ(moved.error().kind, ErrorKind::interrupted);
+  ASSERT_FALSE(port.writes.empty());
+  EXPECT_EQ(port.writes.back().value & p::kLptClockBit, 0) << "CLK must be left low";
+  // Later moves fail at once too: the hub is shutting down.
+  auto again = stepper.move(1, TiltDirection::increasing, StepMode::full_step, 1.0);
+  ASSERT_FALSE(again);
+  EXPECT_EQ(again.error().kind, ErrorKind::interrupted);
 }
 
 TEST_F(TiltStepperTest, MoveToAngle_PicksTheNearestStepCount) {

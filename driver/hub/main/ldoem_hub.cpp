@@ -2,6 +2,7 @@
 // until SIGINT/SIGTERM (docs/hub.md).
 #include <signal.h>
 #include <sys/signalfd.h>
+#include <systemd/sd-daemon.h>
 #include <unistd.h>
 
 #include <fstream>
@@ -60,6 +61,8 @@ int main(int argc, char** argv) {
   settings.max_age = command_line->max_age.value_or(config->max_age.value_or(kDefaultMaxAge));
   settings.max_clients = command_line->max_clients;
   settings.queue_capacity = command_line->queue_capacity;
+  settings.max_in_flight = command_line->max_in_flight;
+  settings.idle_timeout = command_line->idle_timeout;
 
   // Signals arrive as a readable descriptor in the hub's loop (no handler, no global state).
   sigset_t stop_signals;
@@ -73,6 +76,13 @@ int main(int argc, char** argv) {
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);  // before the BEMH threads start
   const int signal_fd = signalfd(-1, &stop_signals, SFD_CLOEXEC);
 
+  // Under systemd (Type=notify, WatchdogSec=): the loop itself pings, so a stuck loop is
+  // restarted. Outside systemd sd_watchdog_enabled() is 0 and sd_notify does nothing.
+  if (std::uint64_t watchdog_us = 0; sd_watchdog_enabled(0, &watchdog_us) > 0) {
+    settings.heartbeat = [] { sd_notify(0, "WATCHDOG=1"); };
+    settings.heartbeat_interval = std::chrono::milliseconds(watchdog_us / 2000);
+  }
+
   Hub hub(settings, make_devices(config.value()));
   if (auto listening = hub.listen(); !listening) {
     std::cerr << "ldoem-hub: " << ldoem::driver::describe(listening.error()) << "\n";
@@ -83,10 +93,12 @@ int main(int argc, char** argv) {
     std::cerr << " " << name << "=" << handler;
   }
   std::cerr << "\n";
+  sd_notifyf(0, "READY=1\nSTATUS=listening on %s:%u", settings.listen.host.c_str(), static_cast<unsigned>(hub.port()));
   if (auto served = hub.run(signal_fd); !served) {
     std::cerr << "ldoem-hub: " << ldoem::driver::describe(served.error()) << "\n";
     return kExitFailure;
   }
+  sd_notify(0, "STOPPING=1");
   signalfd_siginfo info{};
   if (read(signal_fd, &info, sizeof info) == static_cast<ssize_t>(sizeof info)) {
     return kExitSignalBase + static_cast<int>(info.ssi_signo);

@@ -19,6 +19,7 @@ BackEndHandler::~BackEndHandler() {
     stopping_ = true;
   }
   wake_.notify_all();
+  device_->cancel();  // a long move must not hold up the shutdown
   worker_.join();
 }
 

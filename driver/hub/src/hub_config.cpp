@@ -74,10 +74,18 @@ protocol::Expected<DeviceConfig, std::string> parse_device(const YAML::Node& nod
   if (const YAML::Node stepper = node["stepper"]) {
     if (stepper["rate_hz"]) {
       const double rate = stepper["rate_hz"].as<double>();
-      if (!std::isfinite(rate) || rate <= 0.0) {
-        return config_error(where + ".stepper.rate_hz must be > 0");
+      if (!std::isfinite(rate) || rate < kMinStepRateHz || rate > kMaxStepRateHz) {
+        return config_error(where + ".stepper.rate_hz must be in [" + std::to_string(kMinStepRateHz) + ", " +
+                            std::to_string(kMaxStepRateHz) + "] Hz");
       }
       device.stepper.step_rate_hz = rate;
+    }
+    if (stepper["max_move_ms"]) {
+      auto limit = milliseconds_of(stepper["max_move_ms"], where + ".stepper.max_move_ms");
+      if (!limit) {
+        return config_error(limit.error());
+      }
+      device.stepper.max_move_duration = limit.value();
     }
   }
   if (node["request_timeout_ms"]) {

@@ -16,6 +16,10 @@ std::optional<unsigned long long> parse_count(std::string_view text) {
   return value;
 }
 
+// Large enough for any sane setting, small enough that no later arithmetic overflows.
+constexpr unsigned long long kMaxCount = 1'000'000;
+constexpr unsigned long long kMaxTimeoutMs = 7ULL * 24 * 3600 * 1000;
+
 }  // namespace
 
 protocol::Expected<HubCommandLine, std::string> parse_hub_command_line(const std::vector<std::string_view>& args) {
@@ -42,16 +46,27 @@ protocol::Expected<HubCommandLine, std::string> parse_hub_command_line(const std
       line.listen = address.value();
     } else if (option == "--max-age-ms") {
       const auto age = parse_count(value);
-      if (!age) {
+      if (!age || *age > kMaxTimeoutMs) {
         return usage_error("--max-age-ms: `" + std::string(value) + "` is not a number of milliseconds");
       }
       line.max_age = std::chrono::milliseconds(*age);
-    } else if (option == "--max-clients" || option == "--queue") {
+    } else if (option == "--max-clients" || option == "--queue" || option == "--max-in-flight") {
       const auto count = parse_count(value);
-      if (!count || *count == 0) {
-        return usage_error(std::string(option) + ": `" + std::string(value) + "` is not a positive number");
+      if (!count || *count == 0 || *count > kMaxCount) {
+        return usage_error(std::string(option) + ": `" + std::string(value) + "` is not a number in [1, " +
+                           std::to_string(kMaxCount) + "]");
       }
-      (option == "--queue" ? line.queue_capacity : line.max_clients) = static_cast<std::size_t>(*count);
+      std::size_t& target = option == "--queue"           ? line.queue_capacity
+                            : option == "--max-in-flight" ? line.max_in_flight
+                                                          : line.max_clients;
+      target = static_cast<std::size_t>(*count);
+    } else if (option == "--idle-timeout-ms") {
+      const auto timeout = parse_count(value);
+      if (!timeout || *timeout > kMaxTimeoutMs) {
+        return usage_error("--idle-timeout-ms: `" + std::string(value) + "` is not a number of milliseconds in [0, " +
+                           std::to_string(kMaxTimeoutMs) + "]");
+      }
+      line.idle_timeout = std::chrono::milliseconds(*timeout);
     } else {
       return usage_error("unknown option `" + std::string(option) + "`");
     }
@@ -76,7 +91,11 @@ Options:
                        127.0.0.1:49200; the hub has no authentication, keep it on loopback)
   --max-age-ms N       STATUS and GET2DPROFILE are answered from the device's latest data
                        when it is at most N ms old (default: the file's, else 50; 0: never)
-  --max-clients N      connections served at once (default 64)
+  --max-clients N      connections served at once (default 64; more get `* ERR busy`)
+  --idle-timeout-ms N  a client with no request in flight that sends nothing for N ms is
+                       told `* ERR timeout` and closed (default 60000; 0: never)
+  --max-in-flight N    requests one client may have queued or running (default 16; more
+                       answer ERR busy), so no client fills a device's queue
   --queue N            requests queued per device (default 256; more answer ERR busy)
   --help               this text
 

@@ -1,11 +1,7 @@
 // The hub's line protocol (docs/hub.md, grammar in hub_protocol.hpp).
 #include "ldoem/hub/hub_protocol.hpp"
 
-#include <charconv>
-#include <cmath>
-#include <cstdio>
-
-#include "ldoem/protocol/messages.hpp"
+#include "hub_text.hpp"
 
 namespace ldoem::hub {
 namespace {
@@ -54,36 +50,16 @@ bool is_name(std::string_view token) {
   return true;
 }
 
-template <class Integer>
-std::optional<Integer> parse_integer(std::string_view text, int base = 10) {
-  Integer value{};
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value, base);
-  if (error != std::errc{} || end != text.data() + text.size() || text.empty()) {
-    return std::nullopt;
-  }
-  return value;
-}
-
-std::optional<double> parse_double(std::string_view text) {
-  double value = 0.0;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (error != std::errc{} || end != text.data() + text.size() || text.empty() || !std::isfinite(value)) {
-    return std::nullopt;
-  }
-  return value;
-}
+using text::format_double;
+using text::hex_digit;
+using text::parse_double;
+using text::parse_integer;
 
 std::string_view trim_line_end(std::string_view line) {
   while (!line.empty() && (line.back() == '\r' || line.back() == '\n')) {
     line.remove_suffix(1);
   }
   return line;
-}
-
-std::string format_double(double value) {
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return std::string(buffer, result.ptr);
 }
 
 using Args = std::vector<std::string_view>;
@@ -153,6 +129,9 @@ CommandResult parse_move(const Args& args) {
   if (!steps) {
     return fail_with("MOVEMOTOR: bad step count `" + std::string(args[0]) + "`");
   }
+  if (*steps > kMaxMoveSteps) {
+    return fail_with("MOVEMOTOR: at most " + std::to_string(kMaxMoveSteps) + " steps per request");
+  }
   move.steps = *steps;
   if (args[1] == "up") {
     move.direction = TiltDirection::increasing;
@@ -170,8 +149,9 @@ CommandResult parse_move(const Args& args) {
   }
   if (args.size() == 4) {
     const auto rate = parse_double(args[3]);
-    if (!rate || *rate <= 0.0) {
-      return fail_with("MOVEMOTOR: bad step rate `" + std::string(args[3]) + "`");
+    if (!rate || !(*rate >= kMinStepRateHz && *rate <= kMaxStepRateHz)) {
+      return fail_with("MOVEMOTOR: step rate `" + std::string(args[3]) + "` is not a number of Hz in [" +
+                       format_double(kMinStepRateHz) + ", " + format_double(kMaxStepRateHz) + "]");
     }
     move.step_rate_hz = *rate;
   }
@@ -223,54 +203,6 @@ std::optional<CommandResult> parse_command(std::string_view name, const Args& ar
     return parse_move(args);
   }
   return std::nullopt;
-}
-
-char hex_digit(unsigned value) { return "0123456789ABCDEF"[value & 0xF]; }
-
-std::string hex_of(protocol::ByteView bytes) {
-  std::string text;
-  text.reserve(bytes.size() * 2);
-  for (std::uint8_t byte : bytes) {
-    text.push_back(hex_digit(byte >> 4));
-    text.push_back(hex_digit(byte));
-  }
-  return text;
-}
-
-std::optional<protocol::Bytes> bytes_of_hex(std::string_view text) {
-  if (text.size() % 2 != 0) {
-    return std::nullopt;
-  }
-  protocol::Bytes bytes;
-  bytes.reserve(text.size() / 2);
-  for (std::size_t i = 0; i < text.size(); i += 2) {
-    const auto byte = parse_integer<std::uint8_t>(text.substr(i, 2), 16);
-    if (!byte) {
-      return std::nullopt;
-    }
-    bytes.push_back(*byte);
-  }
-  return bytes;
-}
-
-std::string_view sensor_mode_token(protocol::SensorMode mode) {
-  switch (mode) {
-    case protocol::SensorMode::idle: return "idle";
-    case protocol::SensorMode::rotate: return "rotate";
-    case protocol::SensorMode::measure: return "measure";
-    case protocol::SensorMode::error: return "error";
-  }
-  return "unknown";
-}
-
-std::string_view motor_mode_token(protocol::MotorMode mode) {
-  switch (mode) {
-    case protocol::MotorMode::ok: return "ok";
-    case protocol::MotorMode::spin_too_low: return "spin_too_low";
-    case protocol::MotorMode::spin_too_high: return "spin_too_high";
-    case protocol::MotorMode::fault: return "fault";
-  }
-  return "unknown";
 }
 
 }  // namespace
@@ -483,127 +415,6 @@ std::optional<std::string> unescape_value(std::string_view text) {
     i += 2;
   }
   return value;
-}
-
-std::string_view error_kind_token(ErrorKind kind) {
-  switch (kind) {
-    case ErrorKind::timeout: return "timeout";
-    case ErrorKind::busy: return "busy";
-    case ErrorKind::interrupted: return "interrupted";
-    case ErrorKind::framing: return "framing";
-    case ErrorKind::connection_closed: return "connection_closed";
-    case ErrorKind::service_failure: return "service_failure";
-    case ErrorKind::unexpected_reply: return "unexpected_reply";
-    case ErrorKind::refused: return "refused";
-    case ErrorKind::system: return "system";
-    case ErrorKind::unsupported: return "unsupported";
-    case ErrorKind::invalid_argument: return "invalid_argument";
-    case ErrorKind::wrong_state: return "wrong_state";
-  }
-  return "system";
-}
-
-ErrorKind error_kind_from_token(std::string_view token) {
-  constexpr ErrorKind kAll[] = {ErrorKind::timeout,         ErrorKind::busy,
-                                ErrorKind::interrupted,     ErrorKind::framing,
-                                ErrorKind::connection_closed, ErrorKind::service_failure,
-                                ErrorKind::unexpected_reply, ErrorKind::refused,
-                                ErrorKind::system,          ErrorKind::unsupported,
-                                ErrorKind::invalid_argument, ErrorKind::wrong_state};
-  for (ErrorKind kind : kAll) {
-    if (error_kind_token(kind) == token) {
-      return kind;
-    }
-  }
-  return ErrorKind::invalid_argument;
-}
-
-std::vector<ReplyField> status_fields(const StatusBlock& status) {
-  protocol::Bytes block;
-  protocol::append_status_block(block, status);
-  return {{"status", hex_of(block)},
-          {"mode", std::string(sensor_mode_token(status.status.sensor))},
-          {"motor", std::string(motor_mode_token(status.status.motor))}};
-}
-
-std::optional<StatusBlock> status_from(const HubReply& reply) {
-  const auto text = reply.field("status");
-  if (!text) {
-    return std::nullopt;
-  }
-  const auto bytes = bytes_of_hex(*text);
-  if (!bytes || bytes->size() != StatusBlock::kSizeBytes) {
-    return std::nullopt;
-  }
-  return protocol::read_status_block(*bytes, 0);
-}
-
-std::vector<ReplyField> tilt_fields(const TiltPosition& tilt) {
-  return {{"tilt_half_steps", std::to_string(tilt.half_steps)}, {"tilt_deg", format_double(tilt.tilt_deg())}};
-}
-
-std::optional<TiltPosition> tilt_from(const HubReply& reply) {
-  const auto text = reply.field("tilt_half_steps");
-  if (!text) {
-    return std::nullopt;
-  }
-  const auto half_steps = parse_integer<std::int64_t>(*text);
-  if (!half_steps) {
-    return std::nullopt;
-  }
-  return TiltPosition{*half_steps};
-}
-
-std::vector<ReplyField> profile_fields(const ProfileSample& sample) {
-  std::vector<ReplyField> fields = tilt_fields(sample.tilt);
-  fields.emplace_back("profile", hex_of(protocol::encode_profile(sample.profile)));
-  return fields;
-}
-
-std::optional<ProfileSample> profile_from(const HubReply& reply) {
-  const auto tilt = tilt_from(reply);
-  const auto text = reply.field("profile");
-  if (!tilt || !text) {
-    return std::nullopt;
-  }
-  const auto payload = bytes_of_hex(*text);
-  if (!payload) {
-    return std::nullopt;
-  }
-  auto profile = protocol::decode_profile(*payload);
-  if (!profile) {
-    return std::nullopt;
-  }
-  return ProfileSample{std::move(profile.value()), *tilt};
-}
-
-std::vector<ReplyField> info_fields(const DeviceInfo& info) {
-  std::vector<ReplyField> fields = status_fields(info.status);
-  for (const auto& entry : info.identification) {
-    char key[16];
-    std::snprintf(key, sizeof key, "ident.%04X", static_cast<unsigned>(entry.item));
-    fields.emplace_back(key, entry.text);
-  }
-  return fields;
-}
-
-std::optional<DeviceInfo> info_from(const HubReply& reply) {
-  const auto status = status_from(reply);
-  if (!status) {
-    return std::nullopt;
-  }
-  DeviceInfo info{*status, {}};
-  constexpr std::string_view kPrefix = "ident.";
-  for (const auto& [key, value] : reply.fields) {
-    if (key.starts_with(kPrefix)) {
-      const auto item = parse_integer<std::uint16_t>(std::string_view(key).substr(kPrefix.size()), 16);
-      if (!item) {
-        return std::nullopt;
-      }
-      info.identification.push_back({*item, value});
-    }
-  }
-  return info;
 }
 
 }  // namespace ldoem::hub

@@ -184,6 +184,13 @@ Expected<TiltPosition, DriverError> ScannerDevice::move_motor(const MotorMove& m
     stepper_->set_position_half_steps(position_half_steps_);
   }
   const double rate_hz = move.step_rate_hz.value_or(options_.stepper.step_rate_hz);
+  const double seconds = static_cast<double>(move.steps) / rate_hz;
+  const double limit_s = std::chrono::duration<double>(options_.stepper.max_move_duration).count();
+  if (!(seconds <= limit_s)) {
+    return fail(make_error(ErrorKind::invalid_argument, "MOVEMOTOR", name_,
+                           std::to_string(move.steps) + " steps at " + std::to_string(rate_hz) +
+                               " Hz would take longer than the limit of " + std::to_string(limit_s) + " s"));
+  }
   const driver::Status moved = stepper_->move(move.steps, move.direction, move.mode, rate_hz);
   position_half_steps_ = stepper_->position_half_steps();
   if (!moved && moved.error().kind != ErrorKind::invalid_argument) {
@@ -196,6 +203,8 @@ Expected<TiltPosition, DriverError> ScannerDevice::move_motor(const MotorMove& m
   }
   return TiltPosition{position_half_steps_};
 }
+
+void ScannerDevice::cancel() { sleeper_->interrupt(); }
 
 Expected<StatusBlock, DriverError> ScannerDevice::status() {
   auto scanner = connected_scanner("STATUS");

@@ -17,13 +17,24 @@ SimTime MonotonicSleeper::now() {
 }
 
 void MonotonicSleeper::sleep_until(SimTime time) {
-  const auto seconds = std::chrono::duration_cast<std::chrono::seconds>(time);
-  timespec ts{};
-  ts.tv_sec = static_cast<time_t>(seconds.count());
-  ts.tv_nsec = static_cast<long>((time - seconds).count());
-  // An absolute deadline: EINTR simply sleeps again to the same instant.
-  while (::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+  // steady_clock is CLOCK_MONOTONIC on Linux; the wait is on an absolute deadline, so spurious
+  // wake-ups simply wait again for the same instant.
+  const std::chrono::steady_clock::time_point deadline{std::chrono::duration_cast<std::chrono::steady_clock::duration>(time)};
+  std::unique_lock lock(mutex_);
+  wake_.wait_until(lock, deadline, [this] { return interrupted_; });
+}
+
+void MonotonicSleeper::interrupt() {
+  {
+    std::lock_guard lock(mutex_);
+    interrupted_ = true;
   }
+  wake_.notify_all();
+}
+
+bool MonotonicSleeper::interrupted() const {
+  std::lock_guard lock(mutex_);
+  return interrupted_;
 }
 
 TiltStepper::TiltStepper(LptPort& port, Sleeper& sleeper) : port_(port), sleeper_(sleeper) {}
@@ -37,9 +48,11 @@ Status TiltStepper::write(std::uint8_t value) {
 }
 
 Status TiltStepper::move(std::uint32_t steps, TiltDirection direction, StepMode mode, double step_rate_hz) {
-  if (!std::isfinite(step_rate_hz) || step_rate_hz <= 0.0) {
+  const double longest_period_s = std::chrono::duration<double>(kMaxStepPeriod).count();
+  if (!std::isfinite(step_rate_hz) || !(step_rate_hz * longest_period_s >= 1.0)) {
     return fail(make_error(ErrorKind::invalid_argument, "move", port_.name(),
-                           "step rate must be a finite number above 0 Hz"));
+                           "step rate must be a finite number of at least one step per " +
+                               std::to_string(kMaxStepPeriod.count()) + " s"));
   }
   const SimTime period = std::chrono::duration_cast<SimTime>(std::chrono::duration<double>(1.0 / step_rate_hz));
   const SimTime half_period = period / 2;
@@ -57,6 +70,10 @@ Status TiltStepper::move(std::uint32_t steps, TiltDirection direction, StepMode 
   for (std::uint32_t k = 0; k < steps; ++k) {
     const SimTime step_start = start + period * static_cast<std::int64_t>(k);
     sleeper_.sleep_until(step_start + half_period);
+    if (sleeper_.interrupted()) {
+      return fail(make_error(ErrorKind::interrupted, "move", port_.name(),
+                             "cancelled after " + std::to_string(k) + " of " + std::to_string(steps) + " steps"));
+    }
     auto rising = write(protocol::encode_lpt(high));
     if (!rising) {
       return rising;

@@ -60,7 +60,7 @@ class BackEndHandler {
 
   BackEndHandler(std::string handler_id, std::string device_name, std::unique_ptr<Device> device,
                  BackendSettings settings, Completion on_done);
-  // Finishes the job in progress, drops queued ones, joins the worker.
+  // Cancels the device's move in progress (Device::cancel), drops queued jobs, joins the worker.
   ~BackEndHandler();
   BackEndHandler(const BackEndHandler&) = delete;
   BackEndHandler& operator=(const BackEndHandler&) = delete;

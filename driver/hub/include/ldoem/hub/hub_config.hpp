@@ -6,7 +6,8 @@
 //     - name: left                 # [A-Za-z0-9_.-], unique
 //       scanner: tcp:127.0.0.1:49152
 //       lpt: lpt:pty:/tmp/ldoem-lpt   # optional
-//       stepper: { rate_hz: 200 }     # optional, MOVEMOTOR's default rate
+//       stepper: { rate_hz: 200, max_move_ms: 120000 }  # optional: MOVEMOTOR's default rate
+//                                     # and the longest move it accepts
 //       request_timeout_ms: 5000      # optional (spec 6)
 //       profile_timeout_ms: 5000      # optional, GET2DPROFILE's wait
 //

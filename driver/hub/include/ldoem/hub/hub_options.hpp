@@ -26,6 +26,8 @@ struct HubCommandLine {
   std::optional<std::chrono::milliseconds> max_age;  // overrides the file's `max_age_ms`
   std::size_t max_clients = 64;
   std::size_t queue_capacity = 256;
+  std::size_t max_in_flight = 16;
+  std::chrono::milliseconds idle_timeout{60000};
   bool operator==(const HubCommandLine&) const = default;
 };
 

@@ -4,6 +4,7 @@
 // the first MOVEMOTOR, so a hub starts even when a device is not there yet.
 #pragma once
 
+#include <chrono>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -21,6 +22,8 @@ namespace ldoem::hub {
 // Defaults of MOVEMOTOR when the request leaves them out.
 struct StepperDefaults {
   double step_rate_hz = 200.0;
+  // A MOVEMOTOR whose steps / rate would take longer is refused (invalid_argument).
+  std::chrono::milliseconds max_move_duration{120000};
   bool operator==(const StepperDefaults&) const = default;
 };
 
@@ -52,6 +55,8 @@ class ScannerDevice final : public Device {
   Expected<ProfileSample, DriverError> get_profile(std::chrono::milliseconds timeout) override;
   Expected<TiltPosition, DriverError> move_motor(const MotorMove& move) override;
   Expected<StatusBlock, DriverError> status() override;
+  // Interrupts the sleeper: a move in progress stops at its next step.
+  void cancel() override;
 
   const std::string& name() const { return name_; }
 

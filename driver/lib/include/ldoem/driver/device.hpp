@@ -45,6 +45,12 @@ struct TiltPosition {
   bool operator==(const TiltPosition&) const = default;
 };
 
+// MOVEMOTOR's limits (docs/hub.md): a request outside them is refused before anything moves,
+// so no request can put a device worker to sleep for longer than kMaxMoveSteps / kMinStepRateHz.
+inline constexpr std::uint32_t kMaxMoveSteps = 20000;  // 900 deg of tilt in full steps
+inline constexpr double kMinStepRateHz = 1.0;
+inline constexpr double kMaxStepRateHz = 20000.0;
+
 struct MotorMove {
   std::uint32_t steps = 0;
   TiltDirection direction = TiltDirection::increasing;
@@ -77,6 +83,9 @@ class Device {
   // Steps the tilt motor; returns the commanded position after the move.
   virtual Expected<TiltPosition, DriverError> move_motor(const MotorMove& move) = 0;
   virtual Expected<StatusBlock, DriverError> status() = 0;
+  // Thread-safe: makes a move in progress stop at its next step with ErrorKind::interrupted,
+  // and every later one fail the same way. The hub calls it when it shuts down.
+  virtual void cancel() {}
 };
 
 }  // namespace ldoem::driver

@@ -2,7 +2,10 @@
 // set before each rising edge, paced by an injected Sleeper so that tests see exact sequences.
 #pragma once
 
+#include <chrono>
+#include <condition_variable>
 #include <cstdint>
+#include <mutex>
 #include <optional>
 
 #include "ldoem/driver/error.hpp"
@@ -20,17 +23,31 @@ class Sleeper {
  public:
   virtual ~Sleeper() = default;
   virtual protocol::SimTime now() = 0;
-  // Returns at or after `time` (immediately when it has passed).
+  // Returns at or after `time` (immediately when it has passed), or early once interrupted.
   virtual void sleep_until(protocol::SimTime time) = 0;
+  // Thread-safe: wakes a sleep in progress and makes every later one return at once.
+  virtual void interrupt() {}
+  virtual bool interrupted() const { return false; }
 };
 
-// The real one: CLOCK_MONOTONIC and clock_nanosleep(TIMER_ABSTIME), so pulses do not drift
-// with the time the writes take.
+// The real one: absolute deadlines on CLOCK_MONOTONIC, so pulses do not drift with the time
+// the writes take, waited for on a condition variable so that interrupt() ends a long move.
 class MonotonicSleeper final : public Sleeper {
  public:
   protocol::SimTime now() override;
   void sleep_until(protocol::SimTime time) override;
+  void interrupt() override;
+  bool interrupted() const override;
+
+ private:
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  bool interrupted_ = false;
 };
+
+// The longest step period a move accepts (a lower rate would overflow the nanosecond clock long
+// before it made sense for a tilt plate).
+inline constexpr std::chrono::seconds kMaxStepPeriod{3600};
 
 // Half-steps per full step: the position is kept in the finer unit (D8).
 inline constexpr std::int64_t kHalfStepsPerFullStep = 2;
@@ -45,8 +62,10 @@ class TiltStepper {
   // at t0 = now: at t0 the register takes DIR/MODE with CLK low (written only when it
   // changes), then for step k CLK rises at t0 + (k + 1/2) T (the step, D8) and falls at
   // t0 + (k + 1) T. The move therefore takes steps * T and leaves CLK low.
-  // invalid_argument for a rate that is not finite and > 0; a failing write stops the move
-  // with the position counting the steps whose rising edge was written.
+  // invalid_argument for a rate that is not finite, not > 0 or so low that one step would take
+  // longer than kMaxStepPeriod; a failing write stops the move with the position counting the
+  // steps whose rising edge was written. An interrupted sleeper stops it the same way
+  // (ErrorKind::interrupted), leaving CLK low.
   Status move(std::uint32_t steps, TiltDirection direction, StepMode mode, double step_rate_hz);
 
   // Moves to the nearest position of `mode`'s step size to `target_deg` (may be 0 steps).
