@@ -71,6 +71,16 @@ scene::Pose WorldMotion::pose_at(std::size_t k, double t_s) const {
   return scene::pose_at(*mover.object.motion, mover.object.pose, t_s);
 }
 
+Eigen::Vector3d WorldMotion::position_at(std::size_t k, double t_s) const {
+  const Mover& mover = movers_[k];
+  if (mover.body < 0 && (mover.moves.empty() || t_s < mover.moves.front().at_s)) {
+    if (const auto* velocity = std::get_if<scene::ConstantVelocity>(&*mover.object.motion)) {
+      return mover.object.pose.position_m + t_s * velocity->linear_velocity_mps;  // as scene::pose_at
+    }
+  }
+  return pose_at(k, t_s).position_m;
+}
+
 scene::PathBounds WorldMotion::origin_bounds(std::size_t k, double t0_s, double t1_s) const {
   const Mover& mover = movers_[k];
   if (mover.body >= 0) return bodies_.origin_bounds(static_cast<std::size_t>(mover.body), t0_s, t1_s);

@@ -27,6 +27,9 @@ class MotionSource {
   virtual ~MotionSource() = default;
   // Pose of moving object k at time t.
   virtual scene::Pose pose_at(std::size_t k, double t_s) const = 0;
+  // Its origin only; sources override it when that is cheaper than the whole pose (a candidate
+  // is first tested against the sphere about its origin, which needs no orientation).
+  virtual Eigen::Vector3d position_at(std::size_t k, double t_s) const { return pose_at(k, t_s).position_m; }
   // A box holding object k's origin for every t in [t0, t1].
   virtual scene::PathBounds origin_bounds(std::size_t k, double t0_s, double t1_s) const = 0;
   // True if object k never turns (its box then keeps its axis-aligned extent).
@@ -37,7 +40,9 @@ enum class MovingIndex : std::uint8_t { refit_slices, motion_blur };
 
 struct MovingCasterOptions {
   MovingIndex index = MovingIndex::refit_slices;
-  unsigned slices = 16;  // slices per window (refit_slices) or motion-blur segments (motion_blur)
+  // One slice: chosen by BM_MovingObjects (docs/dynamic-scenes.md "Cost"); more slices give
+  // tighter boxes but each costs a refit per window, which outweighed the saving.
+  unsigned slices = 1;  // slices per window (refit_slices) or motion-blur segments (motion_blur)
 };
 
 class MovingRayCaster final : public RayCaster {

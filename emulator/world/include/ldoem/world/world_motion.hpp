@@ -36,6 +36,7 @@ class WorldMotion final : public raycast::MotionSource {
   [[nodiscard]] std::optional<std::string> move_object(std::string_view name, const scene::Pose& pose, double at_s);
 
   scene::Pose pose_at(std::size_t k, double t_s) const override;
+  Eigen::Vector3d position_at(std::size_t k, double t_s) const override;
   scene::PathBounds origin_bounds(std::size_t k, double t0_s, double t1_s) const override;
   bool keeps_orientation(std::size_t k) const override;
 
