@@ -31,7 +31,7 @@ constexpr double kCylinderAxisY = 0.0;
 constexpr double kCylinderSearchRadius = 0.3;  // the nearest box corner is further away
 
 bool uses_hub(Route route) { return route == Route::hub_can || route == Route::hub_tcp; }
-bool uses_can(Route route) { return route == Route::can || route == Route::hub_can; }
+bool uses_can(Route route) { return route == Route::can || route == Route::hub_can || route == Route::kernel_isotp; }
 
 std::string tcp_address(const ChildProcess& daemon) {
   std::istringstream lines(daemon.stdout_text());
@@ -56,6 +56,7 @@ const char* to_string(Route route) {
     case Route::tcp: return "tcp";
     case Route::hub_can: return "hub->can";
     case Route::hub_tcp: return "hub->tcp";
+    case Route::kernel_isotp: return "can:isotp";
   }
   return "?";
 }
@@ -72,12 +73,27 @@ ScanRun scan_corridor(const TempDir& dir, const std::string& name, Route route, 
     daemon_args.insert(daemon_args.end(), {"--no-can", "--tcp", "127.0.0.1:0"});
   }
   daemon_args.insert(daemon_args.end(), settings.clock_args.begin(), settings.clock_args.end());
-  auto daemon = ChildProcess::start(LDOEM_EMUD_PATH, daemon_args, dir.path(name + "-daemon"));
+  daemon_args.insert(daemon_args.end(), settings.extra_daemon_args.begin(), settings.extra_daemon_args.end());
+  std::string program = LDOEM_EMUD_PATH;
+  if (settings.replay_capture) {
+    // The same endpoints, a recorded device behind them.
+    program = LDOEM_REPLAY_PATH;
+    daemon_args = {*settings.replay_capture, "--lpt", "pty:" + lpt};
+    if (uses_can(route)) {
+      daemon_args.insert(daemon_args.end(), {"--can", "vcan0"});
+    } else {
+      daemon_args.insert(daemon_args.end(), {"--tcp", "127.0.0.1:0"});
+    }
+    daemon_args.insert(daemon_args.end(), settings.replay_args.begin(), settings.replay_args.end());
+  }
+  auto daemon = ChildProcess::start(program, daemon_args, dir.path(name + "-daemon"));
   if (!daemon || !daemon->wait_for_line("ready", false, kReadyLimit)) {
-    run.failure = "ldoem-emud not ready: " + (daemon ? daemon->stderr_text() : std::string("spawn failed"));
+    run.failure = program + " not ready: " + (daemon ? daemon->stderr_text() : std::string("spawn failed"));
     return run;
   }
-  const std::string scanner = uses_can(route) ? "can:vcan0" : "tcp:" + tcp_address(*daemon);
+  const std::string scanner = route == Route::kernel_isotp ? "can:isotp:vcan0"
+                              : uses_can(route)              ? "can:vcan0"
+                                                             : "tcp:" + tcp_address(*daemon);
 
   std::optional<ChildProcess> hub;
   std::vector<std::string> device_args;

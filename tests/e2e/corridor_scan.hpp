@@ -19,6 +19,7 @@ enum class Route {
   tcp,      // --device tcp:127.0.0.1:PORT
   hub_can,  // --hub: ldoem-hub with `scanner: can:vcan0`
   hub_tcp,  // --hub: ldoem-hub with `scanner: tcp:127.0.0.1:PORT`
+  kernel_isotp,  // --device can:isotp:vcan0: the kernel's CAN_ISOTP (the gpio UML kernel only)
 };
 const char* to_string(Route route);
 
@@ -37,6 +38,10 @@ struct ScanSettings {
   // The daemon's clock: --virtual-time (deterministic, fast) or --time-scale X.
   std::vector<std::string> clock_args{"--virtual-time"};
   std::vector<std::string> extra_scan_args;
+  std::vector<std::string> extra_daemon_args;  // e.g. --record FILE
+  // Serve the scan from ldoem-replay of this capture instead of ldoem-emud (docs/replay.md).
+  std::optional<std::string> replay_capture;
+  std::vector<std::string> replay_args{"--speed", "50"};
 };
 
 // Runs one whole scan in `dir` (files named after `name`); children are stopped before it returns.
