@@ -5,11 +5,13 @@
 #     motor_speed_hz 20 and angle_step_ticks 8), with --virtual-time and at --time-scale 1.
 # Prints one Markdown table (docs/latency.md holds the last one measured).
 #
-# Usage: scripts/bench-latency.sh [BUILD_DIR] [--requests N] [--seconds S] [--no-uml]
+# Usage: scripts/bench-latency.sh [BUILD_DIR] [--requests N] [--seconds S] [--no-uml] [--compare OLD_EMUD]
 #   BUILD_DIR   a build with ldoem-emud and ldoem-latency (default build/default)
 #   --requests  GET_STATUS round trips per transport (default 2000)
 #   --seconds   length of each profile stream (default 10)
 #   --no-uml    skip the vcan rows (no UML here)
+#   --compare   also measure OLD_EMUD (another build's ldoem-emud) in the same run, old and new
+#               taking turns per row, and print the new/old ratios under the table
 # Inside UML (LDOEM_IN_UML=1) the script measures only the vcan rows and prints them as
 # key=value lines; the host run calls itself through scripts/uml/run.sh for that.
 set -euo pipefail
@@ -19,20 +21,29 @@ build=$root/build/default
 requests=2000
 seconds=10
 uml=1
+old_emud=
 while [ $# -gt 0 ]; do
   case $1 in
     --requests) requests=$2; shift 2 ;;
     --seconds) seconds=$2; shift 2 ;;
     --no-uml) uml=0; shift ;;
+    --compare)
+      [ $# -ge 2 ] && [ -x "$2" ] || { echo "bench-latency.sh: --compare needs an ldoem-emud binary" >&2; exit 2; }
+      old_emud=$(cd "$(dirname "$2")" && pwd)/$(basename "$2"); shift 2 ;;
     -*) echo "bench-latency.sh: unknown option $1" >&2; exit 2 ;;
     *) build=$(cd "$1" && pwd); shift ;;
   esac
 done
-emud=$build/emulator/daemon/ldoem-emud
+new_emud=$build/emulator/daemon/ldoem-emud
 client=$build/tests/robustness/ldoem-latency
-for program in "$emud" "$client"; do
+for program in "$new_emud" "$client"; do
   [ -x "$program" ] || { echo "bench-latency.sh: $program missing (build tests/robustness)" >&2; exit 2; }
 done
+# The daemons measured: "new" (BUILD_DIR's), and "old" with --compare. Each row runs them in turn.
+variants=new
+[ -n "$old_emud" ] && variants="old new"
+emud_of() { if [ "$1" = old ]; then echo "$old_emud"; else echo "$new_emud"; fi; }
+emud=$new_emud
 
 work=$(mktemp -d /tmp/ldoem-latency.XXXXXX)
 daemon_pid=
@@ -82,8 +93,16 @@ measure() {
 }
 
 if [ "${LDOEM_IN_UML:-0}" = 1 ]; then
-  measure can-virtual "--can vcan0" --can vcan0 --virtual-time
-  measure can-scale1 "--can vcan0" --can vcan0 --time-scale 1
+  for mode in virtual scale1; do
+    for variant in $variants; do
+      emud=$(emud_of $variant)
+      if [ $mode = virtual ]; then
+        measure $variant-can-virtual "--can vcan0" --can vcan0 --virtual-time
+      else
+        measure $variant-can-scale1 "--can vcan0" --can vcan0 --time-scale 1
+      fi
+    done
+  done
   exit 0
 fi
 
@@ -92,31 +111,58 @@ results=$work/results.txt
 for mode in virtual scale1; do
   time_arguments=--virtual-time
   [ $mode = scale1 ] && time_arguments="--time-scale 1"
-  start_daemon --no-can --tcp 127.0.0.1:0 $time_arguments
-  "$client" --tcp "127.0.0.1:$tcp_port" --requests "$requests" | sed "s/^/label=tcp-$mode-requests /" >> "$results"
-  stop_daemon
-  start_daemon --no-can --tcp 127.0.0.1:0 $time_arguments
-  "$client" --tcp "127.0.0.1:$tcp_port" --profiles "$seconds" | sed "s/^/label=tcp-$mode-profiles /" >> "$results"
-  stop_daemon
+  for variant in $variants; do
+    emud=$(emud_of $variant)
+    start_daemon --no-can --tcp 127.0.0.1:0 $time_arguments
+    "$client" --tcp "127.0.0.1:$tcp_port" --requests "$requests" | sed "s/^/label=$variant-tcp-$mode-requests /" >> "$results"
+    stop_daemon
+    start_daemon --no-can --tcp 127.0.0.1:0 $time_arguments
+    "$client" --tcp "127.0.0.1:$tcp_port" --profiles "$seconds" | sed "s/^/label=$variant-tcp-$mode-profiles /" >> "$results"
+    stop_daemon
+  done
 done
 if [ $uml = 1 ]; then
-  "$root/scripts/uml/run.sh" --timeout 900 -- "$0" "$build" --requests "$requests" --seconds "$seconds" |
-    grep '^label=' >> "$results" || echo "bench-latency.sh: the vcan run in UML failed" >&2
+  compare_arguments=()
+  [ -n "$old_emud" ] && compare_arguments=(--compare "$old_emud")
+  "$root/scripts/uml/run.sh" --timeout 900 -- "$0" "$build" --requests "$requests" --seconds "$seconds" \
+    "${compare_arguments[@]}" | grep '^label=' >> "$results" || echo "bench-latency.sh: the vcan run in UML failed" >&2
 fi
 
 # key=value lines -> one table.
 field() { sed -n "s/.*[ ^]$1=\([^ ]*\).*/\1/p" <<< "$2"; }
-echo "| transport | time | GET_STATUS median (us) | GET_STATUS p99 (us) | profiles/s | bytes/s |"
-echo "|---|---|---|---|---|---|"
+ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (a == "" || b == "" || b == 0) print "-"; else printf "%.3f", a / b }'; }
+emud_column=
+[ -n "$old_emud" ] && emud_column=" ldoem-emud |"
+echo "| transport | time |$emud_column GET_STATUS median (us) | GET_STATUS p99 (us) | profiles/s | bytes/s |"
+echo "|---|---|$([ -n "$old_emud" ] && echo '---|')---|---|---|---|"
+ratios=
 for transport in tcp can; do
   for mode in virtual scale1; do
-    req=$(grep "^label=$transport-$mode-requests " "$results" || true)
-    pro=$(grep "^label=$transport-$mode-profiles " "$results" || true)
-    [ -z "$req$pro" ] && continue
     where=host; [ $transport = can ] && where="vcan0 in UML"
     time_text="--virtual-time"; [ $mode = scale1 ] && time_text="--time-scale 1"
-    echo "| $transport ($where) | $time_text | $(field median_us "$req") | $(field p99_us "$req") | $(field profiles_per_s "$pro") | $(field bytes_per_s "$pro") |"
+    for variant in $variants; do
+      req=$(grep "^label=$variant-$transport-$mode-requests " "$results" || true)
+      pro=$(grep "^label=$variant-$transport-$mode-profiles " "$results" || true)
+      [ -z "$req$pro" ] && continue
+      which=; [ -n "$old_emud" ] && which=" $variant |"
+      echo "| $transport ($where) | $time_text |$which $(field median_us "$req") | $(field p99_us "$req") | $(field profiles_per_s "$pro") | $(field bytes_per_s "$pro") |"
+    done
+    if [ -n "$old_emud" ]; then
+      old_req=$(grep "^label=old-$transport-$mode-requests " "$results" || true)
+      new_req=$(grep "^label=new-$transport-$mode-requests " "$results" || true)
+      old_pro=$(grep "^label=old-$transport-$mode-profiles " "$results" || true)
+      new_pro=$(grep "^label=new-$transport-$mode-profiles " "$results" || true)
+      [ -z "$old_req$new_req" ] && continue
+      ratios+="$transport $time_text: GET_STATUS median new/old $(ratio "$(field median_us "$new_req")" "$(field median_us "$old_req")"),"
+      ratios+=" p99 new/old $(ratio "$(field p99_us "$new_req")" "$(field p99_us "$old_req")"),"
+      ratios+=" profiles/s new/old $(ratio "$(field profiles_per_s "$new_pro")" "$(field profiles_per_s "$old_pro")")"$'\n'
+    fi
   done
 done
+if [ -n "$old_emud" ]; then
+  echo
+  echo "Ratios (new = $new_emud, old = $old_emud):"
+  printf '%s' "$ratios"
+fi
 echo
 echo "($requests GET_STATUS round trips; $seconds s of GET_PROFILE 0000 39ff at 20 Hz, 0.5 deg; $(nproc) CPUs, load $(cut -d' ' -f1 /proc/loadavg))"

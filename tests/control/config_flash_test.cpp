@@ -4,7 +4,6 @@
 
 #include "control_test_support.hpp"
 #include "ldoem/control/device_clock.hpp"
-#include "ldoem/control/scene_defaults.hpp"
 
 namespace ldoem::control::test {
 namespace {
@@ -219,14 +218,6 @@ TEST(SetConfig, OneTickStep_NeedsInterlaceFirstAndKeepsIt) {
   EXPECT_EQ(bench.reply_text(kTcp1, "SET_CONFIG 0010 0001 0005 0001"), "SET_CONFIG reply 0000");
   EXPECT_EQ(bench.reply_text(kTcp1, "SET_CONFIG 0011 0000"), "SET_CONFIG reply 0001");
   EXPECT_EQ(bench.reply_text(kTcp1, "GET_CONFIG 0011"), "GET_CONFIG reply 0011 0003");
-}
-
-TEST(SceneDefaults, FlashDefaultsOfTheSceneModel_MatchFactoryConfig) {
-  EXPECT_EQ(device_config_from(scene::FlashDefaults{}), factory_config());
-  const IdentificationTexts texts = identification_from(scene::Identification{});
-  EXPECT_EQ(texts, default_identification());
-  EXPECT_EQ(texts.at(0x0001), "LD-OEM1000");
-  EXPECT_EQ(texts.at(0x0011), "ldoem-emud");
 }
 
 TEST(DeviceClock, WrapsAt65536AndFollowsSimulatedTime) {

@@ -46,10 +46,12 @@ class AngleDerivedSource final : public MeasurementSource {
   struct Call {
     std::uint64_t revolution;
     std::vector<BeamQuery> beams;
+    SimTime revolution_start{};
   };
   std::vector<Call> calls;
-  void measure(std::uint64_t revolution, std::span<const BeamQuery> beams, std::span<BeamReturn> returns) override {
-    calls.push_back(Call{revolution, std::vector<BeamQuery>(beams.begin(), beams.end())});
+  void measure(const RevolutionQuery& query, std::span<const BeamQuery> beams, std::span<BeamReturn> returns) override {
+    const std::uint64_t revolution = query.number;
+    calls.push_back(Call{revolution, std::vector<BeamQuery>(beams.begin(), beams.end()), query.start});
     for (std::size_t i = 0; i < beams.size(); ++i) {
       returns[i] = BeamReturn{static_cast<std::uint16_t>(256 + beams[i].angle_ticks),
                               static_cast<std::uint16_t>(revolution & 0xFFFF)};
@@ -90,6 +92,9 @@ class Bench {
   SimTime now{};
   std::vector<Sent> log;
   std::vector<Bytes> flash_writes;
+  std::vector<TimerId> cancelled_timers;          // every Actions::cancelled_timers, in order
+  std::vector<std::uint16_t> head_targets;        // every Actions::head_target_hz, in order
+  std::vector<protocol::CanConfig> can_configs;   // every Actions::can_config, in order
 
   explicit Bench(ControlUnit::Setup setup = {}) : unit(std::move(setup), head, source) {}
 
@@ -99,6 +104,9 @@ class Bench {
   }
   std::vector<Sent> request(ConnectionId from, std::string_view text) { return request(from, telegram(text)); }
   std::vector<Sent> request(ConnectionId from, const protocol::Request& typed) { return request(from, encode(typed)); }
+
+  // The connection closes now.
+  std::vector<Sent> close(ConnectionId connection) { return apply(unit.on_connection_closed(now, connection)); }
 
   // The one reply a request must produce at once, as text ("" if none, failure if several).
   std::string reply_text(ConnectionId from, std::string_view text) {
@@ -160,7 +168,13 @@ class Bench {
   std::vector<Sent> apply(Actions actions) {
     std::vector<Sent> sent;
     for (OutgoingTelegram& telegram : actions.telegrams) sent.push_back(Sent{now, std::move(telegram)});
+    for (const TimerId cancelled : actions.cancelled_timers) {
+      std::erase_if(timers_, [cancelled](const auto& entry) { return entry.second == cancelled; });
+      cancelled_timers.push_back(cancelled);
+    }
     for (const TimerRequest& timer : actions.timers) timers_.emplace(std::make_pair(timer.at, timer.id.value), timer.id);
+    if (actions.head_target_hz) head_targets.push_back(*actions.head_target_hz);
+    if (actions.can_config) can_configs.push_back(*actions.can_config);
     if (actions.flash_image) flash_writes.push_back(*actions.flash_image);
     log.insert(log.end(), sent.begin(), sent.end());
     return sent;

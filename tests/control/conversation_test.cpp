@@ -190,7 +190,7 @@ std::vector<Sent> run_s1_conversation(Bench& bench) {
   step("TRANS_ROTATE 0000", "TRANS_ROTATE reply 0000 0002");
   step("TRANS_IDLE", "TRANS_IDLE reply 0000 0001");
   step("SET_SIGNAL 0000", "SET_SIGNAL reply 0000");
-  bench.unit.on_connection_closed(kTcp1);
+  bench.close(kTcp1);
   bench.advance_by(2s);
   EXPECT_EQ(bench.log.back().text(), "SET_SIGNAL reply 0000");  // nothing after the last reply
   return bench.log;

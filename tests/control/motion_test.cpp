@@ -81,7 +81,7 @@ TEST(TransRotate, ApdResetDuringSpinUp_ChangesNothing) {
 TEST(TransRotate, ConnectionClosedDuringSpinUp_HeadStillReachesSpeed) {
   Bench bench;
   bench.request(kTcp1, "TRANS_ROTATE 0000");
-  bench.unit.on_connection_closed(kTcp1);
+  bench.close(kTcp1);
   bench.advance_by(3s);
   EXPECT_TRUE(bench.log.empty());
   EXPECT_EQ(bench.reply_text(kTcp2, "GET_STATUS"), "GET_STATUS reply 0000 0002");

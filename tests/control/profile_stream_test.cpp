@@ -277,7 +277,7 @@ TEST(StreamEnd, ConnectionClosed_StopsOnlyItsStream) {
   bench.request(kTcp2, "GET_PROFILE 0000 39ff");
   bench.advance_by(SimTime(500ms));
   const std::size_t tcp1_before = bench.profiles_to(kTcp1).size();
-  bench.unit.on_connection_closed(kTcp1);
+  bench.close(kTcp1);
   bench.advance_by(SimTime(500ms));
   EXPECT_EQ(bench.profiles_to(kTcp1).size(), tcp1_before);
   EXPECT_EQ(bench.profiles_to(kTcp2).size(), 9u);

@@ -9,7 +9,7 @@
 #include "daemon_process.hpp"
 #include "host_link.hpp"
 #include "isotp_host.hpp"
-#include "ldoem/daemon/isotp_channel.hpp"
+#include "ldoem/endpoints/isotp_channel.hpp"
 #include "ldoem/io/can_interface.hpp"
 #include "ldoem/io/can_socket.hpp"
 #include "ldoem/io/event_loop.hpp"

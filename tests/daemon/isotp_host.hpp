@@ -6,11 +6,17 @@
 #include <optional>
 #include <vector>
 
-#include "ldoem/daemon/isotp_channel.hpp"
+#include "ldoem/endpoints/isotp_channel.hpp"
 #include "ldoem/io/can_socket.hpp"
 #include "ldoem/protocol/bytes.hpp"
 
 namespace ldoem::daemon::test {
+
+using endpoints::IsoTpChannel;
+using endpoints::IsoTpChannelConfig;
+using endpoints::IsoTpChannelOutput;
+using endpoints::CanIdPair;
+using protocol::SimTime;
 
 class IsoTpHost {
  public:

@@ -27,6 +27,20 @@ TEST(CorridorTcp, SameScanTwice_GivesByteIdenticalPly) {
   expect_same_bytes(first, second, "two TCP scans");
 }
 
+// The cloud main produced before the daemon's back ends became endpoints (issue 9), scanned the
+// same way: the refactoring must not move a single byte. sha256sum (coreutils) hashes the file.
+constexpr const char* kCorridorPlySha256 = "9a8aba61ab82d05c3e6c6ee3025f96274c68a919fca9efa59a896b26ade24fd3";
+
+TEST(CorridorTcp, Cloud_IsByteIdenticalToTheRecordedOne) {
+  TempDir dir;
+  const ScanRun run = scan_corridor(dir, "recorded", Route::tcp);
+  ASSERT_EQ(run.exit_status, 0) << run.failure;
+  auto hash = ChildProcess::start("/usr/bin/sha256sum", {run.ply_path}, dir.path("sha256sum"));
+  ASSERT_TRUE(hash.has_value());
+  ASSERT_EQ(hash->wait(std::chrono::seconds(60)), std::optional<int>(0)) << hash->stderr_text();
+  EXPECT_EQ(hash->stdout_text().substr(0, 64), kCorridorPlySha256);
+}
+
 TEST(CorridorTcp, ScanThroughHub_GivesTheSameBytesAsDirect) {
   TempDir dir;
   const ScanRun direct = scan_corridor(dir, "direct", Route::tcp);

@@ -7,6 +7,7 @@
 //   counts the profile telegrams that arrive in S wall seconds (D10: the daemon skips profiles
 //   the host is too slow for, so this is what the host gets, not what the LD measures).
 // Output: key=value lines, one per measurement. Exit 0, 1 on a transport failure, 2 on usage.
+#include <memory>
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -19,7 +20,7 @@
 
 #include <poll.h>
 
-#include "ldoem/daemon/isotp_channel.hpp"
+#include "ldoem/endpoints/isotp_channel.hpp"
 #include "ldoem/io/can_socket.hpp"
 #include "ldoem/io/tcp.hpp"
 #include "ldoem/protocol/tcp_framing.hpp"
@@ -88,7 +89,7 @@ class TcpLink final : public Link {
 class CanLink final : public Link {
  public:
   explicit CanLink(ldoem::io::CanRawSocket socket)
-      : socket_(std::move(socket)), channel_(ldoem::daemon::IsoTpChannelConfig{ldoem::daemon::CanIdPair{0x6C1, 0x6C0}}) {}
+      : socket_(std::move(socket)), channel_(ldoem::endpoints::IsoTpChannelConfig{ldoem::endpoints::CanIdPair{0x6C1, 0x6C0}}) {}
   bool send(const Bytes& payload) override { return transmit(channel_.send(elapsed(), payload).frames); }
   std::optional<Bytes> next(std::chrono::milliseconds limit) override {
     const auto deadline = Clock::now() + limit;
@@ -130,7 +131,7 @@ class CanLink final : public Link {
     return true;
   }
   ldoem::io::CanRawSocket socket_;
-  ldoem::daemon::IsoTpChannel channel_;
+  ldoem::endpoints::IsoTpChannel channel_;
   Clock::time_point start_ = Clock::now();
   std::vector<Bytes> pending_;
 };

@@ -1,6 +1,7 @@
 // Construction, dispatch of requests and timers, and the helpers every service uses.
 #include "ldoem/control/control_unit.hpp"
 
+#include <algorithm>
 #include <sstream>
 
 #include "ldoem/control/flash_image.hpp"
@@ -48,7 +49,40 @@ ControlUnit::ControlUnit(Setup setup, const HeadModel& head, MeasurementSource& 
     : setup_(std::move(setup)),
       head_(head),
       measurement_(measurement),
-      state_(power_up_state(setup_.power_up_time, setup_.flash)) {}
+      state_(power_up_state(setup_.power_up_time, setup_.flash)),
+      reported_can_config_(state_.ram.can) {}
+
+std::vector<TimerId> ControlUnit::live_timers() const {
+  std::vector<TimerId> live;
+  if (state_.spin_up) live.push_back(state_.spin_up->timer);
+  if (state_.revolution_timer) live.push_back(state_.revolution_timer->timer);
+  return live;
+}
+
+void ControlUnit::report_changes(Actions& out, const std::vector<TimerId>& live_before, std::optional<TimerId> fired) {
+  const std::vector<TimerId> live_after = live_timers();
+  const auto still_live = [&live_after](TimerId id) {
+    return std::find(live_after.begin(), live_after.end(), id) != live_after.end();
+  };
+  for (const TimerId id : live_before) {
+    if (id != fired && !still_live(id)) out.cancelled_timers.push_back(id);
+  }
+  // A timer armed and made stale within this one event is simply not asked for.
+  std::erase_if(out.timers, [&still_live](const TimerRequest& timer) { return !still_live(timer.id); });
+
+  const std::pair<std::uint16_t, SimTime> head_target =
+      state_.spin_up ? std::pair{state_.spin_up->to_hz, state_.spin_up->reached_at}
+                     : std::pair{state_.head.speed_hz, state_.head.epoch_start};
+  // A spin-up that completes keeps its key (to_hz, reached_at): completion is not a new target.
+  if (head_target != reported_head_target_) {
+    reported_head_target_ = head_target;
+    out.head_target_hz = head_target.first;
+  }
+  if (state_.ram.can != reported_can_config_) {
+    reported_can_config_ = state_.ram.can;
+    out.can_config = state_.ram.can;
+  }
+}
 
 Actions ControlUnit::handle_request(SimTime now, ConnectionId from, protocol::ByteView payload,
                                     const TransportQuery& /*transport: profiles only, see on_timer*/) {
@@ -67,12 +101,15 @@ Actions ControlUnit::handle_request(SimTime now, ConnectionId from, protocol::By
     reply(event, protocol::ServiceFailure{error.request_code, error.reason});
     return out;
   }
+  const std::vector<TimerId> live_before = live_timers();
   std::visit([this, &event](const auto& typed) { serve(event, typed); }, *request);
+  report_changes(out, live_before, std::nullopt);
   return out;
 }
 
 Actions ControlUnit::on_timer(SimTime now, TimerId timer, const TransportQuery& transport) {
   Actions out;
+  const std::vector<TimerId> live_before = live_timers();
   if (state_.spin_up && state_.spin_up->timer == timer) {
     complete_spin(now, out);
   } else if (state_.revolution_timer && state_.revolution_timer->timer == timer) {
@@ -81,6 +118,7 @@ Actions ControlUnit::on_timer(SimTime now, TimerId timer, const TransportQuery& 
     emit_profiles(now, revolution, transport, out);
   }
   // Any other id belongs to something a reset or a stop made obsolete: nothing to do.
+  report_changes(out, live_before, timer);
   return out;
 }
 
@@ -92,10 +130,14 @@ Actions ControlUnit::on_framing_error(SimTime now, ConnectionId from, const prot
   return out;
 }
 
-void ControlUnit::on_connection_closed(ConnectionId connection) {
+Actions ControlUnit::on_connection_closed(SimTime /*now: nothing here depends on it*/, ConnectionId connection) {
+  Actions out;
+  const std::vector<TimerId> live_before = live_timers();
   state_.streams.erase(connection);
   if (state_.streams.empty()) state_.revolution_timer.reset();
   if (state_.spin_up && state_.spin_up->reply_to == connection) state_.spin_up->reply_to.reset();
+  report_changes(out, live_before, std::nullopt);
+  return out;
 }
 
 protocol::StatusByte ControlUnit::status_byte() const {

@@ -136,7 +136,8 @@ void ControlUnit::emit_profiles(SimTime now, std::uint64_t revolution, const Tra
     }
     std::vector<BeamReturn> returns(beams.size());
     const std::uint64_t revolution_number = state_.head.revolutions_before_epoch + revolution + 1;  // D3
-    measurement_.measure(revolution_number, beams, returns);
+    measurement_.measure(RevolutionQuery{revolution_number, revolution_time(epoch, speed_hz, revolution, 0)}, beams,
+                         returns);
 
     protocol::Profile profile;
     profile.profile_count = static_cast<std::uint16_t>(revolution_number);

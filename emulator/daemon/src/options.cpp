@@ -206,16 +206,6 @@ std::optional<UsageError> check_combination(Options& options, const Seen& seen) 
 
 }  // namespace
 
-std::string_view to_string(LogLevel level) {
-  switch (level) {
-    case LogLevel::error: return "error";
-    case LogLevel::warn: return "warn";
-    case LogLevel::info: return "info";
-    case LogLevel::debug: return "debug";
-  }
-  return "?";
-}
-
 Expected<CanIdPair, UsageError> parse_can_id_pair(std::string_view text) {
   const auto colon = text.find(':');
   if (colon == std::string_view::npos) {

@@ -48,14 +48,14 @@ IoResult<std::unique_ptr<EventLoop>> EventLoop::create() {
 
 EventLoop::~EventLoop() = default;
 
-IoStatus EventLoop::watch(int fd, Interest interest, FdCallback callback) {
+IoStatus EventLoop::watch(int fd, Interest interest, FdCallback callback, RoundOrder order) {
   epoll_event event{};
   event.events = epoll_events_for(interest);
   event.data.fd = fd;
   if (::epoll_ctl(epoll_fd_.get(), EPOLL_CTL_ADD, fd, &event) != 0) {
     return io_failure(last_system_error("epoll_ctl add", fd_name(fd)));
   }
-  watches_[fd] = Watch{next_generation_++, std::make_shared<FdCallback>(std::move(callback))};
+  watches_[fd] = Watch{next_generation_++, std::make_shared<FdCallback>(std::move(callback)), order};
   return Done{};
 }
 
@@ -182,6 +182,8 @@ IoStatus EventLoop::dispatch_ready(int timeout_ms) {
       ready.push_back(ReadyWatch{event.data.fd, found->second, event.events});
     }
   }
+  std::stable_partition(ready.begin(), ready.end(),
+                        [](const ReadyWatch& entry) { return entry.watch_entry.order == kFirstInRound; });
   for (const ReadyWatch& entry : ready) {
     const auto found = watches_.find(entry.fd);
     if (found != watches_.end() && found->second.generation == entry.watch_entry.generation) {

@@ -12,16 +12,19 @@
 //   on a telegram:   run(unit.handle_request(now, connection, payload, transport));
 //   on a dropped frame: run(unit.on_framing_error(now, connection, framing_error));
 //   at a timer:      run(unit.on_timer(now, id, transport));
-//   on close:        unit.on_connection_closed(connection);
-// where run() sends the telegrams in order (each in one piece, D10), arms the timers
-// (on_timer(at, id) when simulated time reaches `at`; stale ids are ignored, nothing needs
-// cancelling) and saves flash_image through the FlashStore when present.
+//   on close:        run(unit.on_connection_closed(now, connection));
+// where run() sends the telegrams in order (each in one piece, D10), drops the cancelled
+// timers, arms the new ones (on_timer(at, id) when simulated time reaches `at`), saves
+// flash_image through the FlashStore when present, and passes a new head target or CAN
+// configuration on (ports.hpp Actions).
 #pragma once
 
 #include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "ldoem/control/device_clock.hpp"
 #include "ldoem/control/device_config.hpp"
@@ -126,8 +129,8 @@ class ControlUnit {
   Actions on_framing_error(SimTime now, ConnectionId from, const protocol::FramingError& error);
 
   // Stops the connection's stream; a held TRANS_ROTATE reply for it is dropped (the head still
-  // spins up).
-  void on_connection_closed(ConnectionId connection);
+  // spins up). The Actions name the revolution timer that no stream needs any more.
+  Actions on_connection_closed(SimTime now, ConnectionId connection);
 
   const DeviceState& state() const { return state_; }
   const Diagnostics& diagnostics() const { return diagnostics_; }
@@ -186,12 +189,23 @@ class ControlUnit {
   void emit_profiles(SimTime now, std::uint64_t revolution, const TransportQuery& transport, Actions& out);
   std::size_t profile_payload_bytes(std::uint16_t format) const;
 
+  // The timers this unit still wants (spin-up, next revolution).
+  std::vector<TimerId> live_timers() const;
+  // Ends every event: names the timers that became stale and a changed head target or CAN
+  // configuration, so that the daemon never has to compare states. `fired` is the timer this
+  // event is (already off the daemon's queue).
+  void report_changes(Actions& out, const std::vector<TimerId>& live_before, std::optional<TimerId> fired);
+
   Setup setup_;
   const HeadModel& head_;
   MeasurementSource& measurement_;
   DeviceState state_;
   Diagnostics diagnostics_;
   std::uint64_t next_timer_id_ = 1;  // not device state: ids must never repeat, even across resets
+  // What the daemon was last told (not device state): the head target as (speed, spin-up reach
+  // time or epoch start), and the RAM CAN configuration.
+  std::pair<std::uint16_t, SimTime> reported_head_target_{0, SimTime::zero()};
+  protocol::CanConfig reported_can_config_;
 };
 
 }  // namespace ldoem::control

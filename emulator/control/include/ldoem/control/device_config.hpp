@@ -44,7 +44,7 @@ struct DeviceConfig {
 };
 
 // D4: what the flash holds at first power-up when no scene overrides it (the scene's
-// FlashDefaults carry the same values; scene_defaults.hpp converts them).
+// FlashDefaults carry the same values; plant/scene_device_defaults.hpp converts them).
 DeviceConfig factory_config();
 
 // Why a configuration value is refused (SET_CONFIG answers 0x0001 for all of them, D2; the

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "ldoem/protocol/bytes.hpp"
+#include "ldoem/protocol/config.hpp"
 #include "ldoem/protocol/sim_time.hpp"
 
 namespace ldoem::control {
@@ -33,8 +34,9 @@ struct ConnectionId {
 std::string to_string(ConnectionId connection);
 
 // Names a timer the control unit asked for. The daemon calls on_timer(at, id) once simulated
-// time reaches `at`; ids never repeat, and a timer the control unit no longer wants is simply
-// ignored when it fires, so the daemon never has to cancel one.
+// time reaches `at`; ids never repeat. A timer the control unit no longer wants is named in
+// Actions::cancelled_timers: with a virtual clock (D7) a stale deadline left queued would move
+// simulated time for nothing. (One that fires anyway is ignored.)
 struct TimerId {
   std::uint64_t value = 0;
   auto operator<=>(const TimerId&) const = default;
@@ -60,12 +62,21 @@ struct TimerRequest {
   bool operator==(const TimerRequest&) const = default;
 };
 
-// Everything one event makes the daemon do, in order: send `telegrams` in vector order, arm
-// `timers`, and if `flash_image` is set, store it (FlashStore::save).
+// Everything one event makes the daemon do, in order: send `telegrams` in vector order, drop
+// `cancelled_timers`, arm `timers`, and if `flash_image` is set, store it (FlashStore::save).
+// The daemon is told what changed; it never compares the unit's state after an event:
+// - head_target_hz: the head's target speed changed at this event's time (a spin-up began, or
+//   the head stopped); the D9 head_dynamics model follows it.
+// - can_config: the CAN configuration in RAM changed (SET_CONFIG key 2, a reset to flash, D1);
+//   the CAN endpoint moves the first pair and its BS/STmin. The reply that confirmed it is
+//   already in `telegrams` and leaves on the old identifiers.
 struct Actions {
   std::vector<OutgoingTelegram> telegrams;
+  std::vector<TimerId> cancelled_timers;
   std::vector<TimerRequest> timers;
   std::optional<protocol::Bytes> flash_image;
+  std::optional<std::uint16_t> head_target_hz;
+  std::optional<protocol::CanConfig> can_config;
   bool operator==(const Actions&) const = default;
 };
 
@@ -93,14 +104,19 @@ struct BeamReturn {
   bool operator==(const BeamReturn&) const = default;
 };
 
+// One revolution the control unit wants measured: PROFILECOUNT's count (revolutions since
+// power-up, from 1, D3) without the 16-bit wrap, and when the revolution began (angle 0).
+struct RevolutionQuery {
+  std::uint64_t number = 0;
+  SimTime start{};
+};
+
 // The sensor model as the control unit sees it: ranges for the given beams of one revolution.
-// `revolution` is PROFILECOUNT's count (revolutions since power-up, from 1, D3) without the
-// 16-bit wrap. Called once per revolution whatever number of streams run; returns.size() ==
-// beams.size().
+// Called once per revolution whatever number of streams run; returns.size() == beams.size().
 class MeasurementSource {
  public:
   virtual ~MeasurementSource() = default;
-  virtual void measure(std::uint64_t revolution, std::span<const BeamQuery> beams,
+  virtual void measure(const RevolutionQuery& revolution, std::span<const BeamQuery> beams,
                        std::span<BeamReturn> returns) = 0;
 };
 
@@ -110,12 +126,6 @@ class TransportQuery {
  public:
   virtual ~TransportQuery() = default;
   virtual bool busy(ConnectionId connection) const = 0;
-};
-
-// A TransportQuery that is never busy: for callers that have no back-pressure to report.
-class NeverBusy final : public TransportQuery {
- public:
-  bool busy(ConnectionId) const override { return false; }
 };
 
 }  // namespace ldoem::control

@@ -1,62 +1,61 @@
-// ldoem-emud's wiring (DESIGN.md data flow): one epoll loop, the transport endpoints (CAN with
-// ISO-TP, TCP, serial pty), the LPT endpoint (pty or gpio) feeding the tilt motor, the scene's
-// models behind the control unit, and the simulated clock (D7) that turns the control unit's
-// timers into wall deadlines. Everything that decides something lives in the tested pieces
-// (options, sim_clock, isotp_channel, tilt_track, scene_adapters, output_queue); this class
-// only moves bytes, frames and time between them.
+// ldoem-emud's loop (DESIGN.md data flow): one epoll loop, the simulated clock (D7) that turns
+// deadlines into wall time or jumps over idle time, and the device instances it drives: each is
+// a control unit with its plant and its endpoints (device_instance.hpp). Which endpoints open
+// comes from the options through the endpoint registry (endpoint_registry.hpp). Everything that
+// decides something lives in the tested pieces; this class only moves time.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "ldoem/daemon/options.hpp"
+#include "ldoem/endpoints/counters.hpp"
+#include "ldoem/endpoints/host_endpoint.hpp"
 #include "ldoem/protocol/expected.hpp"
 #include "ldoem/scene/scene.hpp"
 
 namespace ldoem::daemon {
+
+class DeviceInstance;
 
 struct StartFailure {
   int exit_code = kExitUsageError;
   std::string message;  // one line: "can: interface vcan0 does not exist"
 };
 
-// Counters of the daemon's diagnostics (SIGUSR1, and at exit with --log-level info).
-struct DaemonCounters {
-  std::uint64_t telegrams_received = 0;
-  std::uint64_t framing_errors = 0;        // TCP/serial frames dropped by the deframers (D2 reason 5)
-  std::uint64_t isotp_receive_errors = 0;  // D1: partial telegrams dropped, stray frames
-  std::uint64_t isotp_send_failures = 0;   // D1: N_Bs timeout or host overflow
-  std::uint64_t isotp_queue_overflows = 0;
-  std::uint64_t can_frames_backlogged = 0; // the interface's queue was full
-  std::uint64_t skipped_profiles = 0;      // D10
-  std::uint64_t profiles_sent = 0;
-  std::uint64_t tcp_connections = 0;
-  std::uint64_t tcp_dropped_slow = 0;      // output queue over its bound
-  std::uint64_t serial_overflows = 0;      // serial output discarded: nobody reads the pty
-  std::uint64_t lpt_steps = 0;
-};
-
-std::string format_counters(const DaemonCounters& counters);
+using DaemonCounters = endpoints::Counters;
+using endpoints::format_counters;
 
 class Daemon {
  public:
-  // Builds the scene's models, loads the flash, opens every endpoint and prints one line per
-  // endpoint on `out`, then "ready". `log` gets the diagnostics.
-  static protocol::Expected<std::unique_ptr<Daemon>, StartFailure> create(Options options, scene::Scene scene,
-                                                                          std::ostream& out, std::ostream& log);
+  // Builds the scene's models, loads the flash, opens every endpoint the options name plus
+  // `extra_endpoints` (tests: endpoints::MemoryEndpoint), prints one line per endpoint on `out`,
+  // then "ready". `log` gets the diagnostics.
+  static protocol::Expected<std::unique_ptr<Daemon>, StartFailure> create(
+      Options options, scene::Scene scene, std::ostream& out, std::ostream& log,
+      std::vector<std::unique_ptr<endpoints::HostEndpoint>> extra_endpoints = {});
   ~Daemon();
   Daemon(const Daemon&) = delete;
   Daemon& operator=(const Daemon&) = delete;
 
   // Runs until SIGINT/SIGTERM (128 + signal), --count-profiles or --timeout (0), or a fatal
-  // loop error (1). Saves the flash before returning.
+  // loop error (1). Then flushes the endpoints and saves the flash.
   int run();
+  // Runs loop rounds until `done()` holds, the loop stops, or `wall_limit` has passed on the wall
+  // clock; returns done(). For tests that drive a MemoryEndpoint between rounds.
+  bool run_until(const std::function<bool()>& done, std::chrono::milliseconds wall_limit);
 
   DaemonCounters counters() const;
   std::optional<std::uint16_t> tcp_port() const;
+  DeviceInstance& device();
+  // Simulated time now (D7).
+  protocol::SimTime now() const;
 
   struct Impl;
 

@@ -10,6 +10,8 @@
 #include <string_view>
 #include <vector>
 
+#include "ldoem/endpoints/can_id_pair.hpp"
+#include "ldoem/endpoints/logger.hpp"
 #include "ldoem/protocol/expected.hpp"
 
 namespace ldoem::daemon {
@@ -24,16 +26,8 @@ inline constexpr std::string_view kDefaultCanInterface = "vcan0";
 inline constexpr std::uint16_t kDefaultTcpPort = 49152;  // spec 4.1
 inline constexpr std::string_view kFlashFileSuffix = ".flash";  // D4: <scene>.flash
 
-enum class LogLevel : std::uint8_t { error, warn, info, debug };
-
-std::string_view to_string(LogLevel level);
-
-// One host's CAN identifier pair (D1). Each pair is its own ConnectionId.
-struct CanIdPair {
-  std::uint16_t request_id = 0x6C0;   // host -> LD
-  std::uint16_t response_id = 0x6C1;  // LD -> host
-  bool operator==(const CanIdPair&) const = default;
-};
+using endpoints::CanIdPair;
+using endpoints::LogLevel;
 
 struct TcpOption {
   std::string address;

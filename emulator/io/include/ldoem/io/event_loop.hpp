@@ -30,6 +30,13 @@ constexpr bool has(Interest set, Interest flag) {
   return (static_cast<std::uint32_t>(set) & static_cast<std::uint32_t>(flag)) != 0;
 }
 
+// Order of the callbacks of descriptors that are ready in the same round: kFirstInRound before
+// kInRoundOrder. For an input that must count before any telegram read in the same round (D8:
+// the tilt stepper's register writes, which a host makes before asking for the next profile).
+enum class RoundOrder : std::uint8_t { first, normal };
+inline constexpr RoundOrder kFirstInRound = RoundOrder::first;
+inline constexpr RoundOrder kInRoundOrder = RoundOrder::normal;
+
 // What the kernel reported for a descriptor in one round.
 struct Readiness {
   bool readable = false;
@@ -53,7 +60,7 @@ class EventLoop {
 
   // Level-triggered: the callback runs each round while the condition holds. A callback may
   // watch, unwatch (itself too), add or cancel timers, and stop the loop.
-  IoStatus watch(int fd, Interest interest, FdCallback callback);
+  IoStatus watch(int fd, Interest interest, FdCallback callback, RoundOrder order = kInRoundOrder);
   IoStatus change_interest(int fd, Interest interest);
   void unwatch(int fd);  // no-op for a descriptor that is not watched
   bool is_watched(int fd) const;
@@ -91,6 +98,7 @@ class EventLoop {
   struct Watch {
     std::uint64_t generation;
     std::shared_ptr<FdCallback> callback;
+    RoundOrder order = kInRoundOrder;
   };
   IoStatus dispatch_ready(int timeout_ms);
   void fire_due_timers();

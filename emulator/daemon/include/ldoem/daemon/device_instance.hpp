@@ -1,0 +1,100 @@
+// One emulated LD-OEM in the daemon: its control unit, its plant (emulator/plant) and the
+// endpoints hosts reach it through. Several instances can share one scene world (several
+// scanners in one daemon): each has its own plant, flash and endpoints, and all use the daemon's
+// loop and clock.
+//
+// The instance is the endpoints' sink and the control unit's TransportQuery. It performs what the
+// control unit returns (Actions) and nothing else: telegrams to the endpoints (through the
+// WireTap when one is set), timers to the scheduler (stale ones cancelled), flash images to the
+// store, a new head target to the plant, a new CAN configuration to the endpoints. Input that
+// arrives while Actions are being performed (a connection that a send dropped) waits until they
+// are done: no call re-enters the control unit from its own output.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <ostream>
+#include <string_view>
+#include <vector>
+
+#include "ldoem/control/control_unit.hpp"
+#include "ldoem/control/flash_image.hpp"
+#include "ldoem/endpoints/host_endpoint.hpp"
+#include "ldoem/endpoints/wire_tap.hpp"
+#include "ldoem/plant/scene_plant.hpp"
+
+namespace ldoem::daemon {
+
+using endpoints::Counters;
+using endpoints::HostEndpoint;
+
+class DeviceInstance final : public endpoints::EndpointSink, public endpoints::LptSink, private control::TransportQuery {
+ public:
+  // Builds the plant on `world` and the control unit powered up with `flash_config` (what
+  // `flash` holds, or the scene's defaults, D4). `scene`, `world`, `scheduler` and `logger` must
+  // outlive the instance.
+  DeviceInstance(const scene::Scene& scene, plant::SceneWorld& world, std::unique_ptr<control::FlashStore> flash,
+                 const control::DeviceConfig& flash_config, endpoints::Scheduler& scheduler,
+                 const endpoints::Logger& logger);
+  ~DeviceInstance() override;
+
+  // The CAN configuration in RAM at power-up, for the CAN endpoint's first pair (D1).
+  const protocol::CanConfig& can_config() const { return unit_->state().ram.can; }
+
+  // Before open_endpoints(): at most one endpoint per transport kind.
+  void add_endpoint(std::unique_ptr<HostEndpoint> endpoint);
+  [[nodiscard]] std::optional<endpoints::OpenFailure> open_endpoints(io::EventLoop& loop, std::ostream& out,
+                                                                     std::uint64_t& activity);
+  // The first endpoint called `name` ("tcp", "can", "memory", ...), or null.
+  HostEndpoint* endpoint(std::string_view name) const;
+
+  // Every telegram in and out passes `tap` (null: none). The tap must outlive the instance.
+  void set_wire_tap(endpoints::WireTap* tap) { tap_ = tap; }
+  // For a tap that delays or resets: these do not pass the tap again.
+  void deliver_from_host(control::ConnectionId from, protocol::Bytes payload);
+  void send_to_host(control::ConnectionId to, protocol::ByteView payload, bool is_profile);
+  void disconnect(control::ConnectionId connection);
+
+  bool waiting_for_host() const;
+  // Flushes the endpoints and saves the flash (at exit).
+  void close();
+  Counters counters() const;
+  const control::ControlUnit& unit() const { return *unit_; }
+
+  // --- EndpointSink ---
+  void on_telegram(control::ConnectionId from, protocol::Bytes payload) override;
+  void on_framing_error(control::ConnectionId from, const protocol::FramingError& error) override;
+  void on_connection_closed(control::ConnectionId connection) override;
+  // --- LptSink ---
+  void on_register_write(protocol::SimTime at, std::uint8_t register_value) override;
+  void set_initial_register(std::uint8_t register_value) override { plant_.set_initial_register(register_value); }
+  void on_line_change(protocol::SimTime at, std::uint8_t bit, bool level) override;
+  std::uint64_t steps_seen() const override;
+
+ private:
+  bool busy(control::ConnectionId connection) const override;  // D10, asked by the control unit
+  // Runs `input` now, or after the Actions being performed when called from inside them.
+  void accept_input(std::function<void()> input);
+  void perform(protocol::SimTime at, const control::Actions& actions);
+  void save_flash(protocol::ByteView image);
+
+  endpoints::Scheduler& scheduler_;
+  const endpoints::Logger& logger_;
+  plant::ScenePlant plant_;
+  std::unique_ptr<control::FlashStore> flash_;
+  std::unique_ptr<control::ControlUnit> unit_;
+  std::vector<std::unique_ptr<HostEndpoint>> endpoints_;
+  std::map<control::TransportKind, HostEndpoint*> route_;
+  std::map<std::uint64_t, endpoints::Scheduler::Key> timer_keys_;  // the control unit's queued timers
+  std::optional<endpoints::EndpointContext> context_;
+  endpoints::WireTap* tap_ = nullptr;
+  int performing_ = 0;
+  std::deque<std::function<void()>> deferred_input_;
+  Counters counters_;
+};
+
+}  // namespace ldoem::daemon

@@ -1,0 +1,199 @@
+#include "ldoem/daemon/device_instance.hpp"
+
+#include "ldoem/daemon/file_flash_store.hpp"
+#include "ldoem/plant/scene_device_defaults.hpp"
+#include "ldoem/protocol/text.hpp"
+
+namespace ldoem::daemon {
+
+using control::ConnectionId;
+using endpoints::LogLevel;
+using protocol::SimTime;
+
+DeviceInstance::DeviceInstance(const scene::Scene& scene, plant::SceneWorld& world,
+                               std::unique_ptr<control::FlashStore> flash, const control::DeviceConfig& flash_config,
+                               endpoints::Scheduler& scheduler, const endpoints::Logger& logger)
+    : scheduler_(scheduler), logger_(logger), plant_(scene, world), flash_(std::move(flash)) {
+  control::ControlUnit::Setup setup;
+  setup.flash = flash_config;
+  setup.identification = plant::identification_from(scene.scanner.identification);
+  setup.power_up_time = SimTime::zero();
+  unit_ = std::make_unique<control::ControlUnit>(std::move(setup), plant_.head_model(), plant_.measurement());
+}
+
+DeviceInstance::~DeviceInstance() = default;
+
+void DeviceInstance::add_endpoint(std::unique_ptr<HostEndpoint> endpoint) { endpoints_.push_back(std::move(endpoint)); }
+
+std::optional<endpoints::OpenFailure> DeviceInstance::open_endpoints(io::EventLoop& loop, std::ostream& out,
+                                                                     std::uint64_t& activity) {
+  context_.emplace(endpoints::EndpointContext{loop, scheduler_, *this, *this, logger_, out, counters_, activity});
+  for (const auto& endpoint : endpoints_) {
+    if (const auto kind = endpoint->transport()) {
+      if (route_.contains(*kind)) {
+        return endpoints::OpenFailure{true, std::string(endpoint->name()) + ": a second endpoint for " +
+                                                control::to_string(ConnectionId{*kind, 0}) + " connections"};
+      }
+      route_[*kind] = endpoint.get();
+    }
+    if (auto failure = endpoint->open(*context_)) return failure;
+  }
+  return std::nullopt;
+}
+
+HostEndpoint* DeviceInstance::endpoint(std::string_view name) const {
+  for (const auto& endpoint : endpoints_) {
+    if (endpoint->name() == name) return endpoint.get();
+  }
+  return nullptr;
+}
+
+bool DeviceInstance::busy(ConnectionId connection) const {
+  const auto route = route_.find(connection.kind);
+  return route != route_.end() && route->second->busy(connection);
+}
+
+bool DeviceInstance::waiting_for_host() const {
+  for (const auto& endpoint : endpoints_) {
+    if (endpoint->waiting_for_host()) return true;
+  }
+  return false;
+}
+
+void DeviceInstance::accept_input(std::function<void()> input) {
+  if (performing_ > 0) {
+    deferred_input_.push_back(std::move(input));
+    return;
+  }
+  input();
+}
+
+// ------------------------------------------------------------------------------------- input
+
+void DeviceInstance::on_telegram(ConnectionId from, protocol::Bytes payload) {
+  accept_input([this, from, payload = std::move(payload)]() mutable {
+    if (tap_ != nullptr) {
+      endpoints::WireTelegram telegram{endpoints::WireDirection::from_host, from, scheduler_.now(), std::move(payload)};
+      if (tap_->on_telegram(telegram) == endpoints::WireVerdict::drop) return;
+      payload = std::move(telegram.payload);
+    }
+    deliver_from_host(from, std::move(payload));
+  });
+}
+
+void DeviceInstance::deliver_from_host(ConnectionId from, protocol::Bytes payload) {
+  // D8: register writes a host made before this telegram count first (host_endpoint.hpp).
+  for (const auto& endpoint : endpoints_) endpoint->take_pending_input();
+  ++counters_.telegrams_received;
+  logger_.log(LogLevel::info, control::to_string(from) + " -> " + protocol::format_telegram(payload));
+  const SimTime at = scheduler_.now();
+  perform(at, unit_->handle_request(at, from, payload, *this));
+}
+
+void DeviceInstance::on_framing_error(ConnectionId from, const protocol::FramingError& error) {
+  accept_input([this, from, error] {
+    ++counters_.framing_errors;
+    logger_.log(LogLevel::info, control::to_string(from) + " -> framing error: " +
+                                    std::string(protocol::describe(error.detail)));
+    const SimTime at = scheduler_.now();
+    perform(at, unit_->on_framing_error(at, from, error));
+  });
+}
+
+void DeviceInstance::on_connection_closed(ConnectionId connection) {
+  accept_input([this, connection] {
+    const SimTime at = scheduler_.now();
+    perform(at, unit_->on_connection_closed(at, connection));
+  });
+}
+
+void DeviceInstance::disconnect(ConnectionId connection) {
+  const auto route = route_.find(connection.kind);
+  if (route != route_.end()) route->second->disconnect(connection);
+}
+
+void DeviceInstance::on_register_write(SimTime at, std::uint8_t register_value) {
+  plant_.drive_board().on_register_write(at, register_value);
+}
+
+void DeviceInstance::on_line_change(SimTime at, std::uint8_t bit, bool level) {
+  plant_.drive_board().on_line_change(at, bit, level);
+}
+
+std::uint64_t DeviceInstance::steps_seen() const { return plant_.drive_board().steps_seen(); }
+
+// ------------------------------------------------------------------------------------ output
+
+void DeviceInstance::perform(SimTime at, const control::Actions& actions) {
+  ++performing_;
+  for (const control::OutgoingTelegram& telegram : actions.telegrams) {
+    const bool is_profile = telegram.kind == control::TelegramKind::profile;
+    if (tap_ == nullptr) {
+      send_to_host(telegram.to, telegram.payload, is_profile);
+      continue;
+    }
+    endpoints::WireTelegram tapped{endpoints::WireDirection::to_host, telegram.to, at, telegram.payload, is_profile};
+    if (tap_->on_telegram(tapped) == endpoints::WireVerdict::pass) {
+      send_to_host(telegram.to, tapped.payload, is_profile);
+    }
+  }
+  for (const control::TimerId cancelled : actions.cancelled_timers) {
+    if (const auto queued = timer_keys_.find(cancelled.value); queued != timer_keys_.end()) {
+      scheduler_.cancel(queued->second);
+      timer_keys_.erase(queued);
+    }
+  }
+  for (const control::TimerRequest& timer : actions.timers) {
+    timer_keys_[timer.id.value] = scheduler_.add(timer.at, [this, id = timer.id](SimTime now) {
+      timer_keys_.erase(id.value);
+      perform(now, unit_->on_timer(now, id, *this));
+    });
+  }
+  if (actions.flash_image) {
+    save_flash(*actions.flash_image);
+  }
+  if (actions.head_target_hz) {
+    plant_.follow_head_target(at, *actions.head_target_hz);  // D9 head_dynamics
+  }
+  if (actions.can_config) {
+    for (const auto& endpoint : endpoints_) endpoint->apply_can_config(*actions.can_config);
+  }
+  if (--performing_ == 0) {
+    while (!deferred_input_.empty()) {
+      auto input = std::move(deferred_input_.front());
+      deferred_input_.pop_front();
+      input();
+    }
+  }
+}
+
+void DeviceInstance::send_to_host(ConnectionId to, protocol::ByteView payload, bool is_profile) {
+  logger_.log(is_profile ? LogLevel::debug : LogLevel::info,
+              control::to_string(to) + " <- " + protocol::format_telegram(payload));
+  const auto route = route_.find(to.kind);
+  if (route != route_.end()) route->second->send(to, payload);
+}
+
+void DeviceInstance::save_flash(protocol::ByteView image) {
+  flash_->save(image);
+  if (auto* file = dynamic_cast<FileFlashStore*>(flash_.get()); file && !file->last_error().empty()) {
+    logger_.log(LogLevel::error, file->last_error());
+  }
+}
+
+void DeviceInstance::close() {
+  for (const auto& endpoint : endpoints_) endpoint->close();
+  if (dynamic_cast<FileFlashStore*>(flash_.get()) != nullptr) {
+    save_flash(control::serialise_flash_image(unit_->state().flash));
+  }
+}
+
+Counters DeviceInstance::counters() const {
+  Counters counters = counters_;
+  counters.skipped_profiles = unit_->diagnostics().skipped_profiles;
+  counters.profiles_sent = unit_->diagnostics().profiles_sent;
+  for (const auto& endpoint : endpoints_) endpoint->add_counters(counters);
+  return counters;
+}
+
+}  // namespace ldoem::daemon

@@ -1,0 +1,28 @@
+// One-line diagnostics on a stream (stderr in the daemon), filtered by --log-level.
+// Telegrams are logged in the protocol's text form (protocol/text.hpp).
+#pragma once
+
+#include <cstdint>
+#include <ostream>
+#include <string_view>
+
+namespace ldoem::endpoints {
+
+enum class LogLevel : std::uint8_t { error, warn, info, debug };
+
+std::string_view to_string(LogLevel level);
+
+class Logger {
+ public:
+  Logger(std::ostream& out, LogLevel level) : out_(out), level_(level) {}
+
+  bool enabled(LogLevel level) const { return level <= level_; }
+  // "ldoem-emud: info: tcp#1 -> GET_STATUS"
+  void log(LogLevel level, std::string_view text) const;
+
+ private:
+  std::ostream& out_;
+  LogLevel level_;
+};
+
+}  // namespace ldoem::endpoints

@@ -1,0 +1,37 @@
+// The LD's RS-232/RS-422 port (spec 4.2) as a pseudo-terminal: one connection, serial#1. Bytes
+// nobody reads are lost, as on a real line.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+
+#include "ldoem/endpoints/host_endpoint.hpp"
+#include "ldoem/endpoints/output_queue.hpp"
+#include "ldoem/io/pseudo_terminal.hpp"
+#include "ldoem/protocol/serial_framing.hpp"
+
+namespace ldoem::endpoints {
+
+class SerialEndpoint final : public HostEndpoint {
+ public:
+  explicit SerialEndpoint(std::filesystem::path link_path) : link_path_(std::move(link_path)) {}
+
+  std::string_view name() const override { return "serial"; }
+  std::optional<TransportKind> transport() const override { return TransportKind::serial; }
+  std::optional<OpenFailure> open(EndpointContext& context) override;
+  bool busy(ConnectionId) const override { return !output_.empty(); }
+  void send(ConnectionId to, protocol::ByteView payload) override;
+  void close() override { flush(); }
+
+ private:
+  void on_ready(io::Readiness readiness);
+  void flush();
+
+  std::filesystem::path link_path_;
+  EndpointContext* context_ = nullptr;
+  std::optional<io::PseudoTerminal> pty_;
+  protocol::SerialDeframer deframer_;
+  OutputQueue output_;
+};
+
+}  // namespace ldoem::endpoints

@@ -1,0 +1,53 @@
+// The LD's Ethernet port (spec 4.1): a TCP listener; every accepted session is its own
+// connection (tcp#1, tcp#2, ...) with its deframer and a bounded output queue. A host that stops
+// reading is dropped once its queue is full.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "ldoem/endpoints/host_endpoint.hpp"
+#include "ldoem/endpoints/output_queue.hpp"
+#include "ldoem/io/tcp.hpp"
+#include "ldoem/protocol/tcp_framing.hpp"
+
+namespace ldoem::endpoints {
+
+class TcpEndpoint final : public HostEndpoint {
+ public:
+  TcpEndpoint(std::string address, std::uint16_t port) : address_(std::move(address)), port_(port) {}
+
+  std::string_view name() const override { return "tcp"; }
+  std::optional<TransportKind> transport() const override { return TransportKind::tcp; }
+  std::optional<OpenFailure> open(EndpointContext& context) override;
+  bool busy(ConnectionId connection) const override;
+  void send(ConnectionId to, protocol::ByteView payload) override;
+  void close() override;
+  void disconnect(ConnectionId connection) override;
+
+  // The port actually listened on (the one asked for, or the kernel's pick for 0).
+  std::optional<std::uint16_t> port() const;
+
+ private:
+  struct Client {
+    io::TcpConnection connection;
+    protocol::TcpDeframer deframer;
+    OutputQueue output;
+  };
+
+  void on_listener_ready();
+  void on_client_ready(std::uint32_t index, io::Readiness readiness);
+  void flush(std::uint32_t index);
+  void drop(std::uint32_t index, std::string_view why);
+
+  std::string address_;
+  std::uint16_t port_;
+  EndpointContext* context_ = nullptr;
+  std::optional<io::TcpListener> listener_;
+  std::map<std::uint32_t, Client> clients_;
+  std::uint32_t next_index_ = 1;
+};
+
+}  // namespace ldoem::endpoints

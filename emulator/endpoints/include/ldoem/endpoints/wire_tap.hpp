@@ -1,0 +1,40 @@
+// The seam through which every telegram in and out of a device, on every transport, can be
+// observed and altered: recording a session (captures) and injecting wire faults plug in here
+// without touching any endpoint. The device instance calls the tap once per telegram, after
+// deframing (from the host) and before framing (to the host); framing errors are not telegrams
+// and do not pass it.
+//
+// A tap may change `payload` (corrupt it), or return drop (the telegram is lost on the wire). To
+// delay a telegram a tap drops it and hands it back later through the device instance's
+// deliver_from_host / send_to_host, which do not pass the tap again; to reset a connection it
+// calls the device instance's disconnect. The tap is called on the loop's thread and must not
+// block.
+#pragma once
+
+#include <cstdint>
+
+#include "ldoem/control/ports.hpp"
+#include "ldoem/protocol/bytes.hpp"
+#include "ldoem/protocol/sim_time.hpp"
+
+namespace ldoem::endpoints {
+
+enum class WireDirection : std::uint8_t { from_host, to_host };
+
+struct WireTelegram {
+  WireDirection direction = WireDirection::from_host;
+  control::ConnectionId connection;
+  protocol::SimTime at{};
+  protocol::Bytes payload;  // service WORD first, no framing; the tap may alter it
+  bool is_profile = false;  // to_host only: a 0x8301 profile of a running GET_PROFILE
+};
+
+enum class WireVerdict : std::uint8_t { pass, drop };
+
+class WireTap {
+ public:
+  virtual ~WireTap() = default;
+  virtual WireVerdict on_telegram(WireTelegram& telegram) = 0;
+};
+
+}  // namespace ldoem::endpoints

@@ -1,0 +1,18 @@
+#include "ldoem/endpoints/counters.hpp"
+
+#include <sstream>
+
+namespace ldoem::endpoints {
+
+std::string format_counters(const Counters& c) {
+  std::ostringstream out;
+  out << "counters: telegrams_received=" << c.telegrams_received << " framing_errors=" << c.framing_errors
+      << " isotp_receive_errors=" << c.isotp_receive_errors << " isotp_send_failures=" << c.isotp_send_failures
+      << " isotp_queue_overflows=" << c.isotp_queue_overflows << " can_frames_backlogged=" << c.can_frames_backlogged
+      << " skipped_profiles=" << c.skipped_profiles << " profiles_sent=" << c.profiles_sent
+      << " tcp_connections=" << c.tcp_connections << " tcp_dropped_slow=" << c.tcp_dropped_slow
+      << " serial_overflows=" << c.serial_overflows << " lpt_steps=" << c.lpt_steps;
+  return out.str();
+}
+
+}  // namespace ldoem::endpoints

@@ -1,0 +1,60 @@
+#include "ldoem/endpoints/lpt_gpio_endpoint.hpp"
+
+#include <iterator>
+#include <vector>
+
+#include "ldoem/protocol/lpt.hpp"
+
+namespace ldoem::endpoints {
+namespace {
+
+// Line names of the gpio-sim chip, in DATA0..2 order, and their register bits.
+const std::vector<std::string> kLptLineNames{"DIR", "CLK", "MODE"};
+constexpr std::uint8_t kLptLineBits[] = {protocol::kLptDirectionBit, protocol::kLptClockBit, protocol::kLptModeBit};
+
+}  // namespace
+
+std::optional<OpenFailure> LptGpioEndpoint::open(EndpointContext& context) {
+  context_ = &context;
+  auto reader = io::GpioLineReader::open(chip_, kLptLineNames);
+  if (!reader) {
+    return OpenFailure{true, reader.error().message()};
+  }
+  reader_.emplace(std::move(*reader));
+  auto levels = reader_->levels();
+  if (!levels) {
+    return OpenFailure{true, levels.error().message()};
+  }
+  std::uint8_t initial = 0;
+  for (std::size_t i = 0; i < levels->size() && i < std::size(kLptLineBits); ++i) {
+    if ((*levels)[i] != 0) initial |= kLptLineBits[i];
+  }
+  context.lpt.set_initial_register(initial);  // the lines' levels before any edge (D8)
+  for (const int fd : reader_->event_fds()) {
+    if (auto watched = context.loop.watch(fd, io::Interest::readable, [this](io::Readiness) { on_ready(); },
+                                          io::kFirstInRound);
+        !watched) {
+      return OpenFailure{false, watched.error().message()};
+    }
+  }
+  context.out << "lpt gpio " << reader_->chip_name() << '\n';
+  return std::nullopt;
+}
+
+void LptGpioEndpoint::on_ready() {
+  ++context_->activity;
+  auto events = reader_->read_events();
+  if (!events) {
+    context_->logger.log(LogLevel::warn, events.error().message());
+    return;
+  }
+  for (const io::GpioEdgeEvent& edge : *events) {
+    if (edge.line_index >= std::size(kLptLineBits)) continue;
+    // Kernel timestamps are CLOCK_MONOTONIC, the wall clock the simulated one runs on (D7).
+    const SimTime at = context_->scheduler.at_wall_time(WallTime(std::chrono::duration_cast<WallTime::duration>(edge.timestamp)));
+    context_->lpt.on_line_change(at, kLptLineBits[edge.line_index], edge.edge == io::Edge::rising);
+  }
+  context_->counters.lpt_steps = context_->lpt.steps_seen();
+}
+
+}  // namespace ldoem::endpoints

@@ -1,0 +1,42 @@
+#include "ldoem/endpoints/lpt_pty_endpoint.hpp"
+
+#include "ldoem/endpoints/read_budget.hpp"
+
+namespace ldoem::endpoints {
+
+std::optional<OpenFailure> LptPtyEndpoint::open(EndpointContext& context) {
+  context_ = &context;
+  auto pty = io::PseudoTerminal::open(link_path_);
+  if (!pty) {
+    return OpenFailure{true, pty.error().message()};
+  }
+  pty_.emplace(std::move(*pty));
+  if (auto watched = context.loop.watch(pty_->fd(), io::Interest::readable, [this](io::Readiness) { on_ready(); },
+                                        io::kFirstInRound);
+      !watched) {
+    return OpenFailure{false, watched.error().message()};
+  }
+  context.out << "lpt " << pty_->peer_path() << ' ' << link_path_.string() << '\n';
+  return std::nullopt;
+}
+
+void LptPtyEndpoint::on_ready() {
+  ++context_->activity;
+  take_pending_input();
+}
+
+void LptPtyEndpoint::take_pending_input() {
+  if (!pty_) return;
+  auto received = pty_->receive(kReadBudgetBytes);
+  if (!received) {
+    context_->logger.log(LogLevel::warn, received.error().message());
+    return;
+  }
+  const SimTime at = context_->scheduler.now();  // D8: time-stamped on arrival
+  for (const std::uint8_t value : received->bytes) {
+    context_->lpt.on_register_write(at, value);
+  }
+  context_->counters.lpt_steps = context_->lpt.steps_seen();
+}
+
+}  // namespace ldoem::endpoints

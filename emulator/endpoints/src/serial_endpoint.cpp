@@ -1,0 +1,70 @@
+#include "ldoem/endpoints/serial_endpoint.hpp"
+
+#include <variant>
+
+#include "ldoem/endpoints/read_budget.hpp"
+
+namespace ldoem::endpoints {
+
+std::optional<OpenFailure> SerialEndpoint::open(EndpointContext& context) {
+  context_ = &context;
+  auto pty = io::PseudoTerminal::open(link_path_);
+  if (!pty) {
+    return OpenFailure{true, pty.error().message()};
+  }
+  pty_.emplace(std::move(*pty));
+  if (auto watched = context.loop.watch(pty_->fd(), io::Interest::readable, [this](io::Readiness r) { on_ready(r); });
+      !watched) {
+    return OpenFailure{false, watched.error().message()};
+  }
+  context.out << "serial " << pty_->peer_path() << ' ' << link_path_.string() << '\n';
+  return std::nullopt;
+}
+
+void SerialEndpoint::on_ready(io::Readiness readiness) {
+  ++context_->activity;
+  if (readiness.writable) {
+    flush();
+  }
+  auto received = pty_->receive(kReadBudgetBytes);
+  if (!received) {
+    context_->logger.log(LogLevel::warn, received.error().message());
+    return;
+  }
+  const ConnectionId connection{TransportKind::serial, 1};
+  for (const protocol::DeframerEvent& event : deframer_.feed(received->bytes)) {
+    if (const auto* telegram = std::get_if<protocol::Telegram>(&event)) {
+      context_->sink.on_telegram(connection, telegram->payload);
+    } else {
+      context_->sink.on_framing_error(connection, std::get<protocol::FramingError>(event));
+    }
+  }
+}
+
+void SerialEndpoint::send(ConnectionId, protocol::ByteView payload) {
+  // All packages of the reply in one write (D10).
+  if (!output_.push(protocol::encode_serial_reply(payload))) {
+    // Nobody reads the line: a real LD would lose the bytes on the wire as well.
+    ++context_->counters.serial_overflows;
+    output_.clear();
+    return;
+  }
+  flush();
+}
+
+void SerialEndpoint::flush() {
+  if (!pty_) return;
+  while (!output_.empty()) {
+    auto sent = pty_->send(output_.front());
+    if (!sent) {
+      context_->logger.log(LogLevel::warn, sent.error().message());
+      break;
+    }
+    if (*sent == 0) break;
+    output_.consume(*sent);
+  }
+  (void)context_->loop.change_interest(pty_->fd(), output_.empty() ? io::Interest::readable
+                                                                   : io::Interest::readable | io::Interest::writable);
+}
+
+}  // namespace ldoem::endpoints

@@ -1,0 +1,151 @@
+#include "ldoem/endpoints/tcp_endpoint.hpp"
+
+#include <algorithm>
+#include <variant>
+#include <vector>
+
+#include "ldoem/endpoints/read_budget.hpp"
+
+namespace ldoem::endpoints {
+
+std::optional<OpenFailure> TcpEndpoint::open(EndpointContext& context) {
+  context_ = &context;
+  auto listener = io::TcpListener::listen(port_, address_);
+  if (!listener) {
+    return OpenFailure{true, listener.error().message()};
+  }
+  listener_.emplace(std::move(*listener));
+  if (auto watched = context.loop.watch(listener_->fd(), io::Interest::readable, [this](io::Readiness) { on_listener_ready(); });
+      !watched) {
+    return OpenFailure{false, watched.error().message()};
+  }
+  context.out << "tcp " << listener_->address() << ':' << listener_->port() << '\n';
+  return std::nullopt;
+}
+
+std::optional<std::uint16_t> TcpEndpoint::port() const {
+  if (!listener_) return std::nullopt;
+  return listener_->port();
+}
+
+bool TcpEndpoint::busy(ConnectionId connection) const {
+  const auto client = clients_.find(connection.index);
+  return client != clients_.end() && !client->second.output.empty();
+}
+
+void TcpEndpoint::on_listener_ready() {
+  ++context_->activity;
+  for (;;) {
+    auto accepted = listener_->accept();
+    if (!accepted) {
+      context_->logger.log(LogLevel::warn, accepted.error().message());
+      return;
+    }
+    if (!accepted->has_value()) {
+      return;
+    }
+    const std::uint32_t index = next_index_++;
+    const int fd = (*accepted)->fd();
+    context_->logger.log(LogLevel::info, "tcp#" + std::to_string(index) + " connected from " + (*accepted)->peer());
+    clients_.emplace(index, Client{std::move(**accepted), protocol::TcpDeframer(), OutputQueue()});
+    ++context_->counters.tcp_connections;
+    if (auto watched = context_->loop.watch(fd, io::Interest::readable,
+                                            [this, index](io::Readiness r) { on_client_ready(index, r); });
+        !watched) {
+      drop(index, watched.error().message());
+    }
+  }
+}
+
+void TcpEndpoint::on_client_ready(std::uint32_t index, io::Readiness readiness) {
+  ++context_->activity;
+  const ConnectionId connection{TransportKind::tcp, index};
+  if (readiness.writable) {
+    flush(index);
+  }
+  std::size_t budget = kReadBudgetBytes;
+  while (budget > 0) {
+    const auto client = clients_.find(index);
+    if (client == clients_.end()) {
+      return;  // dropped while serving its own telegrams
+    }
+    auto received = client->second.connection.receive(budget);
+    if (!received) {
+      drop(index, received.error().message());
+      return;
+    }
+    if (received->bytes.empty()) {
+      if (received->peer_closed) {
+        drop(index, "peer closed");
+      }
+      break;
+    }
+    budget -= std::min(budget, received->bytes.size());
+    const auto events = client->second.deframer.feed(received->bytes);
+    for (const protocol::DeframerEvent& event : events) {
+      if (!clients_.count(index)) {
+        return;
+      }
+      if (const auto* telegram = std::get_if<protocol::Telegram>(&event)) {
+        context_->sink.on_telegram(connection, telegram->payload);
+      } else {
+        context_->sink.on_framing_error(connection, std::get<protocol::FramingError>(event));
+      }
+    }
+    if (received->peer_closed) {
+      drop(index, "peer closed");
+      return;
+    }
+  }
+}
+
+void TcpEndpoint::send(ConnectionId to, protocol::ByteView payload) {
+  const auto client = clients_.find(to.index);
+  if (client == clients_.end()) {
+    return;  // the connection closed before its reply was ready
+  }
+  if (!client->second.output.push(protocol::encode_tcp_frame(payload))) {
+    ++context_->counters.tcp_dropped_slow;
+    drop(to.index, "output queue over " + std::to_string(client->second.output.max_bytes()) +
+                       " bytes (host does not read)");
+    return;
+  }
+  flush(to.index);
+}
+
+void TcpEndpoint::flush(std::uint32_t index) {
+  const auto client = clients_.find(index);
+  if (client == clients_.end()) return;
+  OutputQueue& output = client->second.output;
+  while (!output.empty()) {
+    // One send per telegram while the kernel has room (D10, spec 6: no gap inside a frame).
+    auto sent = client->second.connection.send(output.front());
+    if (!sent) {
+      drop(index, sent.error().message());
+      return;
+    }
+    if (*sent == 0) break;
+    output.consume(*sent);
+  }
+  const io::Interest interest = output.empty() ? io::Interest::readable : io::Interest::readable | io::Interest::writable;
+  (void)context_->loop.change_interest(client->second.connection.fd(), interest);
+}
+
+void TcpEndpoint::drop(std::uint32_t index, std::string_view why) {
+  const auto client = clients_.find(index);
+  if (client == clients_.end()) return;
+  context_->logger.log(LogLevel::info, "tcp#" + std::to_string(index) + " closed: " + std::string(why));
+  context_->loop.unwatch(client->second.connection.fd());
+  clients_.erase(client);
+  context_->sink.on_connection_closed(ConnectionId{TransportKind::tcp, index});
+}
+
+void TcpEndpoint::disconnect(ConnectionId connection) { drop(connection.index, "reset"); }
+
+void TcpEndpoint::close() {
+  std::vector<std::uint32_t> indices;  // flush() may drop a client: not while iterating
+  for (const auto& [index, client] : clients_) indices.push_back(index);
+  for (const std::uint32_t index : indices) flush(index);
+}
+
+}  // namespace ldoem::endpoints

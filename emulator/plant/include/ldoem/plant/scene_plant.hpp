@@ -1,0 +1,70 @@
+// One scanner's physics in a scene (DESIGN.md data flow): the sensor model on the shared world,
+// the tilt plate with its stepper drive board, the head's spin-up model and (D9 head_dynamics
+// only) its ripple, and the MeasurementSource the control unit asks. The world (geometry and
+// ray caster) is built once per scene and may be shared by several plants, one per scanner.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+
+#include "ldoem/plant/head_ripple.hpp"
+#include "ldoem/plant/scene_ports.hpp"
+#include "ldoem/plant/tilt_plate.hpp"
+#include "ldoem/raycast/embree_ray_caster.hpp"
+#include "ldoem/raycast/ode_world.hpp"
+#include "ldoem/scene/scene.hpp"
+#include "ldoem/sensor/sensor_model.hpp"
+
+namespace ldoem::world {
+class SceneCaster;
+}
+
+namespace ldoem::plant {
+
+// The scene's geometry and the ray caster over it: the static ODE world with Embree, or, when
+// the scene moves (D12), the world::SceneCaster (a scene in which nothing moves builds none of it).
+class SceneWorld {
+ public:
+  explicit SceneWorld(const scene::Scene& scene);
+  ~SceneWorld();
+  const raycast::RayCaster& caster() const;
+  // D12: how measurements ready a moving world; empty for a static one.
+  std::optional<WorldTiming> timing();
+
+ private:
+  scene::BeamTime beam_time_;
+  std::unique_ptr<raycast::OdeWorld> world_;
+  std::unique_ptr<raycast::EmbreeRayCaster> caster_;
+  std::unique_ptr<world::SceneCaster> moving_caster_;
+};
+
+class ScenePlant {
+ public:
+  // `scene` and `world` must outlive the plant.
+  ScenePlant(const scene::Scene& scene, SceneWorld& world);
+
+  const control::HeadModel& head_model() const { return head_; }
+  control::MeasurementSource& measurement() { return *measurement_; }
+  StepperDriveBoard& drive_board() { return *board_; }
+  const StepperDriveBoard& drive_board() const { return *board_; }
+  const TiltPlate& tilt_plate() const { return *tilt_; }
+
+  // The gpio LPT's lines before any edge (D8): the board starts from this register value.
+  void set_initial_register(std::uint8_t register_value) { board_.emplace(*tilt_, register_value); }
+  // The control unit's head target changed at `at` (Actions::head_target_hz); without
+  // head_dynamics nothing follows it.
+  void follow_head_target(SimTime at, std::uint16_t hz) {
+    if (ripple_) ripple_->set_target(at, hz);
+  }
+
+ private:
+  sensor::SensorModel sensor_;
+  std::unique_ptr<TiltPlate> tilt_;
+  std::optional<StepperDriveBoard> board_;
+  SpinUpHeadModel head_;
+  std::unique_ptr<HeadRipple> ripple_;  // D9 head_dynamics only
+  std::unique_ptr<SceneMeasurement> measurement_;
+};
+
+}  // namespace ldoem::plant

@@ -1,0 +1,42 @@
+#include "ldoem/plant/scene_plant.hpp"
+
+#include "ldoem/motor/tilt_motor.hpp"
+#include "ldoem/world/scene_caster.hpp"
+
+namespace ldoem::plant {
+
+SceneWorld::SceneWorld(const scene::Scene& scene) : beam_time_(scene.world.beam_time) {
+  if (scene.moves()) {
+    moving_caster_ = std::make_unique<world::SceneCaster>(scene);
+  } else {
+    world_ = std::make_unique<raycast::OdeWorld>(scene);
+    caster_ = std::make_unique<raycast::EmbreeRayCaster>(*world_);
+  }
+}
+
+SceneWorld::~SceneWorld() = default;
+
+const raycast::RayCaster& SceneWorld::caster() const {
+  if (moving_caster_) return *moving_caster_;
+  return *caster_;
+}
+
+std::optional<WorldTiming> SceneWorld::timing() {
+  if (!moving_caster_) return std::nullopt;
+  return WorldTiming{[caster = moving_caster_.get()](double t0_s, double t1_s) { caster->prepare(t0_s, t1_s); },
+                     beam_time_};
+}
+
+ScenePlant::ScenePlant(const scene::Scene& scene, SceneWorld& world)
+    : sensor_(scene, world.caster()),
+      tilt_(std::make_unique<TiltPlate>(motor::make_tilt_motor(scene))),
+      head_(scene.scanner.head) {
+  board_.emplace(*tilt_);
+  if (scene.effects.has(scene::Effect::head_dynamics)) {
+    ripple_ = std::make_unique<HeadRipple>(scene.scanner.head);
+  }
+  measurement_ = std::make_unique<SceneMeasurement>(sensor_, *tilt_, scene.effects.has(scene::Effect::sweep_motion),
+                                                    ripple_.get(), world.timing());
+}
+
+}  // namespace ldoem::plant

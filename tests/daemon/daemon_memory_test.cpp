@@ -1,0 +1,217 @@
+// The daemon in-process on the memory endpoint: the test is the host, without a socket, a pty or
+// the kernel's timing. Virtual time (D7) makes every test a fixed sequence of events; the same
+// conversations over real sockets are in daemon_process_test.cpp.
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+#include "daemon_process.hpp"
+#include "host_link.hpp"
+#include "ldoem/daemon/daemon.hpp"
+#include "ldoem/daemon/device_instance.hpp"
+#include "ldoem/endpoints/memory_endpoint.hpp"
+#include "ldoem/protocol/profile.hpp"
+#include "ldoem/protocol/text.hpp"
+#include "ldoem/scene/scene_loader.hpp"
+
+namespace ldoem::daemon::test {
+namespace {
+
+using namespace std::chrono_literals;
+using endpoints::MemoryEndpoint;
+using protocol::SimTime;
+
+constexpr auto kWallLimit = 30s;  // every wait is bounded; virtual time needs far less
+
+// A daemon with only a memory endpoint (no CAN, TCP, serial or LPT), flash in memory.
+struct InProcess {
+  std::ostringstream out;
+  std::ostringstream log;
+  MemoryEndpoint* host = nullptr;
+  std::unique_ptr<Daemon> daemon;
+  std::string failure;
+
+  explicit InProcess(const std::string& scene_text = minimal_scene_text(),
+                     control::TransportKind kind = control::TransportKind::tcp) {
+    auto scene = scene::load_scene_from_string(scene_text, "scene.yaml");
+    if (!scene) {
+      failure = scene.error().message();
+      return;
+    }
+    Options options;
+    options.can_interface.reset();
+    options.flash_mode = FlashMode::memory;
+    options.virtual_time = true;
+    options.log_level = LogLevel::debug;
+    auto memory = std::make_unique<MemoryEndpoint>(kind);
+    host = memory.get();
+    std::vector<std::unique_ptr<endpoints::HostEndpoint>> extra;
+    extra.push_back(std::move(memory));
+    auto created = Daemon::create(std::move(options), std::move(*scene), out, log, std::move(extra));
+    if (!created) {
+      failure = created.error().message;
+      return;
+    }
+    daemon = std::move(*created);
+  }
+
+  // Sends `text` from connection `index` and runs until `count` telegrams came back.
+  std::vector<MemoryEndpoint::Sent> exchange(std::uint32_t index, std::string_view text, std::size_t count = 1) {
+    host->host_sends(index, telegram(text));
+    return wait_for(count);
+  }
+  std::vector<MemoryEndpoint::Sent> wait_for(std::size_t count) {
+    daemon->run_until([&] { return host->sent_count() >= count; }, kWallLimit);
+    return host->take_sent();
+  }
+  std::string reply_text(std::uint32_t index, std::string_view text) {
+    const auto sent = exchange(index, text);
+    return sent.size() == 1 ? protocol::format_telegram(sent[0].payload) : "(" + std::to_string(sent.size()) + " replies)";
+  }
+};
+
+TEST(DaemonMemory, StartsWithOneLinePerEndpointAndReady) {
+  InProcess d;
+  ASSERT_TRUE(d.daemon) << d.failure;
+  EXPECT_EQ(d.out.str(), "memory\nready\n");
+}
+
+TEST(DaemonMemory, S1Conversation_AnswersEachStepAtTheRightSimulatedTime) {
+  InProcess d;
+  ASSERT_TRUE(d.daemon) << d.failure;
+  EXPECT_EQ(d.reply_text(1, "GET_STATUS"), "GET_STATUS reply 0000 0001");
+  EXPECT_EQ(d.reply_text(1, "GET_FUNCTION 0001"), "GET_FUNCTION reply 0001 0001 0e10");
+  // TRANS_ROTATE is answered when the head reaches speed (D7: about 2 s of simulated time).
+  const auto rotate = d.exchange(1, "TRANS_ROTATE 0000");
+  ASSERT_EQ(rotate.size(), 1u);
+  EXPECT_EQ(protocol::format_telegram(rotate[0].payload), "TRANS_ROTATE reply 0000 0002");
+  EXPECT_GT(rotate[0].at, SimTime(1500ms));
+  EXPECT_LT(rotate[0].at, SimTime(2500ms));
+  EXPECT_EQ(d.reply_text(1, "TRANS_MEASURE"), "TRANS_MEASURE reply 0000 0003 0000");
+  const auto profiles = d.exchange(1, "GET_PROFILE 0003 39ff", 3);
+  ASSERT_EQ(profiles.size(), 3u);
+  for (std::size_t i = 0; i < profiles.size(); ++i) {
+    const auto profile = protocol::decode_profile(profiles[i].payload);
+    ASSERT_TRUE(profile);
+    EXPECT_EQ(profile->profile_sent, i + 1);
+    if (i > 0) {
+      EXPECT_EQ(profiles[i].at - profiles[i - 1].at, SimTime(100ms));  // 10 Hz
+    }
+  }
+  EXPECT_EQ(d.daemon->counters().profiles_sent, 3u);
+  EXPECT_EQ(d.daemon->counters().telegrams_received, 5u);
+}
+
+TEST(DaemonMemory, TwoConnections_ProfilesGoOnlyToTheOneThatAsked) {
+  InProcess d;
+  ASSERT_TRUE(d.daemon) << d.failure;
+  d.exchange(1, "TRANS_ROTATE 0000");
+  d.exchange(1, "TRANS_MEASURE");
+  const auto profiles = d.exchange(1, "GET_PROFILE 0002 39ff", 2);
+  ASSERT_EQ(profiles.size(), 2u);
+  for (const auto& sent : profiles) EXPECT_EQ(sent.index, 1u);
+  EXPECT_EQ(d.reply_text(2, "GET_STATUS"), "GET_STATUS reply 0000 0003");
+}
+
+TEST(DaemonMemory, BusyConnection_SkipsProfilesAndCountsThem) {
+  InProcess d;
+  ASSERT_TRUE(d.daemon) << d.failure;
+  d.exchange(1, "TRANS_ROTATE 0000");
+  d.exchange(1, "TRANS_MEASURE");
+  d.exchange(1, "GET_PROFILE 0000 39ff", 2);
+  d.host->set_busy(1, true);
+  const SimTime busy_from = d.daemon->now();
+  d.daemon->run_until([&] { return d.daemon->now() >= busy_from + SimTime(1s); }, kWallLimit);
+  EXPECT_EQ(d.host->sent_count(), 0u);
+  EXPECT_GE(d.daemon->counters().skipped_profiles, 9u);  // D10: ten revolutions, none sent
+  d.host->set_busy(1, false);
+  const auto after = d.wait_for(1);
+  ASSERT_EQ(after.size(), 1u);
+  const auto profile = protocol::decode_profile(after[0].payload);
+  ASSERT_TRUE(profile);
+  EXPECT_EQ(profile->profile_sent, 3);  // PROFILESENT goes on where it stopped, PROFILECOUNT jumped
+}
+
+TEST(DaemonMemory, ClosedConnection_LeavesNoTimerThatMovesTheVirtualClock) {
+  InProcess d;
+  ASSERT_TRUE(d.daemon) << d.failure;
+  d.exchange(1, "TRANS_ROTATE 0000");
+  d.exchange(1, "TRANS_MEASURE");
+  d.exchange(1, "GET_PROFILE 0000 39ff", 1);
+  d.host->host_closes(1);
+  const SimTime closed_at = d.daemon->now();
+  int rounds = 0;
+  d.daemon->run_until([&] { return ++rounds > 5; }, kWallLimit);
+  // The revolution timer was cancelled: with nothing queued the virtual clock stands still (D7).
+  EXPECT_EQ(d.daemon->now(), closed_at);
+  EXPECT_EQ(d.host->sent_count(), 0u);
+}
+
+TEST(DaemonMemory, FramingError_IsAnsweredServiceFailure) {
+  InProcess d;
+  ASSERT_TRUE(d.daemon) << d.failure;
+  d.host->host_sends_bad_frame(1, protocol::FramingError{protocol::DecodeError::bad_header, 0x0101});
+  const auto sent = d.wait_for(1);
+  ASSERT_EQ(sent.size(), 1u);
+  EXPECT_EQ(protocol::format_telegram(sent[0].payload), "SERVICE_FAILURE 0101 0005");  // D2
+  EXPECT_EQ(d.daemon->counters().framing_errors, 1u);
+}
+
+TEST(DaemonMemory, CountersLine_NamesEveryCounter) {
+  InProcess d;
+  ASSERT_TRUE(d.daemon) << d.failure;
+  d.exchange(1, "GET_STATUS");
+  const std::string line = format_counters(d.daemon->counters());
+  EXPECT_NE(line.find("telegrams_received=1 "), std::string::npos) << line;
+  EXPECT_NE(line.find("lpt_steps=0"), std::string::npos) << line;
+}
+
+// ----------------------------------------------------------------------------------- wire tap
+
+struct RecordingTap final : endpoints::WireTap {
+  std::vector<endpoints::WireTelegram> seen;
+  bool drop_replies = false;
+  bool corrupt_requests = false;
+  endpoints::WireVerdict on_telegram(endpoints::WireTelegram& telegram) override {
+    seen.push_back(telegram);
+    if (telegram.direction == endpoints::WireDirection::from_host && corrupt_requests) {
+      telegram.payload[1] = 0x7F;  // an unknown service (D2 reason 1)
+    }
+    if (telegram.direction == endpoints::WireDirection::to_host && drop_replies) return endpoints::WireVerdict::drop;
+    return endpoints::WireVerdict::pass;
+  }
+};
+
+TEST(DaemonWireTap, SeesEveryTelegramInAndOut) {
+  InProcess d;
+  ASSERT_TRUE(d.daemon) << d.failure;
+  RecordingTap tap;
+  d.daemon->device().set_wire_tap(&tap);
+  EXPECT_EQ(d.reply_text(3, "GET_STATUS"), "GET_STATUS reply 0000 0001");
+  ASSERT_EQ(tap.seen.size(), 2u);
+  EXPECT_EQ(tap.seen[0].direction, endpoints::WireDirection::from_host);
+  EXPECT_EQ(tap.seen[0].connection, (control::ConnectionId{control::TransportKind::tcp, 3}));
+  EXPECT_EQ(protocol::format_telegram(tap.seen[0].payload), "GET_STATUS");
+  EXPECT_EQ(tap.seen[1].direction, endpoints::WireDirection::to_host);
+  EXPECT_EQ(protocol::format_telegram(tap.seen[1].payload), "GET_STATUS reply 0000 0001");
+  EXPECT_FALSE(tap.seen[1].is_profile);
+}
+
+TEST(DaemonWireTap, DroppedReply_NeverReachesTheHost_AndAlteredRequestIsWhatTheDeviceSees) {
+  InProcess d;
+  ASSERT_TRUE(d.daemon) << d.failure;
+  RecordingTap tap;
+  d.daemon->device().set_wire_tap(&tap);
+  tap.drop_replies = true;
+  d.host->host_sends(1, telegram("GET_STATUS"));
+  int rounds = 0;
+  d.daemon->run_until([&] { return ++rounds > 3; }, kWallLimit);
+  EXPECT_EQ(d.host->sent_count(), 0u);
+  EXPECT_EQ(d.daemon->counters().telegrams_received, 1u);
+  tap.drop_replies = false;
+  tap.corrupt_requests = true;
+  EXPECT_EQ(d.reply_text(1, "GET_STATUS"), "SERVICE_FAILURE 017f 0001");
+}
+
+}  // namespace
+}  // namespace ldoem::daemon::test
