@@ -196,6 +196,14 @@ TYPED_TEST(EdgeCaseTest, InvalidRays_NoHitNoCrash) {
   const auto scaled = rig->caster.cast(Ray{o, Eigen::Vector3d(7, 0, 0), 10, 0.0});
   ASSERT_TRUE(scaled.has_value());
   EXPECT_NEAR(scaled->range_m, 2.0, 1e-12);
+  // One within a few ulps of unit length is taken as it is (no square root per cast), one just
+  // beyond that is normalised: both answer the unit ray's range to rounding.
+  for (const double stretch : {1.0 + 2e-16, 1.0 - 2e-16, 1.0 + 1e-14, 1.0 - 1e-14, 1.0 + 1e-9}) {
+    const auto hit = rig->caster.cast(Ray{o, stretch * Eigen::Vector3d(1, 0, 0), 10});
+    ASSERT_TRUE(hit.has_value()) << stretch;
+    EXPECT_NEAR(hit->range_m, 2.0, 1e-14) << stretch;
+    EXPECT_NEAR(hit->normal.norm(), 1.0, 1e-15) << stretch;
+  }
 }
 
 // Meshes: Embree's robust triangles do not leak across shared edges. (ODE's trimesh is not held

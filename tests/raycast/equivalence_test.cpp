@@ -1,6 +1,7 @@
 // EmbreeRayCaster answers exactly what the reference OdeRayCaster answers on primitive scenes.
 #include "caster_fixture.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <thread>
@@ -53,7 +54,10 @@ void expect_same(const std::optional<Hit>& reference, const std::optional<Hit>& 
   if (!reference) return;
   EXPECT_EQ(reference->object_index, fast->object_index) << "ray " << i;
   EXPECT_NEAR(reference->range_m, fast->range_m, 1e-9) << "ray " << i;
-  EXPECT_NEAR((reference->normal - fast->normal).norm(), 0.0, 1e-12) << "ray " << i;
+  // Both normals are exact to rounding, but rounded differently: ODE takes the contact point in
+  // world coordinates and solves the textbook quadratic, EmbreeRayCaster works in the object's
+  // frame around the point of closest approach. Near grazing incidence they differ by ~1e-12.
+  EXPECT_NEAR((reference->normal - fast->normal).norm(), 0.0, 1e-10) << "ray " << i;
   EXPECT_EQ(reference->reflectance, fast->reflectance) << "ray " << i;
 }
 
@@ -76,6 +80,96 @@ TEST_P(EquivalenceTest, RandomPrimitiveScene_EmbreeEqualsOde) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Seeds, EquivalenceTest, ::testing::Values(1u, 2u, 3u, 4u, 5u));
+
+// Boxes square to the world take a shortcut in EmbreeRayCaster (no rotation into the box's
+// frame), and rays starting inside a solid must report its exit surface as ODE does: both, on
+// every primitive kind, from origins inside, on the edge of and just outside each solid.
+TEST(EmbreePrimitives, AlignedBoxesAndRaysFromInside_EmbreeEqualsOde) {
+  std::mt19937_64 rng(21);
+  std::uniform_real_distribution<double> position(-4.0, 4.0), size(0.2, 1.5), unit(-1.0, 1.0), spread(0.0, 1.3);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  scene::Scene s;
+  for (int i = 0; i < 24; ++i) {
+    const Eigen::Quaterniond q = i % 8 == 0 ? Eigen::Quaterniond::Identity()
+                                            : Eigen::Quaterniond(gauss(rng), gauss(rng), gauss(rng), gauss(rng)).normalized();
+    const Eigen::Vector3d p(position(rng), position(rng), position(rng));
+    const auto make_shape = [&]() -> scene::Shape {
+      switch (i % 4) {
+        case 0: return scene::Box{Eigen::Vector3d(size(rng), size(rng), size(rng))};
+        case 1: return scene::Sphere{size(rng) / 2};
+        case 2: return scene::Cylinder{size(rng) / 2, size(rng)};
+        default: return scene::Capsule{size(rng) / 3, size(rng)};
+      }
+    };
+    s.objects.push_back(make_object(make_shape(), p, i % 2 == 0 ? Eigen::Quaterniond::Identity() : q, 0.5));
+  }
+  const OdeWorld world(s);
+  const OdeRayCaster reference(world);
+  const EmbreeRayCaster fast(world);
+  int rays = 0, from_inside = 0;
+  for (const auto& object : s.objects) {
+    // ODE 0.16 misses some exits of rays starting inside a capsule (next test): not compared here.
+    if (std::holds_alternative<scene::Capsule>(object.shape)) continue;
+    for (int k = 0; k < 400; ++k) {
+      // Origins around the object's centre, up to 1.3 sizes out: many inside, some outside.
+      const Eigen::Vector3d origin = object.pose.position_m + spread(rng) * Eigen::Vector3d(unit(rng), unit(rng), unit(rng));
+      const Ray ray = make_ray(origin, Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng)), 20.0);
+      const auto expected = reference.cast(ray);
+      from_inside += expected && expected->range_m < 0.8;
+      expect_same(expected, fast.cast(ray), static_cast<std::size_t>(rays++));
+      if (::testing::Test::HasFailure()) return;
+    }
+  }
+  EXPECT_GT(from_inside, rays / 4);
+}
+
+double distance_to_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const Eigen::Vector3d ab = b - a;
+  const double t = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+  return (p - (a + t * ab)).norm();
+}
+
+// From inside a capsule, ODE 0.16's dCollideRayCapsule gives up when the ray would leave the
+// infinite cylinder only beyond its length, even if it leaves the capsule through a rounded end
+// first (a ray nearly along the axis). EmbreeRayCaster reports that exit. Checked here against
+// the definition: the hit lies on the capsule's surface (at radius from its axis segment) and
+// the ray is inside just before it; wherever ODE does answer, the two agree.
+TEST(EmbreePrimitives, RaysFromInsideCapsules_ReportTheExitSurface) {
+  std::mt19937_64 rng(33);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), size(0.2, 1.5);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  int rays = 0, ode_answers = 0;
+  for (int c = 0; c < 12; ++c) {
+    const double radius_m = size(rng) / 3, length_m = size(rng);
+    const Eigen::Quaterniond q = Eigen::Quaterniond(gauss(rng), gauss(rng), gauss(rng), gauss(rng)).normalized();
+    const Eigen::Vector3d centre(unit(rng), unit(rng), unit(rng));
+    auto ode = rig_of<OdeRayCaster>({make_object(scene::Capsule{radius_m, length_m}, centre, q)});
+    const EmbreeRayCaster fast(ode->world);
+    const Eigen::Vector3d axis = q * Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d a = centre - 0.5 * length_m * axis, b = centre + 0.5 * length_m * axis;
+    for (int k = 0; k < 500; ++k) {
+      // Inside: a point of the axis segment plus less than the radius; directions near the axis
+      // half of the time (where ODE gives up).
+      const Eigen::Vector3d origin = a + (0.5 + 0.5 * unit(rng)) * (b - a) + 0.5 * radius_m * Eigen::Vector3d(unit(rng), unit(rng), unit(rng)).normalized();
+      const Eigen::Vector3d direction = k % 2 == 0 ? Eigen::Vector3d(axis + 0.05 * Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng)))
+                                                   : Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng));
+      const Ray ray = make_ray(origin, direction, 10.0);
+      const auto hit = fast.cast(ray);
+      ++rays;
+      ASSERT_TRUE(hit.has_value()) << k;
+      expect_sane(hit, ray);
+      const Eigen::Vector3d at = ray.origin_m + hit->range_m * ray.direction;
+      EXPECT_NEAR(distance_to_segment(at, a, b), radius_m, 1e-9) << k;
+      EXPECT_LT(distance_to_segment(at - 1e-6 * ray.direction, a, b), radius_m) << k;
+      const auto expected = ode->caster.cast(ray);
+      if (!expected) continue;
+      ++ode_answers;
+      expect_same(expected, hit, static_cast<std::size_t>(k));
+      if (::testing::Test::HasFailure()) return;
+    }
+  }
+  EXPECT_GT(ode_answers, rays / 3);
+}
 
 TEST(EmbreeThreads, TwoThreads_GiveTheSerialAnswers) {
   const scene::Scene s = random_primitive_scene(9, 40);
@@ -102,7 +196,7 @@ TEST(EmbreeThreads, TwoThreads_GiveTheSerialAnswers) {
 
 // Rays whose answer from a plane is a close call: origins on or within 1e-15..100 m of the
 // plane, directions parallel or nearly so, lengths ending just before, at or after the hit.
-// EmbreeRayCaster skips dCollide for planes it can tell are missed; it must never skip a hit.
+// EmbreeRayCaster answers planes with its own arithmetic; it must agree with ODE on each one.
 std::vector<Ray> rays_near_plane(const Eigen::Vector3d& normal, double offset_m) {
   const Eigen::Vector3d tangent = normal.unitOrthogonal();
   const Eigen::Vector3d bases[] = {offset_m * normal, offset_m * normal + 3.7 * tangent + 1.3 * normal.cross(tangent)};

@@ -1,10 +1,13 @@
 #include "ldoem/raycast/embree_ray_caster.hpp"
 
+#include "exact_primitives.hpp"
 #include "ray_probe.hpp"
 
 #include <embree3/rtcore.h>
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -33,7 +36,12 @@ float round_down(double value) {
 
 float round_up(double value) {
   const float f = to_float(value);
-  return static_cast<double>(f) < value ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+  if (!(static_cast<double>(f) < value)) return f;
+  // Every cast rounds its reach up: for a positive finite float (the usual case) the next one up
+  // is the next bit pattern, without libm's general nextafter.
+  const auto bits = std::bit_cast<std::uint32_t>(f);
+  if (bits < 0x7f800000u) return std::bit_cast<float>(bits + 1u);
+  return std::nextafter(f, std::numeric_limits<float>::infinity());
 }
 
 struct Bounds {
@@ -50,55 +58,18 @@ struct Bounds {
 struct CastContext {
   RTCIntersectContext embree;
   const detail::CheckedRay* ray = nullptr;
-  const OdeWorld* world = nullptr;
   std::optional<detail::Contact> best;
-  dGeomID probe = nullptr;  // aimed on first use: a ray that meets no candidate never needs ODE
-
-  dGeomID aimed_probe() {
-    if (probe == nullptr) probe = detail::aim_thread_probe(*ray);
-    return probe;
-  }
 };
-
-// An infinite plane as ODE stores it (unit normal n, offset d: n . p = d), for a cheap test of
-// whether dCollide could possibly report a hit.
-struct PlaneRecord {
-  std::size_t object_index;
-  Eigen::Vector3d normal;
-  double offset_m;
-};
-
-// Relative margin on the plane pre-test. The test repeats ODE's own arithmetic (dCollideRayPlane:
-// alpha = d - n . origin, k = n . direction, hit iff k != 0 and 0 <= alpha / k <= length) with
-// ODE's stored plane, so its rounding matches ODE's up to the few ulps by which ODE's
-// renormalised ray direction differs from ours; 1e-12 covers that by more than 1000x.
-constexpr double kPlaneTestMargin = 1e-12;
-
-// True only if dCollide(ray, plane) certainly reports nothing: the plane is behind the ray (or
-// the ray leaves it), or it is met beyond the ray's length. Undecided cases go to dCollide.
-bool plane_certainly_missed(const PlaneRecord& plane, const detail::CheckedRay& ray) {
-  const Eigen::Vector3d& n = plane.normal;
-  const Eigen::Vector3d& o = ray.origin_m;
-  const double alpha_m = plane.offset_m - (n.x() * o.x() + n.y() * o.y() + n.z() * o.z());
-  const double alpha_error_m =
-      kPlaneTestMargin * (std::abs(plane.offset_m) + std::abs(n.x() * o.x()) + std::abs(n.y() * o.y()) +
-                          std::abs(n.z() * o.z()));
-  const double k = n.dot(ray.direction);
-  const double k_error = kPlaneTestMargin;
-  if (!(std::abs(alpha_m) > alpha_error_m) || !(std::abs(k) > k_error)) return false;
-  if ((alpha_m > 0.0) != (k > 0.0)) return true;  // alpha / k < 0: behind the origin
-  // Nearest possible meeting (|alpha| - error) / (|k| + error) beyond the ray's length, without
-  // the division.
-  return std::abs(alpha_m) - alpha_error_m > ray.max_range_m * (1.0 + kPlaneTestMargin) * (std::abs(k) + k_error);
-}
 
 struct PrimitiveSet {
   std::vector<std::size_t> object_indices;  // Embree primID -> Scene::objects index
+  std::vector<detail::ExactPrimitive> shapes;  // Embree primID -> what the exact test needs
   std::vector<RTCBounds> bounds;            // local (re-centred) float frame
 };
 
-// The plane of one triangle in double precision: a vertex and the (unnormalised) normal
-// (b - a) x (c - a). Kept per triangle so that a hit reads one record rather than an index
+// The plane of one triangle in double precision: a vertex and the unit normal of
+// (b - a) x (c - a) (zero for a degenerate triangle), normalised once here rather than on every
+// hit. Kept per triangle so that a hit reads one record rather than an index
 // triple and three vertices from cold memory (that was ~20 % of a cast on a 100k-triangle mesh).
 struct TrianglePlane {
   Eigen::Vector3d vertex_m;
@@ -121,8 +92,7 @@ void primitive_intersect(const RTCIntersectFunctionNArguments* args) {
   if (args->N != 1 || args->valid[0] == 0) return;  // only rtcIntersect1 is used
   auto* context = reinterpret_cast<CastContext*>(args->context);
   const auto* set = static_cast<const PrimitiveSet*>(args->geometryUserPtr);
-  const std::size_t object_index = set->object_indices[args->primID];
-  const auto hit = detail::collide(context->aimed_probe(), *context->ray, *context->world, object_index);
+  const auto hit = detail::intersect(set->shapes[args->primID], *context->ray);
   if (!hit || (context->best && hit->range_m >= context->best->range_m)) return;
   auto* rayhit = reinterpret_cast<RTCRayHit*>(args->rayhit);
   // Meshes may already have shortened tfar; a primitive behind that triangle loses.
@@ -137,6 +107,13 @@ void primitive_intersect(const RTCIntersectFunctionNArguments* args) {
   rayhit->hit.u = 0.0f;
   rayhit->hit.v = 0.0f;
   rayhit->hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+}
+
+// Called by Embree for each triangle the ray meets while it is still traversing: starts loading
+// that triangle's double-precision plane, which mesh_hit reads once traversal ends.
+void prefetch_triangle_plane(const RTCFilterFunctionNArguments* args) {
+  const auto* planes = static_cast<const TrianglePlane*>(args->geometryUserPtr);
+  __builtin_prefetch(planes + RTCHitN_primID(args->hit, args->N, 0));
 }
 
 void primitive_occluded(const RTCOccludedFunctionNArguments* args) {
@@ -157,7 +134,7 @@ struct EmbreeRayCaster::Impl {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
   Eigen::Vector3d frame_origin_m = Eigen::Vector3d::Zero();  // Embree coordinates are relative to this
-  std::vector<PlaneRecord> planes;
+  std::vector<detail::ExactPlane> planes;
   PrimitiveSet primitives;
   unsigned primitive_geom_id = RTC_INVALID_GEOMETRY_ID;
   std::vector<MeshRecord> meshes;
@@ -180,9 +157,7 @@ Bounds EmbreeRayCaster::Impl::collect_geometry() {
   Bounds scene_bounds;
   for (std::size_t i = 0; i < world.object_count(); ++i) {
     if (world.is_plane(i)) {
-      dVector4 params;
-      dGeomPlaneGetParams(world.geom(i), params);
-      planes.push_back({i, Eigen::Vector3d(params[0], params[1], params[2]), params[3]});
+      planes.push_back(detail::exact_plane_of(world, i));
       continue;
     }
     if (world.is_mesh(i)) {
@@ -203,6 +178,7 @@ Bounds EmbreeRayCaster::Impl::collect_geometry() {
     scene_bounds.extend(Eigen::Vector3d(aabb[0], aabb[2], aabb[4]));
     scene_bounds.extend(Eigen::Vector3d(aabb[1], aabb[3], aabb[5]));
     primitives.object_indices.push_back(i);
+    primitives.shapes.push_back(detail::exact_primitive_of(world, i));
   }
   return scene_bounds;
 }
@@ -248,11 +224,16 @@ void EmbreeRayCaster::Impl::attach_mesh(MeshRecord& mesh) {
     const auto& triangle = mesh.triangles[t];
     for (std::size_t k = 0; k < 3; ++k) indices[3 * t + k] = triangle[k];
     const Eigen::Vector3d& a = mesh.world_vertices_m[triangle[0]];
-    mesh.planes.push_back(
-        {a, (mesh.world_vertices_m[triangle[1]] - a).cross(mesh.world_vertices_m[triangle[2]] - a)});
+    const Eigen::Vector3d normal = (mesh.world_vertices_m[triangle[1]] - a).cross(mesh.world_vertices_m[triangle[2]] - a);
+    const double length = normal.norm();
+    mesh.planes.push_back({a, length > 0.0 && std::isfinite(length) ? Eigen::Vector3d(normal / length) : Eigen::Vector3d::Zero()});
   }
   mesh.world_vertices_m = {};
   mesh.triangles = {};
+  // The plane records of a large mesh do not stay in cache between casts (a 100k-triangle
+  // mesh has 4.8 MB of them): loading one only after traversal was ~6 % of a cast.
+  rtcSetGeometryUserData(geometry, mesh.planes.data());
+  rtcSetGeometryIntersectFilterFunction(geometry, prefetch_triangle_plane);
   rtcCommitGeometry(geometry);
   const unsigned geom_id = rtcAttachGeometry(scene, geometry);
   rtcReleaseGeometry(geometry);
@@ -301,7 +282,7 @@ std::optional<Hit> EmbreeRayCaster::Impl::mesh_hit(const detail::CheckedRay& ray
   // gives the double-precision distance unless the ray grazes that plane.
   double range_m = rayhit.ray.tfar;
   const double denominator = normal.dot(ray.direction);
-  if (std::abs(denominator) > 1e-6 * normal.norm()) {
+  if (std::abs(denominator) > 1e-6) {  // zero for a degenerate triangle: Embree's distance stays
     const double exact_m = normal.dot(a - ray.origin_m) / denominator;
     if (std::isfinite(exact_m) && exact_m > 0.0) range_m = exact_m;
   }
@@ -322,11 +303,9 @@ std::optional<Hit> EmbreeRayCaster::cast(const Ray& ray) const {
   CastContext context;  // not value-initialised: zeroing Embree's part first cost ~10 % of a cast
   rtcInitIntersectContext(&context.embree);
   context.ray = &*checked;
-  context.world = &impl_->world;
   // Planes are unbounded, so they stay out of the BVH and only shorten the query.
-  for (const PlaneRecord& plane : impl_->planes) {
-    if (plane_certainly_missed(plane, *checked)) continue;
-    const auto contact = detail::collide(context.aimed_probe(), *checked, impl_->world, plane.object_index);
+  for (const detail::ExactPlane& plane : impl_->planes) {
+    const auto contact = detail::intersect(plane, *checked);
     if (contact && (!context.best || contact->range_m < context.best->range_m)) context.best = contact;
   }
   const auto best_hit = [&]() -> std::optional<Hit> {

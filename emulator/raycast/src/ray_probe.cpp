@@ -66,11 +66,14 @@ dGeomID aim_thread_probe(const CheckedRay& ray) {
 
 Eigen::Vector3d facing_normal(const Eigen::Vector3d& normal, const Eigen::Vector3d& direction) {
   const double squared_length = normal.squaredNorm();
-  // Exactly unit (planes, axis-aligned boxes): dividing by sqrt(1) would change nothing.
-  if (squared_length == 1.0) return normal.dot(direction) > 0.0 ? Eigen::Vector3d(-normal) : normal;
+  // Unit to within rounding (planes, boxes, mesh triangles, whose normals are unit already):
+  // normalising again would move it by an ulp at the price of a square root and a division.
+  if (std::abs(squared_length - 1.0) <= kUnitSquaredLengthTolerance) {
+    return normal.dot(direction) > 0.0 ? Eigen::Vector3d(-normal) : normal;
+  }
   const double length = std::sqrt(squared_length);
   if (!std::isfinite(length) || !(length > 1e-12)) return -direction;
-  const Eigen::Vector3d unit = normal / length;
+  const Eigen::Vector3d unit = normal * (1.0 / length);  // one division, not three
   return unit.dot(direction) > 0.0 ? Eigen::Vector3d(-unit) : unit;
 }
 
