@@ -176,7 +176,7 @@ Targets: >= 1.0x the triangle scene's throughput on every scene (issue 15: exact
 least as fast as giving them up) while matching ODE's exact answers for primitives; >= 20x plain
 ODE at 1000 primitives.
 
-| scene | ldoem Embree+ODE (M rays/s) | Embree triangles (M rays/s) | plain ODE (M rays/s) | vs triangles (>= 1.0x) | vs plain ODE | matches ODE |
+| scene | ldoem Embree + exact tests (M rays/s) | Embree triangles (M rays/s) | plain ODE (M rays/s) | vs triangles (>= 1.0x) | vs plain ODE | matches ODE |
 |---|---|---|---|---|---|---|
 @CASTERS@
 
