@@ -1,0 +1,35 @@
+// The command line of ldoem-replay (docs/replay.md), parsed by a pure function. Endpoint options
+// are the daemon's (docs/emulator.md): --tcp HOST[:PORT], --serial pty:PATH, --can IF with
+// --can-ids REQ:RESP, --lpt pty:PATH | gpio:CHIP (writes accepted and counted, not replayed).
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "ldoem/daemon/options.hpp"
+#include "ldoem/protocol/capture_conversation.hpp"
+#include "ldoem/protocol/expected.hpp"
+
+namespace ldoem::replay {
+
+struct ReplayOptions {
+  std::filesystem::path capture;
+  daemon::Options endpoints;  // only the endpoint fields, log level and timeout are used
+  double speed = 1.0;         // recorded seconds per replayed second
+  std::optional<protocol::WireTransport> transport;  // which recorded transport; default: busiest
+  bool help = false;
+};
+
+struct ReplayUsageError {
+  std::string message;
+};
+
+[[nodiscard]] protocol::Expected<ReplayOptions, ReplayUsageError> parse_replay_options(
+    std::span<const std::string_view> arguments);
+
+std::string replay_usage_text();
+
+}  // namespace ldoem::replay

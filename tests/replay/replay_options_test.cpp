@@ -1,0 +1,47 @@
+// ldoem-replay's command line: the daemon's endpoint syntax, the capture, speed and transport.
+#include <gtest/gtest.h>
+
+#include "ldoem/replay/replay_options.hpp"
+
+namespace ldoem::replay {
+namespace {
+
+protocol::Expected<ReplayOptions, ReplayUsageError> parse(std::vector<std::string_view> arguments) {
+  return parse_replay_options(arguments);
+}
+
+TEST(ReplayOptions, EndpointsSpeedAndTransport_AreParsed) {
+  const auto options = parse({"scan.pcapng", "--tcp", "127.0.0.1:0", "--can", "vcan0", "--can-ids", "6C2:6C3",
+                              "--lpt", "pty:/tmp/l", "--speed", "2.5", "--transport", "can", "--timeout", "9"});
+  ASSERT_TRUE(options.has_value()) << options.error().message;
+  EXPECT_EQ(options->capture, std::filesystem::path("scan.pcapng"));
+  ASSERT_TRUE(options->endpoints.tcp.has_value());
+  EXPECT_EQ(options->endpoints.tcp->port, 0);
+  EXPECT_EQ(options->endpoints.can_interface, std::optional<std::string>("vcan0"));
+  ASSERT_EQ(options->endpoints.can_id_pairs.size(), 1u);
+  EXPECT_EQ(options->endpoints.can_id_pairs[0].request_id, 0x6C2);
+  EXPECT_DOUBLE_EQ(options->speed, 2.5);
+  EXPECT_EQ(options->transport, protocol::WireTransport::can);
+  EXPECT_EQ(options->endpoints.timeout_s, std::optional<double>(9.0));
+}
+
+TEST(ReplayOptions, DefaultsServeNoCan) {
+  const auto options = parse({"scan.pcapng", "--tcp", "127.0.0.1"});
+  ASSERT_TRUE(options.has_value());
+  EXPECT_FALSE(options->endpoints.can_interface.has_value());
+  EXPECT_EQ(options->endpoints.tcp->port, 49152);
+}
+
+TEST(ReplayOptions, MistakesAreUsageErrorsNamingTheOption) {
+  EXPECT_NE(parse({"--tcp", "127.0.0.1"}).error().message.find("CAPTURE"), std::string::npos);
+  EXPECT_NE(parse({"scan.pcapng"}).error().message.find("endpoint"), std::string::npos);
+  EXPECT_NE(parse({"scan.pcapng", "--tcp", "h:1", "--speed", "0"}).error().message.find("--speed"), std::string::npos);
+  EXPECT_NE(parse({"scan.pcapng", "--serial", "/dev/x"}).error().message.find("--serial"), std::string::npos);
+  EXPECT_NE(parse({"scan.pcapng", "--tcp", "h:1", "--can-ids", "6C0:6C1"}).error().message.find("--can-ids"),
+            std::string::npos);
+  EXPECT_NE(parse({"a", "b", "--tcp", "h:1"}).error().message.find("more than one"), std::string::npos);
+  EXPECT_TRUE(parse({"--help"})->help);
+}
+
+}  // namespace
+}  // namespace ldoem::replay
