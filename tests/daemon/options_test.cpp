@@ -62,6 +62,17 @@ TEST(Options, EveryValueOption_IsStored) {
   EXPECT_EQ(options.timeout_s, std::optional<double>(1.5));
 }
 
+TEST(Options, RecordOptions_AreStoredAndChecked) {
+  const Options options = run_options({"--scene", "s.yaml", "--record", "c.pcapng", "--record-max-mb", "2",
+                                       "--record-files", "3"});
+  EXPECT_EQ(options.record_path, std::filesystem::path("c.pcapng"));
+  EXPECT_EQ(options.record_max_bytes, 2u * 1024 * 1024);
+  EXPECT_EQ(options.record_files, 3u);
+  EXPECT_FALSE(run_options({"--scene", "s.yaml"}).record_path.has_value());
+  EXPECT_FALSE(parse({"--scene", "s.yaml", "--record-files", "0"}).has_value());
+  EXPECT_FALSE(parse({"--scene", "s.yaml", "--record-max-mb", "-1"}).has_value());
+}
+
 TEST(Options, TcpWithoutPort_UsesServicePort49152) {
   EXPECT_EQ(run_options({"--scene", "s", "--tcp", "0.0.0.0"}).tcp, (std::optional<TcpOption>(TcpOption{"0.0.0.0", 49152})));
 }

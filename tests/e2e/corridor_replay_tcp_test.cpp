@@ -17,6 +17,10 @@ TEST(CorridorReplayTcp, ReplayedScan_GivesTheLiveScansBytes) {
   const ScanRun live = scan_corridor(dir, "live", Route::tcp, live_settings);
   ASSERT_EQ(live.exit_status, 0) << live.failure;
   ASSERT_FALSE(read_file(capture).empty());
+  bool decoded = false;
+  const std::string tshark = check_capture_with_tshark(dir, capture, decoded);
+  EXPECT_TRUE(decoded) << tshark;
+  EXPECT_NE(tshark.find(", 0 problems"), std::string::npos) << tshark;
 
   ScanSettings replay_settings;
   replay_settings.replay_capture = capture;

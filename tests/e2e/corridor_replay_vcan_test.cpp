@@ -16,7 +16,8 @@ TEST(CorridorReplayVcan, RecordedAndCandumpCaptures_ReplayToTheSameBytes) {
   ASSERT_NE(if_nametoindex("vcan0"), 0U) << "no vcan0: run inside scripts/uml/run.sh (docs/uml-harness.md)";
   TempDir dir;
   // candump -L writes the log format of candump -l on stdout: our ChildProcess keeps it.
-  auto candump = ChildProcess::start("/usr/bin/candump", {"-L", "vcan0"}, dir.path("candump"));
+  // A large receive buffer: a whole profile arrives as a burst of 600+ frames.
+  auto candump = ChildProcess::start("/usr/bin/candump", {"-L", "-r", "16777216", "vcan0"}, dir.path("candump"));
   ASSERT_TRUE(candump.has_value());
   ScanSettings live_settings;
   const std::string capture = dir.path("live.pcapng");
@@ -26,6 +27,10 @@ TEST(CorridorReplayVcan, RecordedAndCandumpCaptures_ReplayToTheSameBytes) {
   ASSERT_EQ(live.exit_status, 0) << live.failure;
   const std::string log_path = dir.write("live-candump.log", candump->stdout_text());
   ASSERT_NE(candump->stdout_text().find("6C1#"), std::string::npos) << "candump saw no reply frames";
+  bool decoded = false;
+  const std::string tshark = check_capture_with_tshark(dir, capture, decoded);
+  EXPECT_TRUE(decoded) << tshark;
+  EXPECT_NE(tshark.find(", 0 problems"), std::string::npos) << tshark;
 
   ScanSettings replay_settings;
   replay_settings.replay_capture = capture;

@@ -208,4 +208,23 @@ std::optional<CorridorFit> fit_corridor_ply(const std::string& ply_path, std::st
   return result;
 }
 
+std::string check_capture_with_tshark(const TempDir& dir, const std::string& capture, bool& ok) {
+  ok = false;
+  const std::string expect = capture + ".expect.json";
+  auto expectations = ChildProcess::start(LDOEM_CAPTURE_EXPECTATIONS_PATH, {capture}, dir.path("expectations"));
+  if (!expectations || expectations->wait(std::chrono::seconds(60)) != std::optional<int>(0)) {
+    return "ldoem_capture_expectations failed: " + (expectations ? expectations->stderr_text() : std::string("spawn"));
+  }
+  dir.write(capture.substr(capture.rfind('/') + 1) + ".expect.json", expectations->stdout_text());
+  auto checker = ChildProcess::start(
+      "/usr/bin/python3",
+      {std::string(LDOEM_SOURCE_DIR) + "/tests/wireshark/check_dissector.py", "--tshark", LDOEM_TSHARK_PATH,
+       "--lua-dir", std::string(LDOEM_SOURCE_DIR) + "/tools/wireshark", "--capture", capture, "--expect", expect},
+      dir.path("check-dissector"));
+  if (!checker) return "check_dissector.py did not start";
+  const auto status = checker->wait(std::chrono::seconds(300));
+  ok = status == std::optional<int>(0);
+  return checker->stdout_text() + checker->stderr_text();
+}
+
 }  // namespace ldoem::e2e

@@ -44,6 +44,11 @@ struct ScanSettings {
   std::vector<std::string> replay_args{"--speed", "50"};
 };
 
+// tshark with tools/wireshark/*.lua on a capture (tests/wireshark/check_dissector.py): every
+// telegram ldoem's reader finds must decode, profile point counts included, nothing malformed.
+// Returns the checker's output; `ok` tells whether it passed.
+std::string check_capture_with_tshark(const TempDir& dir, const std::string& capture, bool& ok);
+
 // Runs one whole scan in `dir` (files named after `name`); children are stopped before it returns.
 ScanRun scan_corridor(const TempDir& dir, const std::string& name, Route route, const ScanSettings& settings = {});
 

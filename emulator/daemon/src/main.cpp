@@ -1,10 +1,15 @@
 // ldoem-emud: parse the command line, load the scene, open the endpoints, run the loop, map the
 // outcome to an exit code (STYLE.md section 1). Everything it decides is in ldoem_daemon.
 #include <iostream>
+#include <memory>
+#include <optional>
 #include <string_view>
 #include <vector>
 
+#include "ldoem/capture/capture_writer.hpp"
 #include "ldoem/daemon/daemon.hpp"
+#include "ldoem/daemon/device_instance.hpp"
+#include "ldoem/recording/recording_tap.hpp"
 #include "ldoem/daemon/options.hpp"
 #include "ldoem/scene/scene_loader.hpp"
 
@@ -29,10 +34,32 @@ int main(int argc, char** argv) {
     std::cerr << "ldoem-emud: " << scene.error().message() << '\n';
     return kExitUsageError;
   }
-  auto daemon = Daemon::create(command->options, std::move(*scene), std::cout, std::cerr);
+  const Options& options = command->options;
+  // --record: the capture is open before the first telegram can arrive.
+  std::unique_ptr<ldoem::capture::CaptureWriter> recording;
+  if (options.record_path) {
+    auto writer = ldoem::capture::CaptureWriter::open(
+        {*options.record_path, options.record_max_bytes, options.record_files, "ldoem-emud"});
+    if (!writer) {
+      std::cerr << "ldoem-emud: --record: " << writer.error() << '\n';
+      return kExitUsageError;
+    }
+    recording = std::move(*writer);
+  }
+  auto daemon = Daemon::create(options, std::move(*scene), std::cout, std::cerr);
   if (!daemon) {
     std::cerr << "ldoem-emud: " << daemon.error().message << '\n';
     return daemon.error().exit_code;
+  }
+  const ldoem::endpoints::Logger logger(std::cerr, options.log_level);
+  std::optional<ldoem::recording::RecordingTap> tap;
+  if (recording) {
+    // CAN frames are recorded on the first identifier pair (D1: --can-ids, else the flash's).
+    const auto& can = (*daemon)->device().can_config();
+    ldoem::capture::RecorderCanIds ids{can.request_id, can.response_id};
+    if (!options.can_id_pairs.empty()) ids = {options.can_id_pairs.front().request_id, options.can_id_pairs.front().response_id};
+    tap.emplace(*recording, ids, logger);
+    (*daemon)->device().set_wire_tap(&*tap);
   }
   return (*daemon)->run();
 }

@@ -157,6 +157,23 @@ const std::map<std::string_view, ValueHandler>& value_options() {
          o.timeout_s = *seconds;
          return std::nullopt;
        }},
+      {"--record", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
+         if (v.empty()) return error_of(usage_error("--record", "needs a file name"));
+         o.record_path = std::filesystem::path(std::string(v));
+         return std::nullopt;
+       }},
+      {"--record-max-mb", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
+         const auto megabytes = parse_double(v);
+         if (!megabytes || *megabytes <= 0.0) return error_of(usage_error("--record-max-mb", "must be a number > 0"));
+         o.record_max_bytes = static_cast<std::uint64_t>(*megabytes * 1024 * 1024);
+         return std::nullopt;
+       }},
+      {"--record-files", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
+         const auto files = parse_integer<unsigned>(v);
+         if (!files || *files == 0) return error_of(usage_error("--record-files", "must be an integer > 0"));
+         o.record_files = *files;
+         return std::nullopt;
+       }},
   };
   return handlers;
 }
@@ -311,6 +328,10 @@ std::string usage_text(std::string_view program_name) {
          "  --log-level LEVEL     error|warn|info|debug; info logs every telegram [warn]\n"
          "  --count-profiles N    stop (exit 0) after N profile telegrams in total [no limit]\n"
          "  --timeout SECONDS     stop (exit 0) after this many wall seconds [no limit]\n"
+         "  --record FILE         write every telegram on every transport, with device time, to\n"
+         "                        FILE (pcapng for Wireshark/tshark, docs/capture.md) [off]\n"
+         "  --record-max-mb N     rotate FILE at N MiB: FILE.1, FILE.2, ... [no cap]\n"
+         "  --record-files K      files kept when rotating, FILE included [10]\n"
          "  --help, -h            this text\n"
          "  --version             print the version\n"
          "\n"

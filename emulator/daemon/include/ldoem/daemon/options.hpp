@@ -61,6 +61,11 @@ struct Options {
   LogLevel log_level = LogLevel::warn;
   std::optional<std::uint64_t> count_profiles;  // stop (exit 0) after this many profiles
   std::optional<double> timeout_s;              // stop (exit 0) after this many wall seconds
+  // --record FILE: every telegram on every transport into a pcapng capture (docs/capture.md),
+  // rotated at record_max_bytes (0: no cap) keeping record_files files.
+  std::optional<std::filesystem::path> record_path;
+  std::uint64_t record_max_bytes = 0;
+  unsigned record_files = 10;
 
   bool operator==(const Options&) const = default;
 };

@@ -1,0 +1,41 @@
+#include "ldoem/recording/recording_tap.hpp"
+
+namespace ldoem::recording {
+namespace {
+
+protocol::WireTransport wire_transport(control::TransportKind kind) {
+  switch (kind) {
+    case control::TransportKind::tcp: return protocol::WireTransport::tcp;
+    case control::TransportKind::serial: return protocol::WireTransport::serial;
+    case control::TransportKind::can: return protocol::WireTransport::can;
+  }
+  return protocol::WireTransport::tcp;
+}
+
+}  // namespace
+
+void RecordingTap::record(const endpoints::WireTelegram& telegram) {
+  if (failed_) return;
+  const auto direction = telegram.direction == endpoints::WireDirection::from_host ? protocol::WireDirection::host_to_device
+                                                                                   : protocol::WireDirection::device_to_host;
+  const std::string error = recorder_.record(telegram.at, wire_transport(telegram.connection.kind),
+                                             telegram.connection.index, direction, telegram.payload);
+  if (!error.empty()) {
+    failed_ = true;
+    logger_.log(endpoints::LogLevel::error, "--record: " + error + "; recording stopped, the device goes on");
+    return;
+  }
+  ++recorded_;
+}
+
+endpoints::WireVerdict RecordingTap::on_telegram(endpoints::WireTelegram& telegram) {
+  if (telegram.direction == endpoints::WireDirection::from_host) {
+    record(telegram);
+    return next_ ? next_->on_telegram(telegram) : endpoints::WireVerdict::pass;
+  }
+  const endpoints::WireVerdict verdict = next_ ? next_->on_telegram(telegram) : endpoints::WireVerdict::pass;
+  if (verdict == endpoints::WireVerdict::pass) record(telegram);
+  return verdict;
+}
+
+}  // namespace ldoem::recording
