@@ -26,7 +26,7 @@ TEST(ScanOptions, EveryOption_IsRead) {
   auto options = parse_scan_options(
       words({"--hub", "127.0.0.1:49201", "--hub-device", "left", "--horizontal-apex", "40", "--horizontal-resolution",
              "0.5", "--vertical-apex", "9", "--vertical-resolution", "0.09", "--speed", "5", "--half-step",
-             "--step-rate", "400", "--out", "x.PCD", "--format", "ascii", "--preview", "p.png", "--fit", "--timeout",
+             "--step-rate", "400", "--out", "x.PCD", "--format", "ascii", "--preview", "p.png", "--render", "r.png", "--render-colour", "intensity", "--fit", "--timeout",
              "2.5", "--optical-offset", "0.1,-0.02,0.3"}));
   ASSERT_TRUE(options) << options.error();
   ASSERT_TRUE(options->hub);
@@ -38,6 +38,8 @@ TEST(ScanOptions, EveryOption_IsRead) {
   EXPECT_EQ(options->step_rate_hz, 400.0);
   EXPECT_TRUE(options->fit);
   EXPECT_EQ(options->preview_path, "p.png");
+  EXPECT_EQ(options->render_path, "r.png");
+  EXPECT_EQ(options->render_colour, cloud::RenderColour::intensity);
   EXPECT_EQ(options->timeout, std::chrono::milliseconds(2500));
   EXPECT_EQ(options->optical_offset_m, (Vector3{0.1, -0.02, 0.3}));
   EXPECT_EQ(output_format(options->out_path, options->encoding), cloud::CloudFileFormat::pcd_ascii);

@@ -59,6 +59,15 @@ int write_outputs(const scan::ScanOptions& options, const scan::Scan& result) {
       return kExitFailure;
     }
   }
+  if (options.render_path) {
+    cloud::RenderOptions render;
+    render.colour = options.render_colour;
+    auto written = cloud::write_render_png(*options.render_path, result.cloud, render);
+    if (!written) {
+      std::cerr << "ldoem-scan: write " << *options.render_path << ": " << cloud::to_string(written.error()) << "\n";
+      return kExitFailure;
+    }
+  }
   if (options.fit) {
     auto fit = scan::fit_scene(result.cloud);
     if (!fit) {

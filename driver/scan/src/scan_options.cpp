@@ -117,6 +117,19 @@ const std::map<std::string_view, Setter>& setters() {
          o.preview_path = std::string(v);
          return std::nullopt;
        }},
+      {"--render",
+       [](ScanOptions& o, std::string_view v) -> std::optional<std::string> {
+         o.render_path = std::string(v);
+         return std::nullopt;
+       }},
+      {"--render-colour",
+       [](ScanOptions& o, std::string_view v) -> std::optional<std::string> {
+         if (v != "height" && v != "intensity") {
+           return "must be height or intensity";
+         }
+         o.render_colour = v == "height" ? cloud::RenderColour::height : cloud::RenderColour::intensity;
+         return std::nullopt;
+       }},
       {"--timeout",
        [](ScanOptions& o, std::string_view v) -> std::optional<std::string> {
          const auto seconds = parse_double(v);
@@ -269,6 +282,9 @@ Output:
   --out FILE                   .ply or .pcd (required)
   --format ascii|binary        (default binary)
   --preview FILE.png           range image, one row per layer
+  --render FILE.png            perspective view of the cloud, 1600x1000, from behind and above
+                               the scanner
+  --render-colour height|intensity   what the render's colours show (default height)
   --fit                        fit the wall plane and a cylinder; print diameter, length and
                                wall distance
   --timeout SECONDS            wait for each profile (default 5)

@@ -36,4 +36,14 @@ struct GrayImage {
 // The PNG file's bytes (colour type grey, 8 or 16 bits per sample).
 [[nodiscard]] protocol::Expected<std::string, PngError> encode_gray_png(const GrayImage& image);
 
+// Row-major 8-bit RGB, three bytes per pixel (renderings of a cloud).
+struct RgbImage {
+  std::uint32_t width = 0;
+  std::uint32_t height = 0;
+  std::vector<std::uint8_t> pixels;  // width * height * 3
+};
+
+// The PNG file's bytes (colour type RGB, 8 bits per sample).
+[[nodiscard]] protocol::Expected<std::string, PngError> encode_rgb_png(const RgbImage& image);
+
 }  // namespace ldoem::image

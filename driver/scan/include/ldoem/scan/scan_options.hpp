@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "ldoem/cloud/cloud_file.hpp"
+#include "ldoem/cloud/cloud_render.hpp"
 #include "ldoem/driver/endpoint.hpp"
 #include "ldoem/hub/hub_config.hpp"
 #include "ldoem/scan/acquisition.hpp"
@@ -38,6 +39,8 @@ struct ScanOptions {
   std::string out_path;
   CloudEncoding encoding = CloudEncoding::binary;
   std::optional<std::string> preview_path;
+  std::optional<std::string> render_path;  // perspective picture of the cloud (cloud_render.hpp)
+  cloud::RenderColour render_colour = cloud::RenderColour::height;
   bool fit = false;
   std::chrono::milliseconds timeout{5000};
   Vector3 optical_offset_m;

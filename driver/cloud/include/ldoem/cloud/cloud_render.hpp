@@ -1,0 +1,46 @@
+// A picture of a point cloud a person can read: a perspective view, points coloured by height
+// (z) or by intensity, nearer points drawn over farther ones, on a dark background. The default
+// viewpoint stands behind and above the scanner's origin, looking at the middle of the cloud, far
+// enough back that the central 98 % of the points fit. Deterministic: the same cloud gives the
+// same pixels.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string_view>
+
+#include "ldoem/cloud/point_cloud.hpp"
+#include "ldoem/image/png.hpp"
+#include "ldoem/protocol/expected.hpp"
+
+namespace ldoem::cloud {
+
+enum class RenderColour : std::uint8_t { height, intensity };
+
+enum class RenderError : std::uint8_t {
+  no_points,          // no finite point to draw
+  no_intensity,       // coloured by intensity, but the cloud has no intensity channel
+  bad_size,           // width or height outside [16, 8192]
+  png_failed,
+  cannot_open_file,
+  io_failed,
+};
+
+[[nodiscard]] std::string_view to_string(RenderError error);
+
+struct RenderOptions {
+  std::uint32_t width = 1600;
+  std::uint32_t height = 1000;
+  RenderColour colour = RenderColour::height;
+  double horizontal_fov_deg = 70.0;
+};
+
+[[nodiscard]] protocol::Expected<image::RgbImage, RenderError> render_cloud(const PointCloud& cloud,
+                                                                           const RenderOptions& options = {});
+
+// render_cloud + image::encode_rgb_png + write; returns the number of bytes written.
+[[nodiscard]] protocol::Expected<std::size_t, RenderError> write_render_png(const std::filesystem::path& path,
+                                                                           const PointCloud& cloud,
+                                                                           const RenderOptions& options = {});
+
+}  // namespace ldoem::cloud
