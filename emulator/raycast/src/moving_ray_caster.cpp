@@ -1,6 +1,7 @@
 #include "ldoem/raycast/moving_ray_caster.hpp"
 
 #include "ldoem/raycast/ode_world.hpp"
+#include "exact_primitives.hpp"
 #include "moving_bounds.hpp"
 #include "ray_probe.hpp"
 
@@ -51,6 +52,9 @@ struct MovingRayCaster::Impl {
   MovingCasterOptions options;
   std::unique_ptr<OdeWorld> local_world;  // every moving object at the identity pose
   std::vector<detail::LocalExtent> extents;
+  // Primitives in their own frame (centre 0, axes identity), tested in closed form as the static
+  // caster tests them; meshes (no entry) go to ODE's trimesh.
+  std::vector<std::optional<detail::ExactPrimitive>> primitives;
   Eigen::Vector3d frame_origin_m = Eigen::Vector3d::Zero();
 
   std::string device_error;
@@ -157,7 +161,8 @@ std::optional<detail::Contact> MovingRayCaster::Impl::test(std::size_t k, const 
   const scene::Pose pose = motion.pose_at(k, time_s);
   const Eigen::Quaterniond inverse = pose.orientation.conjugate();
   const detail::CheckedRay local{inverse * (ray.origin_m - pose.position_m), inverse * ray.direction, max_range_m};
-  auto contact = detail::collide(detail::aim_thread_probe(local), local, *local_world, k);
+  auto contact = primitives[k] ? detail::intersect(*primitives[k], local)
+                               : detail::collide(detail::aim_thread_probe(local), local, *local_world, k);
   if (contact) contact->normal = pose.orientation * contact->normal;
   return contact;
 }
@@ -185,6 +190,11 @@ MovingRayCaster::MovingRayCaster(const std::vector<scene::SceneObject>& objects,
   }
   if (!objects.empty()) impl_->frame_origin_m = 0.5 * (lower + upper);
   impl_->local_world = std::make_unique<OdeWorld>(local);
+  for (std::size_t k = 0; k < objects.size(); ++k) {
+    const bool mesh = std::holds_alternative<scene::Mesh>(objects[k].shape);
+    impl_->primitives.push_back(mesh ? std::nullopt
+                                     : std::optional<detail::ExactPrimitive>(detail::exact_primitive_of(*impl_->local_world, k)));
+  }
   impl_->build_embree();
 }
 
@@ -198,6 +208,8 @@ void MovingRayCaster::prepare(double t0_s, double t1_s) {
     throw std::invalid_argument("MovingRayCaster::prepare: needs a finite window with t1 > t0");
   }
   if (impl.scene_indices.empty()) return;
+  if (impl.prepared && t0_s >= impl.t0_s && t1_s <= impl.t1_s) return;
+  t1_s = std::max(t1_s, t0_s + impl.options.min_window_s);
   const unsigned n = impl.options.slices;
   const double span_s = t1_s - t0_s;
   // Slice edges are widened by this much so that a ray time rounded across an edge still finds

@@ -1,9 +1,12 @@
 #include "ldoem/world/scene_caster.hpp"
 
+#include <algorithm>
+
 namespace ldoem::world {
 
 SceneCaster::SceneCaster(const scene::Scene& scene, raycast::MovingCasterOptions options)
-    : motion_(scene), moving_caster_(motion_.moving_objects(), motion_.scene_indices(), motion_, options) {
+    : min_window_s_(options.min_window_s),
+      motion_(scene), moving_caster_(motion_.moving_objects(), motion_.scene_indices(), motion_, options) {
   scene::Scene fixed;
   fixed.scanner = scene.scanner;
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
@@ -20,7 +23,7 @@ SceneCaster::SceneCaster(const scene::Scene& scene, raycast::MovingCasterOptions
 SceneCaster::~SceneCaster() = default;
 
 void SceneCaster::prepare(double t0_s, double t1_s) {
-  motion_.advance(t0_s, t1_s);
+  motion_.advance(t0_s, std::max(t1_s, t0_s + min_window_s_));
   moving_caster_.prepare(t0_s, t1_s);
 }
 

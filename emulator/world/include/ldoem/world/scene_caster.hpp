@@ -17,7 +17,8 @@ class SceneCaster final : public raycast::RayCaster {
   explicit SceneCaster(const scene::Scene& scene, raycast::MovingCasterOptions options = {});
   ~SceneCaster() override;
 
-  // Before casting rays timed in [t0, t1]: steps the rigid bodies and readies the moving index.
+  // Before casting rays timed in [t0, t1]: steps the rigid bodies and readies the moving index
+  // (the bodies are stepped as far as the index's window reaches: options.min_window_s).
   // Not thread-safe; casts are (const) between two prepare calls.
   void prepare(double t0_s, double t1_s);
 
@@ -27,6 +28,7 @@ class SceneCaster final : public raycast::RayCaster {
   const WorldMotion& motion() const { return motion_; }
 
  private:
+  double min_window_s_;
   WorldMotion motion_;
   std::vector<std::uint32_t> static_indices_;  // static caster's object index -> Scene::objects
   std::unique_ptr<raycast::OdeWorld> static_world_;
