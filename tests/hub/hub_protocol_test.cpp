@@ -92,6 +92,7 @@ TEST(HubReply, OkAndErr_RoundTrip) {
 }
 
 TEST(HubReply, Garbage_IsAnError) {
+  EXPECT_FALSE(parse_reply("7 ERR busy two\nlines"));  // fuzz_hub_request: not a line
   EXPECT_FALSE(parse_reply("7 MAYBE STATUS"));
   EXPECT_FALSE(parse_reply("7 OK STATUS novalue"));
   EXPECT_FALSE(parse_reply("7 OK STATUS a=%4"));

@@ -310,8 +310,11 @@ std::optional<std::string> HubReply::field(std::string_view key) const {
 
 protocol::Expected<HubReply, ReplyParseError> parse_reply(std::string_view line) {
   line = trim_line_end(line);
-  const Args tokens = split_spaces(line);
   const auto failure = [](std::string detail) { return Unexpected<ReplyParseError>({std::move(detail)}); };
+  if (line.find_first_of("\r\n") != std::string_view::npos) {
+    return failure("a reply is one line (a line break inside it)");  // found by fuzz_hub_request
+  }
+  const Args tokens = split_spaces(line);
   if (tokens.size() < 3) {
     return failure("a reply is: ID OK COMMAND ... or ID ERR KIND MESSAGE");
   }
