@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# What a user of the installed package gets, checked from a built tree (default: build/default):
+#   1. `cmake --install` into a staging folder (DESTDIR, prefix /usr);
+#   2. the systemd units as installed (scripts/check-units.sh: verify, security <= 2.0);
+#   3. examples/consumer built against the installed CMake package (find_package(ldoem),
+#      ldoem::driver) and once more with pkg-config (ldoem.pc);
+#   4. the consumer run against the installed ldoem-emud with an installed scene (TCP);
+#   5. `cpack -G DEB`, and the package holds the programs, units, scenes and the library.
+#   scripts/check-install.sh [BUILD_DIR]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${1:-build/default}
+work=$(mktemp -d "${TMPDIR:-/tmp}/ldoem-install.XXXXXX")
+daemon_pid=""
+cleanup() {
+  if [ -n "$daemon_pid" ]; then kill "$daemon_pid" 2>/dev/null || true; wait "$daemon_pid" 2>/dev/null || true; fi
+  rm -rf "$work"
+}
+trap cleanup EXIT
+step() { printf '\n--- %s\n' "$*"; }
+
+step "cmake --install $build (DESTDIR, prefix /usr)"
+DESTDIR="$work/root" cmake --install "$build" --prefix /usr >/dev/null
+root="$work/root"
+for file in usr/bin/ldoem-emud usr/bin/ldoem-hub usr/bin/ldoem-scan usr/share/ldoem/scenes/corridor.yaml \
+            usr/lib/systemd/system/ldoem-emud@.service usr/lib/systemd/system/ldoem-hub.service \
+            usr/include/ldoem/driver/scanner.hpp usr/include/ldoem/protocol/messages.hpp; do
+  [ -e "$root/$file" ] || { echo "check-install: /$file is not installed" >&2; exit 1; }
+done
+libdir=$(cd "$root/usr" && dirname "$(find . -name libldoem.a | head -n 1)")
+[ -n "$libdir" ] && [ -f "$root/usr/$libdir/cmake/ldoem/ldoemConfig.cmake" ] && [ -f "$root/usr/$libdir/pkgconfig/ldoem.pc" ] ||
+  { echo "check-install: libldoem, its CMake package or ldoem.pc is missing" >&2; exit 1; }
+
+step "systemd units"
+scripts/check-units.sh "$root"
+
+step "examples/consumer against find_package(ldoem)"
+cmake -S examples/consumer -B "$work/consumer" -G Ninja -DCMAKE_PREFIX_PATH="$root/usr" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$work/consumer" >/dev/null
+
+step "examples/consumer against pkg-config ldoem"
+flags=$(PKG_CONFIG_PATH="$root/usr/$libdir/pkgconfig" pkg-config --define-prefix --cflags --libs ldoem)
+# shellcheck disable=SC2086
+c++ -o "$work/consumer-pc" examples/consumer/main.cpp $flags
+
+step "consumer against the installed ldoem-emud"
+"$root/usr/bin/ldoem-emud" --scene "$root/usr/share/ldoem/scenes/minimal.yaml" --no-can --tcp 127.0.0.1:0 \
+  --no-flash --timeout 120 >"$work/emud.out" 2>"$work/emud.err" &
+daemon_pid=$!
+for _ in $(seq 200); do grep -qx ready "$work/emud.out" && break; sleep 0.05; done
+grep -qx ready "$work/emud.out" || { cat "$work/emud.err" >&2; echo "check-install: ldoem-emud not ready" >&2; exit 1; }
+address=$(sed -n 's/^tcp //p' "$work/emud.out" | head -n 1)
+for consumer in "$work/consumer/ldoem-consumer" "$work/consumer-pc"; do
+  timeout 60 "$consumer" "tcp:$address" | tee "$work/consumer.out"
+  grep -q '^profile .*: [1-9][0-9]* points$' "$work/consumer.out" ||
+    { echo "check-install: $consumer took no profile" >&2; exit 1; }
+done
+
+step "cpack -G DEB"
+(cd "$build" && cpack -G DEB -B "$work/deb" >/dev/null)
+deb=$(ls "$work"/deb/*.deb)
+contents=$(dpkg-deb -c "$deb")
+for file in ./usr/bin/ldoem-emud ./usr/lib/systemd/system/ldoem-hub.service ./usr/share/ldoem/scenes/corridor.yaml; do
+  grep -q " $file\$" <<<"$contents" || { echo "check-install: $file missing from $(basename "$deb")" >&2; exit 1; }
+done
+grep -q 'libldoem.a$' <<<"$contents" || { echo "check-install: libldoem.a missing from the package" >&2; exit 1; }
+echo "check-install: $(basename "$deb") ($(du -k "$deb" | cut -f1) KiB), depends: $(dpkg-deb -f "$deb" Depends)"
+echo "check-install: all passed"
