@@ -11,7 +11,8 @@ foreach(program ldoem-emud ldoem-hub ldoem-scan ldoem-conformance)
 endforeach()
 
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/scenes/ DESTINATION ${CMAKE_INSTALL_DATADIR}/ldoem/scenes COMPONENT runtime)
-install(FILES ${PROJECT_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR} COMPONENT runtime)
+install(FILES ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/packaging/systemd/ldoem-emud.env.example
+        DESTINATION ${CMAKE_INSTALL_DOCDIR} COMPONENT runtime)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR} COMPONENT runtime)
 # systemd looks in <prefix>/lib/systemd/system for /usr (Debian's merged /usr) and /usr/local.
 install(FILES ${PROJECT_SOURCE_DIR}/packaging/systemd/ldoem-emud@.service

@@ -5,6 +5,7 @@
 #include <iterator>
 
 #include <pthread.h>
+#include <systemd/sd-daemon.h>
 
 #include "ldoem/daemon/device_instance.hpp"
 #include "ldoem/daemon/endpoint_registry.hpp"
@@ -220,8 +221,23 @@ protocol::Expected<std::unique_ptr<Daemon>, StartFailure> Daemon::create(
   return std::unique_ptr<Daemon>(new Daemon(std::move(impl)));
 }
 
+namespace {
+
+// Under systemd (Type=notify, WatchdogSec=) the loop itself pings at half the watchdog period,
+// so a loop that hangs gets restarted. Outside systemd sd_watchdog_enabled() is 0.
+void ping_watchdog(io::EventLoop& loop, std::chrono::microseconds every) {
+  sd_notify(0, "WATCHDOG=1");
+  loop.add_timer_after(every, [&loop, every] { ping_watchdog(loop, every); });
+}
+
+}  // namespace
+
 int Daemon::run() {
   Impl& d = *impl_;
+  sd_notify(0, "READY=1");
+  if (std::uint64_t watchdog_us = 0; sd_watchdog_enabled(0, &watchdog_us) > 0) {
+    ping_watchdog(*d.loop, std::chrono::microseconds(watchdog_us / 2));
+  }
   if (d.options.timeout_s) {
     d.loop->add_timer_after(
         std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(*d.options.timeout_s)),
@@ -229,6 +245,7 @@ int Daemon::run() {
   }
   while (!d.loop->stop_requested() && d.round()) {
   }
+  sd_notify(0, "STOPPING=1");
   d.device->close();
   d.logger.log(endpoints::LogLevel::info, format_counters(d.device->counters()));
   if (d.stop_signal) return kExitSignalBase + *d.stop_signal;
