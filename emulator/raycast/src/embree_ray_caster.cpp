@@ -288,7 +288,7 @@ std::optional<Hit> EmbreeRayCaster::Impl::mesh_hit(const detail::CheckedRay& ray
   }
   if (!(range_m > 0.0) || range_m > ray.max_range_m) return std::nullopt;
   return Hit{range_m, detail::facing_normal(normal, ray.direction),
-             world.object(mesh.object_index).reflectance, static_cast<std::uint32_t>(mesh.object_index)};
+             scene::optical_reflectance(world.object(mesh.object_index)), static_cast<std::uint32_t>(mesh.object_index)};
 }
 
 EmbreeRayCaster::EmbreeRayCaster(const OdeWorld& world) : impl_(std::make_unique<Impl>(world)) {

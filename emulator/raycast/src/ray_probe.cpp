@@ -122,7 +122,7 @@ std::optional<Contact> collide(dGeomID probe, const CheckedRay& ray, const OdeWo
 
 Hit to_hit(const Contact& contact, const CheckedRay& ray, const OdeWorld& world) {
   return Hit{contact.range_m, facing_normal(contact.normal, ray.direction),
-             world.object(contact.object_index).reflectance, static_cast<std::uint32_t>(contact.object_index)};
+             scene::optical_reflectance(world.object(contact.object_index)), static_cast<std::uint32_t>(contact.object_index)};
 }
 
 }  // namespace ldoem::raycast::detail

@@ -31,7 +31,7 @@ double max_range_at_full_reflectance(const OpticsConfig& optics) {
 double received_irradiance(const OpticsConfig& optics, double reflectance, double cos_incidence,
                            double range_m) {
   if (!all_finite(reflectance, cos_incidence, range_m)) return 0.0;
-  const double r = std::clamp(reflectance, 0.0, 1.0);
+  const double r = std::clamp(reflectance, 0.0, kRetroReflectiveGain);
   const double cos_alpha = std::clamp(cos_incidence, 0.0, 1.0);
   const double l = std::max(range_m, kMinIrradianceRange_m);
   return optics.calibration * lambert_geometry(optics) * r * cos_alpha / (l * l);
@@ -46,6 +46,11 @@ double max_detectable_range(const OpticsConfig& optics, double reflectance, doub
 
 std::uint16_t echo_value(const OpticsConfig& optics, double irradiance) {
   if (!std::isfinite(irradiance) || irradiance <= 0.0) return 0;
+  if (optics.echo_scale == EchoScale::log) {
+    const double decades = std::log10(irradiance / optics.min_irradiance);
+    const double echo = std::round(kEchoAtThreshold + kLogEchoPerDecade * decades);
+    return static_cast<std::uint16_t>(std::clamp(echo, 1.0, 65535.0));
+  }
   const double echo = std::round(1000.0 * irradiance / optics.min_irradiance);
   return static_cast<std::uint16_t>(std::min(echo, 65535.0));
 }

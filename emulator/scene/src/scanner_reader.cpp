@@ -9,8 +9,12 @@
 namespace ldoem::scene::detail {
 namespace {
 
-// DISTANCE is a 1/256 m word (spec 3.x profile format), so 65535/256 m is the longest range.
-constexpr double kProtocolMaxRange_m = 65535.0 / 256.0;
+// The LD-OEM measures up to 250 m (SICK's product information); the DISTANCE word (1/256 m)
+// could carry 255.99 m, but the device never reports beyond its range.
+constexpr double kDeviceMaxRange_m = 250.0;
+// Pulse widths outside this window are not a pulsed time-of-flight laser diode's.
+constexpr double kMinPulseWidth_s = 1e-10;
+constexpr double kMaxPulseWidth_s = 1e-7;
 constexpr double kMaxBeamDivergence_rad = 0.1;
 constexpr std::uint64_t kMaxCanId = 0x7FF;      // 11-bit identifiers (D1)
 constexpr std::uint64_t kFullCircle_ticks = 5760;  // 360 deg in 1/16 deg (spec 3.6)
@@ -25,6 +29,13 @@ void read_optics(const std::string& file, const YAML::Node& node, const std::str
   read_field(map, "max_range_at_full_reflectance_m", optics.max_range_at_full_reflectance_m,
              Constraint::positive);
   read_field(map, "calibration", optics.calibration, Constraint::positive);
+  std::string scale = "linear";
+  read_field(map, "echo_scale", scale);
+  if (scale != "linear" && scale != "log") {
+    fail(file, SceneErrorKind::out_of_range, *map.get("echo_scale"), map.child_path("echo_scale"),
+         "must be linear (D6) or log");
+  }
+  optics.echo_scale = scale == "log" ? EchoScale::log : EchoScale::linear;
   if (map.has("calibration") && map.has("max_range_at_full_reflectance_m")) {
     fail(file, SceneErrorKind::conflicting_keys, node, map.child_path("calibration"),
          "give either calibration or max_range_at_full_reflectance_m, not both");
@@ -37,6 +48,53 @@ void read_noise(const std::string& file, const YAML::Node& node, const std::stri
   MapReader map(file, node, path);
   read_field(map, "sigma_m", noise.sigma_m, Constraint::non_negative);
   read_field(map, "mean_m", noise.mean_m);
+  map.finish();
+}
+
+void read_waveform(const std::string& file, const YAML::Node& node, const std::string& path,
+                   WaveformConfig& waveform) {
+  MapReader map(file, node, path);
+  read_field(map, "pulse_width_s", waveform.pulse_width_s, Constraint::positive);
+  if (waveform.pulse_width_s < kMinPulseWidth_s || waveform.pulse_width_s > kMaxPulseWidth_s) {
+    fail(file, SceneErrorKind::out_of_range, *map.get("pulse_width_s"), map.child_path("pulse_width_s"),
+         "must be between 1e-10 and 1e-7 s");
+  }
+  read_field(map, "threshold_factor", waveform.threshold_factor, Constraint::positive);
+  if (waveform.threshold_factor < 1.0) {
+    fail(file, SceneErrorKind::out_of_range, *map.get("threshold_factor"), map.child_path("threshold_factor"),
+         "must be >= 1 (D6: I_rs_min is the weakest return the LD detects)");
+  }
+  std::string detection = "first";
+  read_field(map, "detection", detection);
+  if (detection == "first") {
+    waveform.detection = EchoDetection::first;
+  } else if (detection == "strongest") {
+    waveform.detection = EchoDetection::strongest;
+  } else if (detection == "last") {
+    waveform.detection = EchoDetection::last;
+  } else {
+    fail(file, SceneErrorKind::out_of_range, *map.get("detection"), map.child_path("detection"),
+         "must be first, strongest or last");
+  }
+  map.finish();
+}
+
+void read_snr_noise(const std::string& file, const YAML::Node& node, const std::string& path,
+                    SnrNoiseConfig& snr) {
+  MapReader map(file, node, path);
+  read_field(map, "threshold_snr", snr.threshold_snr, Constraint::positive);
+  map.finish();
+}
+
+void read_atmosphere(const std::string& file, const YAML::Node& node, const std::string& path,
+                     AtmosphereConfig& atmosphere) {
+  MapReader map(file, node, path);
+  read_field(map, "visibility_m", atmosphere.visibility_m, Constraint::positive);
+  read_field(map, "fog_returns", atmosphere.fog_returns);
+  if (atmosphere.fog_returns) {
+    fail(file, SceneErrorKind::out_of_range, *map.get("fog_returns"), map.child_path("fog_returns"),
+         "fog's own returns are not simulated yet (docs/sensor-model.md): only false is accepted");
+  }
   map.finish();
 }
 
@@ -151,9 +209,9 @@ void read_identification(const std::string& file, const YAML::Node& node, const 
 void read_ranges(MapReader& map, ScannerConfig& scanner) {
   read_field(map, "min_range_m", scanner.min_range_m, Constraint::positive);
   read_field(map, "max_range_m", scanner.max_range_m, Constraint::positive);
-  if (scanner.max_range_m > kProtocolMaxRange_m) {
+  if (scanner.max_range_m > kDeviceMaxRange_m) {
     fail(map.file(), SceneErrorKind::out_of_range, *map.get("max_range_m"),
-         map.child_path("max_range_m"), "must be <= 255.996 m (protocol DISTANCE word, D6)");
+         map.child_path("max_range_m"), "must be <= 250 m (the LD-OEM's measuring range)");
   }
   if (!(scanner.min_range_m < scanner.max_range_m)) {
     fail(map.file(), SceneErrorKind::out_of_range, map.node(), map.child_path("min_range_m"),
@@ -206,6 +264,11 @@ ScannerConfig read_scanner(const std::string& file, const YAML::Node& node, cons
         calibration_for_max_range(scanner.optics, scanner.optics.max_range_at_full_reflectance_m);
   }
   if (auto noise = map.get("noise")) read_noise(file, *noise, map.child_path("noise"), scanner.noise);
+  if (auto waveform = map.get("waveform")) read_waveform(file, *waveform, map.child_path("waveform"), scanner.waveform);
+  if (auto snr = map.get("snr_noise")) read_snr_noise(file, *snr, map.child_path("snr_noise"), scanner.snr_noise);
+  if (auto atmosphere = map.get("atmosphere")) {
+    read_atmosphere(file, *atmosphere, map.child_path("atmosphere"), scanner.atmosphere);
+  }
   if (auto head = map.get("head")) read_head(file, *head, map.child_path("head"), scanner.head);
   if (auto motor = map.get("tilt_motor")) read_tilt_motor(file, *motor, map.child_path("tilt_motor"), scanner.tilt_motor);
   if (auto flash = map.get("flash")) read_flash(file, *flash, map.child_path("flash"), scanner.flash);

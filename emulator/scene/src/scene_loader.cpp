@@ -25,6 +25,7 @@ using detail::MapReader;
 constexpr std::array<std::string_view, kEffectCount> kEffectNames{
     "noise", "intensity", "incidence", "mixed_pixels",
     "motor_dynamics", "head_dynamics", "sweep_motion", "bus_timing",
+    "waveform", "snr_noise", "atmosphere",
 };
 
 constexpr std::array<std::string_view, 6> kShapeKeys{"box", "sphere", "cylinder", "capsule", "plane", "mesh"};
@@ -166,6 +167,7 @@ SceneObject read_object(LoadContext& context, const YAML::Node& node, std::size_
   object.name = "object" + std::to_string(index);
   detail::read_field(map, "name", object.name);
   detail::read_field(map, "reflectance", object.reflectance, Constraint::unit_interval);
+  detail::read_field(map, "retroreflective", object.retroreflective);
 
   std::string_view shape_key;
   for (std::string_view key : kShapeKeys) {
@@ -194,6 +196,36 @@ SceneObject read_object(LoadContext& context, const YAML::Node& node, std::size_
   return object;
 }
 
+// Effects that only make sense together: a combination that would silently do nothing, or two
+// that model the same thing, is a located error.
+void check_effect_combinations(const std::string& file, const YAML::Node& node, const EffectSet& effects) {
+  const auto position_of = [&](Effect effect) {
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      if (node[i].IsScalar() && node[i].Scalar() == effect_name(effect)) return i;
+    }
+    return std::size_t{0};
+  };
+  const bool uses_irradiance = effects.has(Effect::intensity) || effects.has(Effect::mixed_pixels) ||
+                               effects.has(Effect::waveform) || effects.has(Effect::snr_noise);
+  if (effects.has(Effect::incidence) && !uses_irradiance) {
+    const std::size_t i = position_of(Effect::incidence);
+    fail(file, SceneErrorKind::conflicting_keys, node[i], "effects[" + std::to_string(i) + "]",
+         "incidence scales the received power, so alone it changes nothing: name intensity too "
+         "(or mixed_pixels, waveform or snr_noise)");
+  }
+  if (effects.has(Effect::atmosphere) && !uses_irradiance) {
+    const std::size_t i = position_of(Effect::atmosphere);
+    fail(file, SceneErrorKind::conflicting_keys, node[i], "effects[" + std::to_string(i) + "]",
+         "atmosphere attenuates the received power, so alone it changes nothing: name intensity too "
+         "(or mixed_pixels, waveform or snr_noise)");
+  }
+  if (effects.has(Effect::noise) && effects.has(Effect::snr_noise)) {
+    const std::size_t i = position_of(Effect::snr_noise);
+    fail(file, SceneErrorKind::conflicting_keys, node[i], "effects[" + std::to_string(i) + "]",
+         "snr_noise already adds noise's constant sigma (as its floor): name one of noise and snr_noise");
+  }
+}
+
 EffectSet read_effects(const std::string& file, const YAML::Node& node) {
   detail::require_sequence(file, node, "effects");
   EffectSet effects;
@@ -211,9 +243,11 @@ EffectSet read_effects(const std::string& file, const YAML::Node& node) {
     if (!known) {
       fail(file, SceneErrorKind::unknown_effect, node[i], path,
            "unknown effect '" + name + "' (D9: noise, intensity, incidence, mixed_pixels, "
-           "motor_dynamics, head_dynamics, sweep_motion, bus_timing)");
+           "motor_dynamics, head_dynamics, sweep_motion, bus_timing; D13: waveform, snr_noise, "
+           "atmosphere)");
     }
   }
+  check_effect_combinations(file, node, effects);
   return effects;
 }
 

@@ -178,6 +178,16 @@ void read_field(MapReader& map, std::string_view key, std::string& out) {
   if (auto node = map.get(key)) out = read_string(map.file(), *node, map.child_path(key));
 }
 
+void read_field(MapReader& map, std::string_view key, bool& out) {
+  if (auto node = map.get(key)) {
+    const std::string text = read_string(map.file(), *node, map.child_path(key));
+    if (text != "true" && text != "false") {
+      fail(map.file(), SceneErrorKind::wrong_type, *node, map.child_path(key), "must be true or false");
+    }
+    out = text == "true";
+  }
+}
+
 void read_field(MapReader& map, std::string_view key, Eigen::Vector3d& out, Constraint constraint) {
   if (auto node = map.get(key)) out = read_vector3(map.file(), *node, map.child_path(key), constraint);
 }

@@ -76,6 +76,8 @@ void require_sequence(const std::string& file, const YAML::Node& node, const std
 void read_field(MapReader& map, std::string_view key, double& out,
                 Constraint constraint = Constraint::finite);
 void read_field(MapReader& map, std::string_view key, std::string& out);
+// true or false only (YAML's yes/no/on/off spellings are refused: a typo must not flip a flag).
+void read_field(MapReader& map, std::string_view key, bool& out);
 void read_field(MapReader& map, std::string_view key, Eigen::Vector3d& out,
                 Constraint constraint = Constraint::finite);
 template <class Unsigned>

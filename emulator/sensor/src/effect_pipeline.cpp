@@ -10,16 +10,27 @@ EffectPipeline EffectPipeline::build(const scene::ScannerConfig& scanner, const 
   EffectPipeline pipeline;
   pipeline.limits_ = RangeLimits{.min_range_m = scanner.min_range_m, .max_range_m = scanner.max_range_m};
   const bool use_incidence = effects.has(Effect::incidence);
+  const std::optional<scene::AtmosphereConfig> atmosphere =
+      effects.has(Effect::atmosphere) ? std::optional(scanner.atmosphere) : std::nullopt;
   // The fixed order of docs/sensor-model.md; it does not follow the order of the YAML keys.
-  if (effects.has(Effect::mixed_pixels)) {
+  // D13: waveform replaces mixed_pixels' weighted mean (it casts the same footprint).
+  if (effects.has(Effect::waveform)) {
+    pipeline.stages_.push_back(make_waveform_stage(scanner, use_incidence, atmosphere));
+  } else if (effects.has(Effect::mixed_pixels)) {
     pipeline.stages_.push_back(make_mixed_pixels_stage(scanner.beam_divergence_rad, scanner.mixed_pixel_subrays,
-                                                       scanner.optics, use_incidence));
+                                                       scanner.optics, use_incidence, atmosphere));
   } else {
     pipeline.stages_.push_back(make_single_ray_stage());
   }
-  if (effects.has(Effect::intensity)) pipeline.stages_.push_back(make_intensity_stage(scanner.optics, use_incidence));
+  if (effects.has(Effect::snr_noise)) {
+    pipeline.stages_.push_back(
+        make_snr_noise_stage(scanner, use_incidence, atmosphere, effects.has(Effect::waveform)));
+  }
+  if (effects.has(Effect::intensity)) {
+    pipeline.stages_.push_back(make_intensity_stage(scanner.optics, use_incidence, atmosphere));
+  }
   if (effects.has(Effect::noise)) pipeline.stages_.push_back(make_noise_stage(scanner.noise));
-  pipeline.bare_ = pipeline.stages_.size() == 1 && !effects.has(Effect::mixed_pixels);
+  pipeline.bare_ = pipeline.stages_.size() == 1 && pipeline.stages_.front()->name() == "single_ray";
   return pipeline;
 }
 

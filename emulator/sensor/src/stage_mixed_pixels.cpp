@@ -3,7 +3,9 @@
 // beam's cross-section (a top-hat profile). The measured range is the irradiance-weighted mean
 // of the sub-rays' ranges, so a beam straddling an edge reports a range between the two surfaces,
 // nearer the one that returns more power: the artefact real scans show at depth steps.
+#include "footprint.hpp"
 #include "hit_geometry.hpp"
+#include "received_power.hpp"
 
 #include <ldoem/sensor/effects.hpp>
 #include <ldoem/scene/optics.hpp>
@@ -22,50 +24,27 @@ int rings_for(int subray_count) {
   return rings;
 }
 
-// Two unit vectors perpendicular to the direction and to each other, chosen deterministically
-// (only their plane matters for a rotationally symmetric beam).
-std::array<Eigen::Vector3d, 2> perpendicular_basis(const Eigen::Vector3d& direction) {
-  const Eigen::Vector3d helper =
-      std::abs(direction.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
-  const Eigen::Vector3d first = helper.cross(direction).normalized();
-  return {first, direction.cross(first)};
-}
-
 class MixedPixelsStage final : public BeamStage {
  public:
-  MixedPixelsStage(double beam_divergence_rad, int subray_count, const scene::OpticsConfig& optics,
-                   bool use_incidence)
+  MixedPixelsStage(double beam_divergence_rad, int subray_count, const detail::ReceivedPower& power)
       : beam_divergence_rad_(beam_divergence_rad),
         offsets_(hexagonal_subray_offsets(beam_divergence_rad, subray_count)),
-        optics_(optics),
-        use_incidence_(use_incidence) {}
+        power_(power) {}
 
   std::string_view name() const override { return "mixed_pixels"; }
 
   std::string describe() const override {
     std::ostringstream text;
     text << "mixed_pixels: " << offsets_.size() << " sub-rays, divergence " << beam_divergence_rad_
-         << " rad, incidence " << (use_incidence_ ? "on" : "off");
+         << " rad, incidence " << (power_.use_incidence() ? "on" : "off");
     return text.str();
   }
 
   void apply(BeamState& beam, const BeamContext& context, BeamCounters& counters) const override {
-    const std::size_t count = offsets_.size();
-    // Small fixed bound (37) keeps this allocation-free.
-    std::array<raycast::Ray, 37> rays;
-    std::array<std::optional<raycast::Hit>, 37> hits;
-    const auto [across, up] = perpendicular_basis(beam.ray.direction);
-    for (std::size_t i = 0; i < count; ++i) {
-      const Eigen::Vector2d& offset = offsets_[i];
-      rays[i] = beam.ray;
-      rays[i].direction =
-          (beam.ray.direction + std::tan(offset.x()) * across + std::tan(offset.y()) * up).normalized();
-    }
-    context.caster.cast_many(std::span<const raycast::Ray>(rays.data(), count),
-                             std::span<std::optional<raycast::Hit>>(hits.data(), count));
-    counters.rays_cast += count;
-    combine(beam, std::span<const raycast::Ray>(rays.data(), count),
-            std::span<const std::optional<raycast::Hit>>(hits.data(), count));
+    detail::FootprintCast cast;  // fixed bound (37 sub-rays): allocation-free
+    detail::cast_footprint(beam.ray, offsets_, context.caster, cast);
+    counters.rays_cast += cast.count;
+    combine(beam, cast.ray_span(), cast.hit_span());
   }
 
  private:
@@ -80,8 +59,7 @@ class MixedPixelsStage final : public BeamStage {
       if (!hits[i] || !detail::usable_hit(*hits[i])) continue;
       const raycast::Hit& hit = *hits[i];
       const double cosine = detail::cos_incidence(rays[i].direction, hit.normal);
-      const double irradiance =
-          scene::received_irradiance(optics_, hit.reflectance, use_incidence_ ? cosine : 1.0, hit.range_m);
+      const double irradiance = power_(hit.reflectance, cosine, hit.range_m);
       weight_sum += irradiance;
       weighted_range_sum += irradiance * hit.range_m;
       plain_range_sum += hit.range_m;
@@ -107,8 +85,7 @@ class MixedPixelsStage final : public BeamStage {
 
   double beam_divergence_rad_;
   std::vector<Eigen::Vector2d> offsets_;
-  scene::OpticsConfig optics_;
-  bool use_incidence_;
+  detail::ReceivedPower power_;
 };
 
 }  // namespace
@@ -134,8 +111,10 @@ std::vector<Eigen::Vector2d> hexagonal_subray_offsets(double beam_divergence_rad
 }
 
 std::unique_ptr<BeamStage> make_mixed_pixels_stage(double beam_divergence_rad, int subray_count,
-                                                   const scene::OpticsConfig& optics, bool use_incidence) {
-  return std::make_unique<MixedPixelsStage>(beam_divergence_rad, subray_count, optics, use_incidence);
+                                                   const scene::OpticsConfig& optics, bool use_incidence,
+                                                   const std::optional<scene::AtmosphereConfig>& atmosphere) {
+  return std::make_unique<MixedPixelsStage>(beam_divergence_rad, subray_count,
+                                            detail::ReceivedPower(optics, use_incidence, atmosphere));
 }
 
 }  // namespace ldoem::sensor

@@ -44,12 +44,31 @@ struct SceneObject {
   Shape shape;
   Pose pose;                 // ignored for planes
   double reflectance = 0.8;  // Lambertian albedo r in [0, 1] (D6)
+  // Retro-reflective sheeting sends light back towards its source instead of into the
+  // hemisphere: it returns kRetroReflectiveGain times what a Lambertian target of the same r
+  // would (docs/sensor-model.md). Casters report optical_reflectance(), not `reflectance`.
+  bool retroreflective = false;
+
   // D12: at most one of the two; neither means the object never moves.
   std::optional<Motion> motion;      // kinematic: constant velocity and spin, or waypoints
   std::optional<Dynamics> dynamics;  // a rigid body on ODE
 
   bool moves() const { return motion.has_value() || dynamics.has_value(); }
 };
+
+// Coefficient of retroreflection of common sheeting (~100 cd/(lx m^2) for white class I at small
+// observation angles) over a white Lambertian target's 1/pi cd/(lx m^2): about 300.
+inline constexpr double kRetroReflectiveGain = 300.0;
+
+// The reflectance the optics see: r, or r times the retro-reflective gain.
+inline double optical_reflectance(const SceneObject& object) {
+  return object.retroreflective ? object.reflectance * kRetroReflectiveGain : object.reflectance;
+}
+
+// How ECHO is computed from I_rs. linear: D6's min(65535, round(1000 I/I_min)), saturating at
+// 65.5 times the threshold; log: round(1000 + kLogEchoPerDecade log10(I/I_min)), which covers
+// 8 decades before it saturates (docs/sensor-model.md).
+enum class EchoScale : std::uint8_t { linear, log };
 
 // D6: the paper's optics. l_max = 63.1 m * sqrt(r cos alpha) with the defaults.
 struct OpticsConfig {
@@ -60,12 +79,40 @@ struct OpticsConfig {
   // the default already agrees with the defaults above: 8 pi I_rs_min L^2 / (I0 d^2).
   double calibration = 0.00016 * 63.1 * 63.1 * 8.0 * std::numbers::pi / (1.0 * 0.04 * 0.04);
   double max_range_at_full_reflectance_m = 63.1;
+  EchoScale echo_scale = EchoScale::linear;
 };
 
 struct NoiseConfig {
   double sigma_m = 0.0015;  // D6 default
   double mean_m = 0.0;
 };
+
+// D13 waveform: how the receiver turns the summed pulses into one echo.
+enum class EchoDetection : std::uint8_t { first, strongest, last };
+struct WaveformConfig {
+  // Full width at half maximum of the emitted (Gaussian) pulse. SICK publishes none for the
+  // LD-OEM; 4 ns is typical of the 905 nm pulsed laser diodes such scanners use
+  // (docs/sensor-model.md).
+  double pulse_width_s = 4.0e-9;
+  // Detection threshold as a multiple of I_rs_min (D6): 1 keeps D6's dropout range.
+  double threshold_factor = 1.0;
+  EchoDetection detection = EchoDetection::first;
+};
+
+// D13 snr_noise: the receiver's noise floor, as the SNR at which the threshold sits.
+struct SnrNoiseConfig {
+  // I_rs_min over the noise's standard deviation: a threshold at 5 sigma of the noise gives
+  // about one false alarm in 3.5 million samples (docs/sensor-model.md).
+  double threshold_snr = 5.0;
+};
+
+// atmosphere: two-way Beer-Lambert extinction from the meteorological visibility (Koschmieder:
+// extinction = 3.912 / V), and optionally fog's own near returns.
+struct AtmosphereConfig {
+  double visibility_m = 1000.0;
+  bool fog_returns = false;
+};
+
 
 // The measuring head (the LD's own spinning mirror motor): spin-up per D7.
 struct HeadConfig {
@@ -129,11 +176,14 @@ struct ScannerConfig {
   std::optional<Motion> pivot_motion;  // D12: the platform carrying the scanner moves
   Eigen::Vector3d optical_offset_m = Eigen::Vector3d::Zero();  // optical centre from the pivot
   double min_range_m = 0.9;   // D_min (D6)
-  double max_range_m = 30.0;  // D_max, <= 255.99 m
+  double max_range_m = 30.0;  // D_max, <= 250 m (the LD-OEM's measuring range)
   double beam_divergence_rad = 0.0025;  // full angle, used by mixed_pixels
   int mixed_pixel_subrays = 7;          // 1, 7, 19, 37 (hexagonal rings)
   OpticsConfig optics;
   NoiseConfig noise;
+  WaveformConfig waveform;
+  SnrNoiseConfig snr_noise;
+  AtmosphereConfig atmosphere;
   HeadConfig head;
   TiltMotorConfig tilt_motor;
   FlashDefaults flash;
@@ -143,8 +193,9 @@ struct ScannerConfig {
 // D9: the effects a scene may name. Nothing else is simulated.
 enum class Effect : std::uint8_t {
   noise, intensity, incidence, mixed_pixels, motor_dynamics, head_dynamics, sweep_motion, bus_timing,
+  waveform, snr_noise, atmosphere,  // D13
 };
-inline constexpr std::size_t kEffectCount = 8;
+inline constexpr std::size_t kEffectCount = 11;
 
 class EffectSet {
  public:

@@ -1,7 +1,10 @@
 // D9 effects as small stages behind one interface, composed by EffectPipeline::build from the
 // scene's EffectSet. The order is fixed here, not by the YAML (see docs/sensor-model.md):
 //
-//   cast (single ray, or mixed_pixels' sub-rays) -> intensity (+incidence) -> noise -> encode
+//   cast (single ray, mixed_pixels' sub-rays, or waveform's pulses) -> snr_noise
+//     -> intensity (+incidence) -> noise -> encode
+//
+// With `atmosphere` every stage that computes I_rs multiplies it by the two-way transmission.
 //
 // Only named effects are built; a scene that names none gets [single_ray] and the encoder: one
 // cast per beam, no irradiance, no random numbers. No stage reads a clock, a global or the scene:
@@ -61,12 +64,23 @@ class BeamStage {
 [[nodiscard]] std::unique_ptr<BeamStage> make_single_ray_stage();
 // Sub-ray count must be 1, 7, 19 or 37 (hexagonal rings); any other count is rounded down to the
 // nearest of these (the scene loader rejects them before they get here).
-[[nodiscard]] std::unique_ptr<BeamStage> make_mixed_pixels_stage(double beam_divergence_rad, int subray_count,
-                                                                 const scene::OpticsConfig& optics,
-                                                                 bool use_incidence);
-[[nodiscard]] std::unique_ptr<BeamStage> make_intensity_stage(const scene::OpticsConfig& optics,
-                                                              bool use_incidence);
+// `atmosphere`: the extinction every I_rs is multiplied by; nothing (the default) multiplies none.
+[[nodiscard]] std::unique_ptr<BeamStage> make_mixed_pixels_stage(
+    double beam_divergence_rad, int subray_count, const scene::OpticsConfig& optics, bool use_incidence,
+    const std::optional<scene::AtmosphereConfig>& atmosphere = std::nullopt);
+[[nodiscard]] std::unique_ptr<BeamStage> make_intensity_stage(
+    const scene::OpticsConfig& optics, bool use_incidence,
+    const std::optional<scene::AtmosphereConfig>& atmosphere = std::nullopt);
 [[nodiscard]] std::unique_ptr<BeamStage> make_noise_stage(const scene::NoiseConfig& noise);
+// D13: the footprint's pulses summed into a waveform, one echo detected (stage_waveform.cpp).
+[[nodiscard]] std::unique_ptr<BeamStage> make_waveform_stage(
+    const scene::ScannerConfig& scanner, bool use_incidence,
+    const std::optional<scene::AtmosphereConfig>& atmosphere = std::nullopt);
+// D13: noise on the echo's height, probabilistic detection, range sigma from the SNR.
+// waveform_thresholds: detection at waveform.threshold_factor * I_rs_min (else at I_rs_min).
+[[nodiscard]] std::unique_ptr<BeamStage> make_snr_noise_stage(
+    const scene::ScannerConfig& scanner, bool use_incidence,
+    const std::optional<scene::AtmosphereConfig>& atmosphere = std::nullopt, bool waveform_thresholds = false);
 
 // Sub-ray count of a hexagonal pattern with `rings` rings around the centre: 1 + 3 k (k + 1).
 [[nodiscard]] constexpr int hexagonal_subray_count(int rings) { return 1 + 3 * rings * (rings + 1); }
