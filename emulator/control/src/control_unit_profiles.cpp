@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "ldoem/control/near_field_filter.hpp"
 #include "ldoem/control/revolution_timing.hpp"
 #include "ldoem/control/sector_table.hpp"
 
@@ -138,6 +139,7 @@ void ControlUnit::emit_profiles(SimTime now, std::uint64_t revolution, const Tra
     const std::uint64_t revolution_number = state_.head.revolutions_before_epoch + revolution + 1;  // D3
     measurement_.measure(RevolutionQuery{revolution_number, revolution_time(epoch, speed_hz, revolution, 0)}, beams,
                          returns);
+    if (state_.ram.near_field_filter_on) suppress_near_field(returns);  // D14
 
     protocol::Profile profile;
     profile.profile_count = static_cast<std::uint16_t>(revolution_number);

@@ -87,7 +87,7 @@ void ControlUnit::serve(const Event& event, const protocol::SetFilter& request) 
     fail(event, Service::set_filter, FailureReason::wrong_state);
     return;
   }
-  // Spec 3.3: the filter setting is stored in flash.
+  // Spec 3.3: the filter setting is stored in flash. D14 (near_field_filter.hpp) says what it does.
   state_.ram.near_field_filter_on = request.value == 1;
   DeviceConfig flash = state_.flash;
   flash.near_field_filter_on = state_.ram.near_field_filter_on;
