@@ -46,7 +46,7 @@ import json, os, sys
 perf = json.load(open(sys.argv[1]))
 rss = [json.loads(line) for line in open(sys.argv[2]) if line.strip()]
 runs = {b["run_name"]: b for b in perf["benchmarks"] if b.get("run_type") == "iteration"}
-verdict = lambda ok: "PASS" if ok else "**FAIL**"
+verdict = lambda ok: "not a target" if ok is None else ("PASS" if ok else "**FAIL**")
 def mrays(x): return f"{x / 1e6:.2f}"
 
 casters = [
@@ -69,7 +69,7 @@ for key, label, primitives_only in casters:
     else:
         match = (f"{int(b['ode_mismatches'])} over 1e-9 m, {int(b['ode_mismatches_over_0_1mm'])} over 0.1 mm, "
                  f"of {int(b['ode_rays_compared'])}")
-        match_ok = True  # meshes: ODE's float trimesh is not the exact reference (DESIGN.md)
+        match_ok = None  # meshes: ODE's float trimesh is not the exact reference (DESIGN.md): no verdict
     summary.append((f">= 1.0x Embree triangles: {label}", f"{b['ratio_vs_triangles']:.2f}x", tri_ok))
     if primitives_only:
         summary.append((f"matches plain ODE: {label}", match, match_ok))
@@ -99,9 +99,11 @@ for key, label in [("paper_effects/paper_apex", "paper's effects, paper's apex (
 scan_table = "\n".join(scan_rows)
 
 d = runs["BM_EffectsOnDemand/iterations:1"]
-summary.append(("no effects within 5 % of bare casting", f"{d['model_over_bare']:.3f}", d['model_over_bare'] <= 1.05))
-demand = (f"| {d['bare_ns_per_beam']:.1f} | {d['model_ns_per_beam']:.1f} | {d['model_over_bare']:.3f} | "
-          f"{verdict(d['model_over_bare'] <= 1.05)} |")
+spread = f"{d['model_over_bare_min']:.3f} .. {d['model_over_bare_max']:.3f}"
+summary.append(("no effects within 5 % of bare casting (median)", f"{d['model_over_bare']:.3f} (spread {spread})",
+                d['model_over_bare'] <= 1.05))
+demand = (f"| {d['bare_ns_per_beam']:.1f} | {d['model_ns_per_beam']:.1f} | {d['model_over_bare']:.3f} | {spread} | "
+          f"{int(d['repeats'])} | {verdict(d['model_over_bare'] <= 1.05)} |")
 
 iso_rows = []
 for size in (7, 100, 4400):
@@ -211,10 +213,14 @@ benchmark's wall time (the target) and from its CPU time (what an idle core woul
 
 A scene that names no effect against a bare loop over the same beams (D5 ray, `cast`, 1/256 m
 quantisation, constant ECHO): the SensorModel's pipeline must cost at most 5 % more. Corridor,
-every second beam of the 270 deg sector at the paper's 121 tilts, interleaved rounds.
+every second beam of the 270 deg sector at the paper's 121 tilts. One measurement is 15
+interleaved rounds (each side keeps its fastest); it is repeated, and the table gives the median
+ratio (the target applies to it), the smallest and largest ratio seen, and the number of
+repeats. The D13 effects (waveform, snr_noise, atmosphere) are compiled in and not named here;
+that their absence changes no byte is `tests/pipeline/profile_digest_test.cpp`'s job.
 
-| bare loop (ns/beam) | SensorModel, no effects (ns/beam) | ratio | target <= 1.05 |
-|---|---|---|---|
+| bare loop (ns/beam, median) | SensorModel, no effects (ns/beam, median) | ratio (median) | spread (min .. max) | repeats | target <= 1.05 |
+|---|---|---|---|---|---|
 @DEMAND@
 
 ## ISO-TP through the protocol state machines

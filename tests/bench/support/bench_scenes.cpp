@@ -114,4 +114,16 @@ std::vector<raycast::Ray> every_nth(const std::vector<raycast::Ray>& rays, std::
   return result;
 }
 
+scene::Scene depth_step_scene(const std::vector<scene::Effect>& effects) {
+  scene::Scene step;
+  step.source_path = "generated:depth-step";
+  step.objects.push_back({"near", scene::Box{Eigen::Vector3d(0.2, 4.0, 4.0)},
+                          {Eigen::Vector3d(kDepthStepNear_m + 0.1, 2.0, 0.0), Eigen::Quaterniond::Identity()},
+                          kDepthStepNearReflectance, {}, {}});
+  step.objects.push_back({"wall", scene::Box{Eigen::Vector3d(0.2, 20.0, 20.0)},
+                          {Eigen::Vector3d(kDepthStepWall_m + 0.1, 0.0, 0.0), Eigen::Quaterniond::Identity()},
+                          kDepthStepWallReflectance, {}, {}});
+  return with_effects(step, effects);
+}
+
 }  // namespace ldoem::bench

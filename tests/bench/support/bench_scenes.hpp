@@ -31,6 +31,16 @@ namespace ldoem::bench {
 // `triangles` triangles (64, 1024, 16384 or 262144); 0 keeps the exact primitive.
 [[nodiscard]] scene::Scene corridor_with_cylinder(const scene::Scene& corridor, int triangles);
 
+// Two parallel surfaces facing the scanner (both normal to x): the near face of a box covering
+// y >= 0 at x = 2.8 m, and a wall at x = 4.18 m (the corridor's cylinder and wall distances).
+// The edge lies in the plane y = 0, which contains the optical centre, so seen from the scanner
+// it is a straight line through the beam's cross-section and no side face is ever hit.
+inline constexpr double kDepthStepNear_m = 2.8;
+inline constexpr double kDepthStepWall_m = 4.18;
+inline constexpr double kDepthStepNearReflectance = 0.6;
+inline constexpr double kDepthStepWallReflectance = 0.75;
+[[nodiscard]] scene::Scene depth_step_scene(const std::vector<scene::Effect>& effects);
+
 // The scene with exactly these D9 effects.
 [[nodiscard]] scene::Scene with_effects(scene::Scene scene, const std::vector<scene::Effect>& effects);
 

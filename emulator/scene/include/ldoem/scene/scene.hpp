@@ -44,14 +44,15 @@ struct SceneObject {
   Shape shape;
   Pose pose;                 // ignored for planes
   double reflectance = 0.8;  // Lambertian albedo r in [0, 1] (D6)
+  // D12: at most one of the two; neither means the object never moves.
+  std::optional<Motion> motion;      // kinematic: constant velocity and spin, or waypoints
+  std::optional<Dynamics> dynamics;  // a rigid body on ODE
+
+
   // Retro-reflective sheeting sends light back towards its source instead of into the
   // hemisphere: it returns kRetroReflectiveGain times what a Lambertian target of the same r
   // would (docs/sensor-model.md). Casters report optical_reflectance(), not `reflectance`.
   bool retroreflective = false;
-
-  // D12: at most one of the two; neither means the object never moves.
-  std::optional<Motion> motion;      // kinematic: constant velocity and spin, or waypoints
-  std::optional<Dynamics> dynamics;  // a rigid body on ODE
 
   bool moves() const { return motion.has_value() || dynamics.has_value(); }
 };
