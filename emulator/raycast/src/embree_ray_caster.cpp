@@ -93,7 +93,7 @@ void primitive_intersect(const RTCIntersectFunctionNArguments* args) {
   auto* context = reinterpret_cast<CastContext*>(args->context);
   const auto* set = static_cast<const PrimitiveSet*>(args->geometryUserPtr);
   const auto hit = detail::intersect(set->shapes[args->primID], *context->ray);
-  if (!hit || (context->best && hit->range_m >= context->best->range_m)) return;
+  if (!hit || (context->best && !detail::nearer(*hit, *context->best))) return;
   auto* rayhit = reinterpret_cast<RTCRayHit*>(args->rayhit);
   // Meshes may already have shortened tfar; a primitive behind that triangle loses.
   if (hit->range_m > static_cast<double>(rayhit->ray.tfar)) return;
@@ -306,7 +306,7 @@ std::optional<Hit> EmbreeRayCaster::cast(const Ray& ray) const {
   // Planes are unbounded, so they stay out of the BVH and only shorten the query.
   for (const detail::ExactPlane& plane : impl_->planes) {
     const auto contact = detail::intersect(plane, *checked);
-    if (contact && (!context.best || contact->range_m < context.best->range_m)) context.best = contact;
+    if (contact && (!context.best || detail::nearer(*contact, *context.best))) context.best = contact;
   }
   const auto best_hit = [&]() -> std::optional<Hit> {
     if (!context.best) return std::nullopt;
@@ -337,7 +337,10 @@ std::optional<Hit> EmbreeRayCaster::cast(const Ray& ray) const {
   // A triangle was nearest (within float precision); keep a plane or primitive that is nearer
   // in double precision.
   auto triangle = impl_->mesh_hit(*checked, rayhit);
-  if (triangle && context.best && context.best->range_m <= triangle->range_m) return best_hit();
+  if (triangle && context.best &&
+      !detail::nearer(detail::Contact{triangle->range_m, triangle->normal, triangle->object_index}, *context.best)) {
+    return best_hit();
+  }
   return triangle ? triangle : best_hit();
 }
 

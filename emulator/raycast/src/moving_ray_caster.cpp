@@ -273,12 +273,13 @@ std::optional<Hit> MovingRayCaster::cast(const Ray& ray) const {
   } else {
     for (std::size_t k = 0; k < impl.scene_indices.size(); ++k) {
       const auto contact = impl.test(k, *checked, ray.time_s, best ? best->range_m : checked->max_range_m);
-      if (contact && (!best || contact->range_m < best->range_m)) best = contact;
+      if (contact && (!best || detail::nearer(*contact, *best))) best = contact;
     }
   }
   if (!best) return std::nullopt;
   return Hit{best->range_m, detail::facing_normal(best->normal, checked->direction),
-             impl.local_world->object(best->object_index).reflectance, impl.scene_indices[best->object_index]};
+             scene::optical_reflectance(impl.local_world->object(best->object_index)),
+             impl.scene_indices[best->object_index]};
 }
 
 }  // namespace ldoem::raycast

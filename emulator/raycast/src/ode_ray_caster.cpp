@@ -15,7 +15,7 @@ std::optional<Hit> OdeRayCaster::cast(const Ray& ray) const {
   std::optional<detail::Contact> nearest;
   for (std::size_t i = 0; i < world_.object_count(); ++i) {
     const auto contact = detail::collide(probe, *checked, world_, i);
-    if (contact && (!nearest || contact->range_m < nearest->range_m)) nearest = contact;
+    if (contact && (!nearest || detail::nearer(*contact, *nearest))) nearest = contact;
   }
   if (!nearest) return std::nullopt;
   return detail::to_hit(*nearest, *checked, world_);

@@ -66,6 +66,14 @@ struct Contact {
   std::size_t object_index;
 };
 
+// The one tie-break of both casters: the nearer contact, and at exactly the same range the
+// object with the lower index (coincident surfaces give the same answer whatever the order in
+// which a BVH visits them).
+inline bool nearer(const Contact& candidate, const Contact& best) {
+  return candidate.range_m < best.range_m ||
+         (candidate.range_m == best.range_m && candidate.object_index < best.object_index);
+}
+
 // dCollide(probe, geom) along `ray` (the probe must be aimed at it). Nothing for no contact, a
 // non-finite range or one outside (0, max_range].
 std::optional<Contact> collide(dGeomID probe, const CheckedRay& ray, const OdeWorld& world,
