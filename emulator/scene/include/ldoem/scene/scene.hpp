@@ -47,8 +47,6 @@ struct SceneObject {
   // D12: at most one of the two; neither means the object never moves.
   std::optional<Motion> motion;      // kinematic: constant velocity and spin, or waypoints
   std::optional<Dynamics> dynamics;  // a rigid body on ODE
-
-
   // Retro-reflective sheeting sends light back towards its source instead of into the
   // hemisphere: it returns kRetroReflectiveGain times what a Lambertian target of the same r
   // would (docs/sensor-model.md). Casters report optical_reflectance(), not `reflectance`.
