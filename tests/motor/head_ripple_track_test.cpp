@@ -80,6 +80,21 @@ TEST(HeadRippleTrack, HeldSpeed_ShiftIsTheRippleAngleOverTheSpeed) {
   EXPECT_LT(largest_s, 2.0 * head.ripple_fraction / angular_frequency * 1.01);
 }
 
+TEST(HeadRippleTrack, FireTime_IsTheNominalTimePlusTheShiftOfItsAngle) {
+  HeadRippleTrack track(large_ripple());
+  track.set_target(SimTime::zero(), 10.0);
+  const SimTime start = 3s;
+  for (const SimTime since : {10ms, 40ms, 90ms}) {
+    const double angle = 2.0 * std::numbers::pi * 10.0 * seconds(since);
+    EXPECT_LE(std::abs((track.fire_time(start, start + since) - (start + since + track.fire_time_shift(start, angle))).count()), 1);
+  }
+  scene::HeadConfig still;
+  still.ripple_fraction = 0.0;
+  HeadRippleTrack without(still);
+  without.set_target(SimTime::zero(), 10.0);
+  EXPECT_LE(std::abs((without.fire_time(start, start + 50ms) - (start + 50ms)).count()), 1);
+}
+
 TEST(HeadRippleTrack, NewTarget_BothHeadsFollowIt) {
   HeadRippleTrack track(large_ripple());
   track.set_target(SimTime::zero(), 10.0);

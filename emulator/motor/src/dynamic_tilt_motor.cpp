@@ -97,6 +97,7 @@ double DynamicTiltMotor::field_angle_rad() const {
 void DynamicTiltMotor::on_step_pulse(SimTime at, int direction, bool half_step) {
   advance_to(at);
   if (direction == 0) return;
+  note_tilt(std::max(at, world_time_), tilt_rad());  // a resting plate rested until this pulse
   const int sign = direction > 0 ? 1 : -1;
   const std::int64_t half_steps = half_step ? 1 : kHalfStepsPerFullStep;
   commanded_half_steps_ += sign * half_steps;
@@ -166,6 +167,7 @@ void DynamicTiltMotor::step_world() {
   dWorldStep(ode_->world, dt_s);
   world_time_ += world_step_;
   ++world_steps_taken_;
+  note_tilt(world_time_, tilt_rad());
 }
 
 std::string DynamicTiltMotor::dump() const {

@@ -46,4 +46,9 @@ SimTime HeadRippleTrack::fire_time_shift(SimTime revolution_start, double angle_
   return std::chrono::round<SimTime>(std::chrono::duration<double>(*rippling_s - *ideal_s));
 }
 
+SimTime HeadRippleTrack::fire_time(SimTime revolution_start, SimTime nominal_time) const {
+  const double angle_since_start_rad = ideal_.angle_rad(nominal_time) - ideal_.angle_rad(revolution_start);
+  return nominal_time + fire_time_shift(revolution_start, angle_since_start_rad);
+}
+
 }  // namespace ldoem::motor

@@ -25,7 +25,9 @@ void IdealTiltMotor::on_step_pulse(SimTime at, int direction, bool half_step) {
   if (direction == 0) return;
   const std::int64_t delta = (direction > 0 ? 1 : -1) * (half_step ? 1 : kHalfStepsPerFullStep);
   commanded_half_steps_ += delta;
+  note_tilt(now_, tilt_rad());  // where the plate was up to the pulse
   position_half_steps_ = std::clamp(position_half_steps_ + delta, min_half_steps_, max_half_steps_);
+  note_tilt(now_, tilt_rad());
 }
 
 void IdealTiltMotor::advance_to(SimTime now) { now_ = std::max(now_, now); }

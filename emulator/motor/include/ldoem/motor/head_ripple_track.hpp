@@ -27,6 +27,10 @@ class HeadRippleTrack {
   // is held) and when the head stands still.
   [[nodiscard]] SimTime fire_time_shift(SimTime revolution_start, double angle_since_start_rad) const;
 
+  // When the point the control unit times at `nominal_time` (the ideal head's time for its angle,
+  // in the revolution that starts at `revolution_start`) really fires.
+  [[nodiscard]] SimTime fire_time(SimTime revolution_start, SimTime nominal_time) const;
+
   [[nodiscard]] const HeadDrive& rippling_head() const { return rippling_; }
 
  private:

@@ -3,6 +3,7 @@
 // missed steps). Time is always a parameter (D7); no model reads a clock.
 #pragma once
 
+#include <ldoem/motor/tilt_history.hpp>
 #include <ldoem/protocol/sim_time.hpp>
 #include <ldoem/scene/scene.hpp>
 
@@ -39,6 +40,21 @@ class TiltMotor {
 
   // The state as text, one "key: value" per line, for test failures and --log-level debug.
   [[nodiscard]] virtual std::string dump() const = 0;
+
+  // From now on the model records every change of the tilt into `history` (which must outlive
+  // it; nullptr stops recording). See tilt_history.hpp for when each model records.
+  void attach_history(TiltHistory* history) {
+    history_ = history;
+    note_tilt(SimTime::zero(), tilt_rad());
+  }
+
+ protected:
+  void note_tilt(SimTime at, double tilt_rad) {
+    if (history_ != nullptr) history_->record(at, tilt_rad);
+  }
+
+ private:
+  TiltHistory* history_ = nullptr;
 };
 
 // Output-shaft angle of one half step: step_angle / 2 / gear ratio (D8: 0.045 deg by default).
