@@ -31,6 +31,10 @@ if [[ $do_build -eq 1 ]]; then
   cmake --build "$build" -j2 --target ldoem_bench_perf ldoem_bench_rss >/dev/null
 fi
 
+# What the numbers were built with, from the build's cache.
+build_kind="$(sed -n 's/^CMAKE_BUILD_TYPE:[A-Z]*=//p' "$build/CMakeCache.txt")"
+build_flags="$(sed -n "s/^CMAKE_CXX_FLAGS_${build_kind^^}:[A-Z]*=//p" "$build/CMakeCache.txt")"
+build_type="${build_kind:-no build type}${build_flags:+ ($build_flags)}"
 bench_dir="$build/tests/bench"
 perf_json="$build/performance.json"
 "$bench_dir/ldoem_bench_perf" --benchmark_min_time="$min_time" \
@@ -124,7 +128,7 @@ summary_table = "\n".join(["| target | measured | verdict |", "|---|---|---|"] +
                           [f"| {t} | {m} | {verdict(ok)} |" for t, m, ok in summary])
 
 template = open("$root/scripts/bench-performance.sh").read().split("#BEGIN-TEMPLATE\n", 1)[1].split("#END-TEMPLATE", 1)[0]
-text = (template.replace("@COMMAND@", "$command_line".strip()).replace("@CORES@", "$cores").replace("@BUILD@", os.path.relpath("$build", "$root"))
+text = (template.replace("@COMMAND@", "$command_line".strip()).replace("@CORES@", "$cores").replace("@BUILD@", os.path.relpath("$build", "$root")).replace("@BUILD_TYPE@", "$build_type")
         .replace("@CPU@", "$cpu_model").replace("@LOAD@", "$load_at_start").replace("@DATE@", "$started")
         .replace("@MIN_TIME@", "$min_time").replace("@CASTERS@", caster_table).replace("@SCANS@", scan_table)
         .replace("@DEMAND@", demand).replace("@ISOTP@", iso_table).replace("@RSS@", rss_table).replace("@SUMMARY@", summary_table))
@@ -143,8 +147,8 @@ accuracy each speed buys is in [accuracy-vs-time.md](accuracy-vs-time.md).
 
 ## The run
 
-- Command: `@COMMAND@` (builds `@BUILD@` with
-  `-DLDOEM_ONLY="protocol;emulator;driver/cloud;driver/image;tests/bench"`, RelWithDebInfo, g++ 12, then runs
+- Command: `@COMMAND@` (build `@BUILD@`: @BUILD_TYPE@, g++ 12; without `--no-build` the script
+  configures it with `-DLDOEM_ONLY="protocol;emulator;driver/cloud;driver/image;tests/bench"`; then it runs
   `ldoem_bench_perf --benchmark_min_time=@MIN_TIME@` and `ldoem_bench_rss` per scene).
 - Machine: @CORES@ cores, `@CPU@`, load average at the start `@LOAD@` (@DATE@). The machine was
   shared with other jobs compiling at the time, so absolute wall-clock figures are pessimistic.
