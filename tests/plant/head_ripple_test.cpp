@@ -1,14 +1,15 @@
-// D9 head_dynamics: the speed ripple moves the angle each ray is cast at; the reported angles
-// stay nominal. Without the effect nothing changes.
-#include "ldoem/plant/head_ripple.hpp"
-
+// D9 head_dynamics in the plant: the LD fires on encoder ticks, so the ripple moves the time each
+// point fires (motor::HeadRippleTrack, the benchmarks' model too), never its angle. The time
+// reaches the range through the point's tilt under sweep_motion. Without the effect nothing
+// changes.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
-#include "ldoem/plant/scene_ports.hpp"
+#include "ldoem/motor/head_ripple_track.hpp"
 #include "ldoem/motor/ideal_tilt_motor.hpp"
+#include "ldoem/plant/scene_ports.hpp"
 #include "ldoem/raycast/ode_ray_caster.hpp"
 #include "ldoem/raycast/ode_world.hpp"
 #include "ldoem/scene/scene_loader.hpp"
@@ -18,7 +19,7 @@ namespace {
 
 using namespace std::chrono_literals;
 
-// A large ripple: 2 % of 10 Hz at 5 Hz, so the head runs up to 2 A / omega = 0.08 rad ahead.
+// A large ripple: 2 % of 10 Hz at 5 Hz: points fire up to 2 A / (Omega omega) = 1.3 ms early or late.
 scene::HeadConfig large_ripple() {
   scene::HeadConfig head;
   head.ripple_fraction = 0.02;
@@ -26,60 +27,36 @@ scene::HeadConfig large_ripple() {
   return head;
 }
 
-TEST(HeadRipple, BeforeTheSpeedIsHeld_NoDeviation) {
-  HeadRipple track(large_ripple());
-  track.set_target(SimTime::zero(), 10.0);
-  EXPECT_EQ(track.deviation_rad(500ms), 0.0);  // still spinning up (about 2 s, D7)
-}
+constexpr std::uint16_t kSixtyDegrees = 960;  // ticks
 
-TEST(HeadRipple, HeldSpeed_DeviationFollowsTheRippleWithinItsBound) {
-  const scene::HeadConfig head = large_ripple();
-  HeadRipple track(head);
-  track.set_target(SimTime::zero(), 10.0);
-  const double amplitude = 2.0 * std::numbers::pi * 10.0 * head.ripple_fraction;
-  const double bound = 2.0 * amplitude / (2.0 * std::numbers::pi * head.ripple_frequency_hz);
-  double largest = 0.0;
-  for (SimTime at = 3s; at < 4s; at += 5ms) {
-    const double deviation = track.deviation_rad(at);
-    EXPECT_GE(deviation, -1e-9);
-    EXPECT_LE(deviation, bound + 1e-9);
-    largest = std::max(largest, deviation);
-  }
-  EXPECT_GT(largest, 0.9 * bound);
-}
-
-TEST(HeadRipple, NewTarget_StartsFromNoDeviation) {
-  HeadRipple track(large_ripple());
-  track.set_target(SimTime::zero(), 10.0);
-  ASSERT_NE(track.deviation_rad(3100ms), 0.0);
-  track.set_target(3100ms, 0.0);
-  EXPECT_NEAR(track.deviation_rad(3100ms), 0.0, 1e-12);
-  EXPECT_NEAR(track.deviation_rad(3200ms), 0.0, 1e-12);  // stopping: no ripple until held again
-}
-
-// A wall 5 m ahead seen at 60 deg: slanted, so a small change of angle changes the range.
+// A wall 5 m ahead seen at 60 deg, beams every 10 ms after the head holds its speed; the plate
+// climbs one full step (0.09 deg) every 0.1 ms during them, so the tilt, and with it the range
+// 5 m / (cos 60 deg cos tilt), depends on when a point fires.
 class SlantedWall : public ::testing::Test {
  protected:
   void SetUp() override {
     auto loaded = scene::load_scene_from_string(
-        "objects:\n  - name: wall\n    box: {size_m: [0.2, 40, 6]}\n    pose: {position_m: [5.1, 0, 0]}\n",
+        "objects:\n  - name: wall\n    box: {size_m: [0.2, 40, 40]}\n    pose: {position_m: [5.1, 0, 0]}\n",
         "wall.yaml");
     ASSERT_TRUE(loaded) << loaded.error().message();
     scene_ = std::move(*loaded);
     world_ = std::make_unique<raycast::OdeWorld>(scene_);
     caster_ = std::make_unique<raycast::OdeRayCaster>(*world_);
     sensor_ = std::make_unique<sensor::SensorModel>(scene_, *caster_);
-    tilt_ = std::make_unique<TiltPlate>(std::make_unique<motor::IdealTiltMotor>(scene_.scanner.tilt_motor));
-    // Beams at 60 deg (960 ticks) every 10 ms over one ripple period, after the speed is held.
-    for (int i = 0; i < 20; ++i) {
-      beams_.push_back(control::BeamQuery{3s + i * 10ms, 960, 960});
-    }
+    for (int i = 0; i < 5; ++i) beams_.push_back(control::BeamQuery{3s + i * 10ms, kSixtyDegrees, kSixtyDegrees});
   }
 
-  std::vector<control::BeamReturn> measure(const HeadRipple* head) {
-    SceneMeasurement measurement(*sensor_, *tilt_, false, head);
+  // A fresh plate climbing from 2.99 s to 3.05 s, and one revolution starting at 2.95 s.
+  std::vector<control::BeamReturn> measure(const motor::HeadRippleTrack* head, bool sweep_motion,
+                                           std::unique_ptr<TiltPlate>* plate_out = nullptr) {
+    auto plate = std::make_unique<TiltPlate>(std::make_unique<motor::IdealTiltMotor>(scene_.scanner.tilt_motor));
+    for (SimTime at = 2990ms; at < 3050ms; at += 100us) {
+      plate->on_step(protocol::StepPulse{at, protocol::TiltDirection::increasing, protocol::StepMode::full_step});
+    }
+    SceneMeasurement measurement(*sensor_, *plate, sweep_motion, head);
     std::vector<control::BeamReturn> returns(beams_.size());
-    measurement.measure({1, SimTime(0)}, beams_, returns);
+    measurement.measure({1, 2950ms}, beams_, returns);
+    if (plate_out) *plate_out = std::move(plate);
     return returns;
   }
 
@@ -87,37 +64,40 @@ class SlantedWall : public ::testing::Test {
   std::unique_ptr<raycast::OdeWorld> world_;
   std::unique_ptr<raycast::OdeRayCaster> caster_;
   std::unique_ptr<sensor::SensorModel> sensor_;
-  std::unique_ptr<TiltPlate> tilt_;
   std::vector<control::BeamQuery> beams_;
 };
 
-TEST_F(SlantedWall, WithoutHeadDynamics_EveryRayAtItsNominalAngle) {
-  const auto returns = measure(nullptr);
-  for (const auto& sample : returns) {
-    EXPECT_EQ(sample.distance_q8_m, 2560);  // 5 m / cos 60 deg = 10 m, exactly as before the effect
-  }
+TEST_F(SlantedWall, WithoutSweepMotion_TheRippleChangesNoRange) {
+  motor::HeadRippleTrack head(large_ripple());
+  head.set_target(SimTime::zero(), 10.0);
+  // The angle stays nominal and the tilt is frozen at the revolution's start: nothing moves.
+  EXPECT_EQ(measure(&head, false), measure(nullptr, false));
 }
 
-TEST_F(SlantedWall, WithALargeRipple_RangesDepartWhereTheHeadRunsAhead) {
-  HeadRipple head(large_ripple());
+TEST_F(SlantedWall, WithSweepMotion_EachPointTakesTheTiltAtItsShiftedTime) {
+  motor::HeadRippleTrack head(large_ripple());
   head.set_target(SimTime::zero(), 10.0);
-  const auto nominal = measure(nullptr);
-  const auto rippled = measure(&head);
-  int differing = 0;
+  std::unique_ptr<TiltPlate> plate;
+  const auto rippled = measure(&head, true, &plate);
+  const auto nominal = measure(nullptr, true);
+  int shifted = 0;
   for (std::size_t i = 0; i < beams_.size(); ++i) {
-    const double true_angle = std::numbers::pi / 3 + head.deviation_rad(beams_[i].time);
-    EXPECT_NEAR(rippled[i].distance_q8_m, 256.0 * 5.0 / std::cos(true_angle), 1.0) << i;
-    if (rippled[i].distance_q8_m != nominal[i].distance_q8_m) ++differing;
+    const SimTime fires = head.fire_time(2950ms, beams_[i].time);
+    if (std::chrono::abs(fires - beams_[i].time) > 50us) ++shifted;
+    const double tilt = plate->tilt_at(fires);
+    const double expected_m = 5.0 / (std::cos(std::numbers::pi / 3) * std::cos(tilt));
+    EXPECT_NEAR(rippled[i].distance_q8_m, 256.0 * expected_m, 1.0) << i;
   }
-  EXPECT_GT(differing, 10);
+  EXPECT_GE(shifted, 3);
+  EXPECT_NE(rippled, nominal);
 }
 
 TEST_F(SlantedWall, HeadDynamicsWithoutRipple_IsByteIdenticalToNominal) {
   scene::HeadConfig still = large_ripple();
   still.ripple_fraction = 0.0;
-  HeadRipple head(still);
+  motor::HeadRippleTrack head(still);
   head.set_target(SimTime::zero(), 10.0);
-  EXPECT_EQ(measure(&head), measure(nullptr));
+  EXPECT_EQ(measure(&head, true), measure(nullptr, true));
 }
 
 }  // namespace

@@ -33,7 +33,7 @@ ScenePlant::ScenePlant(const scene::Scene& scene, SceneWorld& world)
       head_(scene.scanner.head) {
   board_.emplace(*tilt_);
   if (scene.effects.has(scene::Effect::head_dynamics)) {
-    ripple_ = std::make_unique<HeadRipple>(scene.scanner.head);
+    ripple_ = std::make_unique<motor::HeadRippleTrack>(scene.scanner.head);
   }
   measurement_ = std::make_unique<SceneMeasurement>(sensor_, *tilt_, scene.effects.has(scene::Effect::sweep_motion),
                                                     ripple_.get(), world.timing());

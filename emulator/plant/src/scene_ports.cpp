@@ -36,13 +36,19 @@ SimTime SpinUpHeadModel::time_to_reach(double from_hz, double to_hz) const {
 }
 
 SceneMeasurement::SceneMeasurement(const sensor::SensorModel& sensor, TiltPlate& tilt, bool sweep_motion,
-                                   const HeadRipple* head, std::optional<WorldTiming> world)
+                                   const motor::HeadRippleTrack* head, std::optional<WorldTiming> world)
     : sensor_(sensor), tilt_(tilt), sweep_motion_(sweep_motion), head_(head), world_(std::move(world)) {}
 
 void SceneMeasurement::measure(const control::RevolutionQuery& revolution, std::span<const control::BeamQuery> beams,
                                std::span<control::BeamReturn> returns) {
   if (beams.empty()) {
     return;
+  }
+  // D9 head_dynamics: each point lies at its nominal angle and fires when the rippling head
+  // reaches it; without the effect at its nominal time.
+  fire_times_.resize(beams.size());
+  for (std::size_t i = 0; i < beams.size(); ++i) {
+    fire_times_[i] = head_ != nullptr ? head_->fire_time(revolution.start, beams[i].time) : beams[i].time;
   }
   SimTime last_beam = beams.front().time;
   for (const auto& beam : beams) {
@@ -55,7 +61,7 @@ void SceneMeasurement::measure(const control::RevolutionQuery& revolution, std::
   samples_.resize(beams.size());
   for (std::size_t i = 0; i < beams.size(); ++i) {
     requests_[i] = sensor::BeamRequest{head_ticks_to_rad(beams[i].angle_ticks),
-                                       sweep_motion_ ? tilt_.tilt_at(beams[i].time) : frozen_tilt,
+                                       sweep_motion_ ? tilt_.tilt_at(fire_times_[i]) : frozen_tilt,
                                        beams[i].beam_index, 0.0};
   }
   if (world_) {  // D12: each beam sees the world at its own instant (or all at the revolution's start)
@@ -63,17 +69,12 @@ void SceneMeasurement::measure(const control::RevolutionQuery& revolution, std::
     double first_s = INFINITY;
     double last_s = -INFINITY;
     for (std::size_t i = 0; i < beams.size(); ++i) {
-      const double t_s = seconds(per_beam ? beams[i].time : revolution.start);
+      const double t_s = seconds(per_beam ? fire_times_[i] : revolution.start);
       requests_[i].time_s = t_s;
       first_s = std::min(first_s, t_s);
       last_s = std::max(last_s, t_s);
     }
     world_->prepare(first_s, std::max(last_s, first_s + kMinWorldWindow_s));
-  }
-  if (head_ != nullptr) {  // D9 head_dynamics: the ray goes where the mirror really points
-    for (std::size_t i = 0; i < beams.size(); ++i) {
-      requests_[i].head_angle_rad += head_->deviation_rad(beams[i].time);
-    }
   }
   // D6 keys the noise by revolution; the sensor takes 32 bits (wraps after 13 years at 10 Hz).
   sensor_.measure(static_cast<std::uint32_t>(revolution.number), requests_, samples_);

@@ -8,7 +8,6 @@
 #include <memory>
 #include <optional>
 
-#include "ldoem/plant/head_ripple.hpp"
 #include "ldoem/plant/scene_ports.hpp"
 #include "ldoem/plant/tilt_plate.hpp"
 #include "ldoem/raycast/embree_ray_caster.hpp"
@@ -63,7 +62,7 @@ class ScenePlant {
   std::unique_ptr<TiltPlate> tilt_;
   std::optional<StepperDriveBoard> board_;
   SpinUpHeadModel head_;
-  std::unique_ptr<HeadRipple> ripple_;  // D9 head_dynamics only
+  std::unique_ptr<motor::HeadRippleTrack> ripple_;  // D9 head_dynamics only
   std::unique_ptr<SceneMeasurement> measurement_;
 };
 

@@ -3,15 +3,17 @@
 // - MeasurementSource: the ranges of one revolution, from the sensor model with the head angle
 //   of each point (1/16 deg ticks, D5) and the plate's tilt from the tilt plate: at each point's
 //   own time with sweep_motion, otherwise frozen at the revolution's start (D9). With
-//   head_dynamics each ray is cast at the head's true angle (nominal + HeadRipple's deviation at
-//   the point's time); the reported angles stay nominal (head_ripple.hpp).
+//   head_dynamics each point still lies at its nominal angle (the LD fires on encoder ticks) but
+//   fires at the time the rippling head reaches it (motor/head_ripple_track.hpp, the model the
+//   benchmarks use too); that time is the point's own time (tilt under sweep_motion, the beam's
+//   instant for a moving world).
 #pragma once
 
 #include <functional>
 #include <optional>
 
 #include "ldoem/control/ports.hpp"
-#include "ldoem/plant/head_ripple.hpp"
+#include "ldoem/motor/head_ripple_track.hpp"
 #include "ldoem/plant/tilt_plate.hpp"
 #include "ldoem/scene/scene.hpp"
 #include "ldoem/sensor/sensor_model.hpp"
@@ -44,10 +46,10 @@ struct WorldTiming {
 
 class SceneMeasurement final : public control::MeasurementSource {
  public:
-  // `head` is null without head_dynamics (D9): then every ray is cast at its nominal angle and
+  // `head` is null without head_dynamics (D9): then every point fires at its nominal time and
   // nothing is computed per point for the head. `world` is empty unless the scene moves (D12).
   SceneMeasurement(const sensor::SensorModel& sensor, TiltPlate& tilt, bool sweep_motion,
-                   const HeadRipple* head = nullptr, std::optional<WorldTiming> world = std::nullopt);
+                   const motor::HeadRippleTrack* head = nullptr, std::optional<WorldTiming> world = std::nullopt);
 
   // Without sweep_motion the tilt is frozen at `revolution.start` (D9).
   void measure(const control::RevolutionQuery& revolution, std::span<const control::BeamQuery> beams,
@@ -57,8 +59,9 @@ class SceneMeasurement final : public control::MeasurementSource {
   const sensor::SensorModel& sensor_;
   TiltPlate& tilt_;
   bool sweep_motion_;
-  const HeadRipple* head_;
+  const motor::HeadRippleTrack* head_;
   std::optional<WorldTiming> world_;
+  std::vector<SimTime> fire_times_;            // reused per revolution
   std::vector<sensor::BeamRequest> requests_;  // reused per revolution
   std::vector<sensor::BeamSample> samples_;
 };

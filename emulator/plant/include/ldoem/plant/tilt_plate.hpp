@@ -19,33 +19,33 @@ namespace ldoem::plant {
 
 using protocol::SimTime;
 
-// The dynamic motor's state is sampled this often for the history; the ideal motor only
-// changes at pulses, which are always recorded.
-inline constexpr SimTime kTiltSamplePeriod = std::chrono::milliseconds(1);
 // How far back tilt_at() can answer. A revolution lasts at most 200 ms (5 Hz, spec 6).
-inline constexpr SimTime kTiltHistorySpan = std::chrono::seconds(2);
+inline constexpr SimTime kTiltHistorySpan = motor::TiltHistory::kDefaultSpan;
 
 class TiltPlate {
  public:
   explicit TiltPlate(std::unique_ptr<motor::TiltMotor> motor);
+  // The motor keeps a pointer to history_: the plate stays where it was built.
+  TiltPlate(const TiltPlate&) = delete;
+  TiltPlate& operator=(const TiltPlate&) = delete;
 
   // One step pulse from the drive board, in time order.
   void on_step(const protocol::StepPulse& pulse);
-  // Brings the motor to `now`, sampling the tilt on the way.
+  // Brings the motor to `now` in one call: the motor records its own tilt changes into the
+  // history (motor/tilt_history.hpp), so an idle plate or an ideal motor costs nothing per step.
   void advance_to(SimTime now);
-  // The tilt at `at` (not after the last advance_to): linear between samples, the oldest kept
-  // sample before the history's start, the current tilt after its end.
-  double tilt_at(SimTime at) const;
+  // The tilt at `at` (not after the last advance_to): linear between records, the oldest kept
+  // record before the history's start, the current tilt after its end.
+  double tilt_at(SimTime at) const { return history_.tilt_at(at, motor_->tilt_rad()); }
+  std::size_t history_size() const { return history_.size(); }
   double tilt_now() const { return motor_->tilt_rad(); }
   SimTime time() const { return time_; }
   const motor::TiltMotor& motor() const { return *motor_; }
 
  private:
-  void record(SimTime at);
-
+  motor::TiltHistory history_{kTiltHistorySpan};  // before motor_: the motor writes into it
   std::unique_ptr<motor::TiltMotor> motor_;
   SimTime time_{0};
-  std::deque<std::pair<SimTime, double>> samples_;
 };
 
 // The drive board of D8: the data register's writes in, step pulses to the tilt plate out.
