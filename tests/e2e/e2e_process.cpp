@@ -126,8 +126,11 @@ int ChildProcess::stop(std::chrono::milliseconds grace) {
 bool ChildProcess::wait_for_line(const std::string& text, bool in_stderr, std::chrono::milliseconds limit) {
   const auto give_up = std::chrono::steady_clock::now() + limit;
   for (;;) {
+    // Only whole lines count: a line still being written ("listening on 127.0.0.1" before its
+    // port) would otherwise match and be parsed half-written.
     std::istringstream lines(in_stderr ? stderr_text() : stdout_text());
     for (std::string line; std::getline(lines, line);) {
+      if (lines.eof()) break;
       if (line.find(text) != std::string::npos) return true;
     }
     if (reap(false) || std::chrono::steady_clock::now() >= give_up) return false;
