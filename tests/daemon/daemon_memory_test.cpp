@@ -3,6 +3,9 @@
 // conversations over real sockets are in daemon_process_test.cpp.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
+#include <optional>
 #include <sstream>
 
 #include "daemon_process.hpp"
@@ -32,7 +35,8 @@ struct InProcess {
   std::string failure;
 
   explicit InProcess(const std::string& scene_text = minimal_scene_text(),
-                     control::TransportKind kind = control::TransportKind::tcp) {
+                     control::TransportKind kind = control::TransportKind::tcp,
+                     std::optional<std::uint64_t> count_profiles = std::nullopt) {
     auto scene = scene::load_scene_from_string(scene_text, "scene.yaml");
     if (!scene) {
       failure = scene.error().message();
@@ -42,7 +46,8 @@ struct InProcess {
     options.can_interface.reset();
     options.flash_mode = FlashMode::memory;
     options.virtual_time = true;
-    options.log_level = LogLevel::debug;
+    options.log_level = LogLevel::info;
+    options.count_profiles = count_profiles;
     auto memory = std::make_unique<MemoryEndpoint>(kind);
     host = memory.get();
     std::vector<std::unique_ptr<endpoints::HostEndpoint>> extra;
@@ -164,6 +169,65 @@ TEST(DaemonMemory, CountersLine_NamesEveryCounter) {
   const std::string line = format_counters(d.daemon->counters());
   EXPECT_NE(line.find("telegrams_received=1 "), std::string::npos) << line;
   EXPECT_NE(line.find("lpt_steps=0"), std::string::npos) << line;
+}
+
+// The range straight ahead (first point of the first sector) of the next profile.
+std::optional<std::uint16_t> distance_ahead(InProcess& d) {
+  const auto sent = d.exchange(1, "GET_PROFILE 0001 39ff");
+  if (sent.size() != 1) return std::nullopt;
+  const auto profile = protocol::decode_profile(sent[0].payload);
+  if (!profile) return std::nullopt;
+  return distance_at_angle_zero(*profile);
+}
+
+TEST(DaemonMemory, StepperRegisterWrites_TiltTheBeamInLaterProfiles) {
+  InProcess d;
+  ASSERT_TRUE(d.daemon) << d.failure;
+  d.exchange(1, "TRANS_ROTATE 0000");
+  d.exchange(1, "TRANS_MEASURE");
+  EXPECT_EQ(distance_ahead(d), std::optional<std::uint16_t>(1280));  // level: 5 m
+  const SimTime at = d.daemon->now();
+  for (int i = 0; i < 200; ++i) {  // D8: 200 full steps with DIR = 1: 18 deg up
+    d.daemon->device().on_register_write(at, 0x01);
+    d.daemon->device().on_register_write(at, 0x03);
+  }
+  const auto tilted = distance_ahead(d);
+  ASSERT_TRUE(tilted);
+  EXPECT_NEAR(*tilted, 5.0 / std::cos(18.0 * std::numbers::pi / 180.0) * 256.0, 1.0);  // 5.257 m
+  EXPECT_EQ(d.daemon->counters().lpt_steps, 200u);
+}
+
+TEST(DaemonMemory, CountProfiles_StopsTheLoopAfterThatMany) {
+  InProcess d(minimal_scene_text(), control::TransportKind::tcp, 2);
+  ASSERT_TRUE(d.daemon) << d.failure;
+  d.exchange(1, "TRANS_ROTATE 0000");
+  d.exchange(1, "TRANS_MEASURE");
+  d.host->host_sends(1, telegram("GET_PROFILE 0000 39ff"));
+  const auto started = std::chrono::steady_clock::now();
+  EXPECT_FALSE(d.daemon->run_until([] { return false; }, kWallLimit));  // returns when the loop stops
+  EXPECT_LT(std::chrono::steady_clock::now() - started, kWallLimit);
+  EXPECT_EQ(d.host->sent_count(), 2u);
+  EXPECT_EQ(d.daemon->counters().profiles_sent, 2u);
+}
+
+TEST(DaemonMemory, InfoLog_NamesEachRequestAndReplyInTextForm) {
+  InProcess d;
+  ASSERT_TRUE(d.daemon) << d.failure;
+  d.exchange(1, "GET_STATUS");
+  const std::string text = d.log.str();
+  EXPECT_NE(text.find("ldoem-emud: info: tcp#1 -> GET_STATUS\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("ldoem-emud: info: tcp#1 <- GET_STATUS reply 0000 0001\n"), std::string::npos) << text;
+}
+
+TEST(DaemonMemory, CanConfigChange_IsPassedToTheEndpointsOnceAfterItsReply) {
+  InProcess d(minimal_scene_text(), control::TransportKind::can);
+  ASSERT_TRUE(d.daemon) << d.failure;
+  EXPECT_EQ(d.reply_text(1, "SET_CONFIG 0002 0004 0700 0701 0000 0000"), "SET_CONFIG reply 0000");
+  ASSERT_EQ(d.host->can_configs().size(), 1u);  // D1: the daemon is told, it compares nothing
+  EXPECT_EQ(d.host->can_configs()[0].request_id, 0x700);
+  EXPECT_EQ(d.host->can_configs()[0].response_id, 0x701);
+  d.exchange(1, "GET_STATUS");
+  EXPECT_EQ(d.host->can_configs().size(), 1u);
 }
 
 // ----------------------------------------------------------------------------------- wire tap

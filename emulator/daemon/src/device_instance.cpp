@@ -192,6 +192,7 @@ Counters DeviceInstance::counters() const {
   Counters counters = counters_;
   counters.skipped_profiles = unit_->diagnostics().skipped_profiles;
   counters.profiles_sent = unit_->diagnostics().profiles_sent;
+  counters.lpt_steps = plant_.drive_board().steps_seen();
   for (const auto& endpoint : endpoints_) endpoint->add_counters(counters);
   return counters;
 }

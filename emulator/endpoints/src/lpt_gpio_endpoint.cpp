@@ -54,7 +54,6 @@ void LptGpioEndpoint::on_ready() {
     const SimTime at = context_->scheduler.at_wall_time(WallTime(std::chrono::duration_cast<WallTime::duration>(edge.timestamp)));
     context_->lpt.on_line_change(at, kLptLineBits[edge.line_index], edge.edge == io::Edge::rising);
   }
-  context_->counters.lpt_steps = context_->lpt.steps_seen();
 }
 
 }  // namespace ldoem::endpoints

@@ -36,7 +36,6 @@ void LptPtyEndpoint::take_pending_input() {
   for (const std::uint8_t value : received->bytes) {
     context_->lpt.on_register_write(at, value);
   }
-  context_->counters.lpt_steps = context_->lpt.steps_seen();
 }
 
 }  // namespace ldoem::endpoints

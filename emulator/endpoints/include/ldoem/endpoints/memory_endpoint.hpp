@@ -33,6 +33,7 @@ class MemoryEndpoint final : public HostEndpoint {
   void send(ConnectionId to, protocol::ByteView payload) override;
   void close() override {}
   void disconnect(ConnectionId connection) override { host_closes(connection.index); }
+  void apply_can_config(const protocol::CanConfig& config) override { can_configs_.push_back(config); }
 
   // --- the host's side ---
   // A telegram from connection `index` (payload: service WORD first, no framing).
@@ -45,6 +46,8 @@ class MemoryEndpoint final : public HostEndpoint {
   // Everything the device sent since the last call, in order, all connections.
   std::vector<Sent> take_sent();
   std::size_t sent_count() const { return sent_.size(); }
+  // Every CAN configuration the device passed on (D1), in order.
+  const std::vector<protocol::CanConfig>& can_configs() const { return can_configs_; }
 
  private:
   TransportKind kind_;
@@ -52,6 +55,7 @@ class MemoryEndpoint final : public HostEndpoint {
   std::set<std::uint32_t> busy_;
   std::set<std::uint32_t> closed_;
   std::deque<Sent> sent_;
+  std::vector<protocol::CanConfig> can_configs_;
 };
 
 }  // namespace ldoem::endpoints
