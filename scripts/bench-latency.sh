@@ -70,11 +70,14 @@ start_daemon() {
   local out=$work/daemon.out
   "$emud" --scene "$scene" --no-flash --timeout 600 "$@" > "$out" 2> "$work/daemon.err" &
   daemon_pid=$!
-  for _ in $(seq 1 200); do
+  # Up to 30 s: a loaded machine (or UML) can take a while to build even a small scene.
+  for _ in $(seq 1 600); do
     grep -q '^ready$' "$out" 2>/dev/null && break
+    kill -0 "$daemon_pid" 2>/dev/null || break
     sleep 0.05
   done
-  grep -q '^ready$' "$out" || { echo "bench-latency.sh: ldoem-emud not ready: $(cat "$work/daemon.err")" >&2; exit 1; }
+  grep -q '^ready$' "$out" ||
+    { echo "bench-latency.sh: $emud $* not ready: $(cat "$work/daemon.err")" >&2; exit 1; }
   tcp_port=$(sed -n 's/^tcp .*:\([0-9]*\)$/\1/p' "$out")
 }
 stop_daemon() { kill "$daemon_pid" 2>/dev/null || true; wait "$daemon_pid" 2>/dev/null || true; daemon_pid=; }
