@@ -49,10 +49,7 @@ std::optional<OpenFailure> CanEndpoint::open(EndpointContext& context) {
     scheduled_polls_.emplace_back();
   }
   set_filters();
-  if (auto watched = context.loop.watch(socket_->fd(), io::Interest::readable, [this](io::Readiness r) { on_ready(r); });
-      !watched) {
-    return OpenFailure{false, watched.error().message()};
-  }
+  if (auto failure = watch_readable(context, socket_->fd(), [this](io::Readiness r) { on_ready(r); })) return failure;
   for (const IsoTpChannel& channel : channels_) {
     context.out << "can " << name << ' ' << hex_id(channel.config().ids.request_id) << ':'
                 << hex_id(channel.config().ids.response_id) << '\n';

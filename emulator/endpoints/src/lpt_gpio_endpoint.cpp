@@ -31,10 +31,8 @@ std::optional<OpenFailure> LptGpioEndpoint::open(EndpointContext& context) {
   }
   context.lpt.set_initial_register(initial);  // the lines' levels before any edge (D8)
   for (const int fd : reader_->event_fds()) {
-    if (auto watched = context.loop.watch(fd, io::Interest::readable, [this](io::Readiness) { on_ready(); },
-                                          io::kFirstInRound);
-        !watched) {
-      return OpenFailure{false, watched.error().message()};
+    if (auto failure = watch_readable(context, fd, [this](io::Readiness) { on_ready(); }, io::kFirstInRound)) {
+      return failure;
     }
   }
   context.out << "lpt gpio " << reader_->chip_name() << '\n';

@@ -7,14 +7,10 @@ namespace ldoem::endpoints {
 std::optional<OpenFailure> LptPtyEndpoint::open(EndpointContext& context) {
   context_ = &context;
   auto pty = io::PseudoTerminal::open(link_path_);
-  if (!pty) {
-    return OpenFailure{true, pty.error().message()};
-  }
+  if (!pty) return OpenFailure{true, pty.error().message()};
   pty_.emplace(std::move(*pty));
-  if (auto watched = context.loop.watch(pty_->fd(), io::Interest::readable, [this](io::Readiness) { on_ready(); },
-                                        io::kFirstInRound);
-      !watched) {
-    return OpenFailure{false, watched.error().message()};
+  if (auto failure = watch_readable(context, pty_->fd(), [this](io::Readiness) { on_ready(); }, io::kFirstInRound)) {
+    return failure;
   }
   context.out << "lpt " << pty_->peer_path() << ' ' << link_path_.string() << '\n';
   return std::nullopt;

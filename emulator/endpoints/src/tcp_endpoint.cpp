@@ -15,9 +15,8 @@ std::optional<OpenFailure> TcpEndpoint::open(EndpointContext& context) {
     return OpenFailure{true, listener.error().message()};
   }
   listener_.emplace(std::move(*listener));
-  if (auto watched = context.loop.watch(listener_->fd(), io::Interest::readable, [this](io::Readiness) { on_listener_ready(); });
-      !watched) {
-    return OpenFailure{false, watched.error().message()};
+  if (auto failure = watch_readable(context, listener_->fd(), [this](io::Readiness) { on_listener_ready(); })) {
+    return failure;
   }
   context.out << "tcp " << listener_->address() << ':' << listener_->port() << '\n';
   return std::nullopt;

@@ -73,6 +73,10 @@ struct OpenFailure {
   std::string message;      // one line: "can: interface vcan0 does not exist"
 };
 
+// For open(): watches `fd` readable in the context's loop, or says why it cannot (exit 1).
+[[nodiscard]] std::optional<OpenFailure> watch_readable(EndpointContext& context, int fd, io::EventLoop::FdCallback callback,
+                                                        io::RoundOrder order = io::kInRoundOrder);
+
 class HostEndpoint {
  public:
   virtual ~HostEndpoint() = default;
