@@ -156,6 +156,16 @@ TEST(WorldMotion, MoveObjectAtADeviceTime) {
   EXPECT_TRUE(caster.motion().move_object("person", far, 1.0));
 
   caster.prepare(1.9, 2.1);
+  // A move made after that window was prepared is seen at the next prepare, even inside it.
+  const auto before = caster.cast(ray_at(Eigen::Vector3d(0, 3, 0.9), Eigen::Vector3d::UnitX(), 2.05));
+  scene::Pose across;
+  across.position_m = Eigen::Vector3d(2, 3, 0.9);
+  ASSERT_FALSE(caster.motion().move_object("person", across, 2.06));
+  caster.prepare(2.06, 2.1);
+  const auto after = caster.cast(ray_at(Eigen::Vector3d(0, 3, 0.9), Eigen::Vector3d::UnitX(), 2.07));
+  ASSERT_TRUE(after);
+  EXPECT_NEAR(after->range_m, 1.75, 1e-9);
+  EXPECT_TRUE(!before || before->range_m > 1.75);
   const std::size_t person = 0;  // moving index (scene order)
   EXPECT_NEAR(caster.motion().pose_at(person, 1.9).position_m.y(), 1.9, 1e-12);
   EXPECT_EQ(caster.motion().pose_at(person, 2.05).position_m, there.position_m);

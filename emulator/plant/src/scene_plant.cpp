@@ -27,6 +27,8 @@ std::optional<WorldTiming> SceneWorld::timing() {
                      beam_time_};
 }
 
+world::WorldMotion* SceneWorld::motion() { return moving_caster_ ? &moving_caster_->motion() : nullptr; }
+
 ScenePlant::ScenePlant(const scene::Scene& scene, SceneWorld& world)
     : sensor_(scene, world.caster()),
       tilt_(std::make_unique<TiltPlate>(motor::make_tilt_motor(scene))),

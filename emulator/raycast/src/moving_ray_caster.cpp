@@ -202,6 +202,8 @@ MovingRayCaster::~MovingRayCaster() = default;
 
 std::size_t MovingRayCaster::object_count() const { return impl_->scene_indices.size(); }
 
+void MovingRayCaster::invalidate() { impl_->prepared = false; }
+
 void MovingRayCaster::prepare(double t0_s, double t1_s) {
   Impl& impl = *impl_;
   if (!(t1_s > t0_s) || !std::isfinite(t0_s) || !std::isfinite(t1_s)) {

@@ -23,6 +23,10 @@ SceneCaster::SceneCaster(const scene::Scene& scene, raycast::MovingCasterOptions
 SceneCaster::~SceneCaster() = default;
 
 void SceneCaster::prepare(double t0_s, double t1_s) {
+  if (motion_.moves_accepted() != moves_seen_) {  // a runtime move: the old boxes may not hold it
+    moves_seen_ = motion_.moves_accepted();
+    moving_caster_.invalidate();
+  }
   motion_.advance(t0_s, std::max(t1_s, t0_s + min_window_s_));
   moving_caster_.prepare(t0_s, t1_s);
 }

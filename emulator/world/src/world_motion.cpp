@@ -47,6 +47,7 @@ std::optional<std::string> WorldMotion::move_object(std::string_view name, const
   unit.orientation.normalize();
   if (it->body >= 0) {
     bodies_.place(static_cast<std::size_t>(it->body), unit, at_s);
+    ++moves_accepted_;
     return std::nullopt;
   }
   if (it->moves.size() >= kMaxMovesPerObject) {
@@ -57,6 +58,7 @@ std::optional<std::string> WorldMotion::move_object(std::string_view name, const
   it->moves.insert(at, Move{at_s, unit});
   // A move to another orientation turns the object: its boxes must hold any orientation now.
   it->keeps_orientation = it->keeps_orientation && unit.orientation.coeffs() == it->object.pose.orientation.coeffs();
+  ++moves_accepted_;
   return std::nullopt;
 }
 

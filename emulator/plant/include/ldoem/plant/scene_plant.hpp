@@ -17,6 +17,7 @@
 
 namespace ldoem::world {
 class SceneCaster;
+class WorldMotion;
 }
 
 namespace ldoem::plant {
@@ -30,6 +31,9 @@ class SceneWorld {
   const raycast::RayCaster& caster() const;
   // D12: how measurements ready a moving world; empty for a static one.
   std::optional<WorldTiming> timing();
+  // D12: the moving objects, for the control socket's move-object (WorldMotion::move_object,
+  // docs/dynamic-scenes.md "Runtime moves"); null when nothing in the scene moves.
+  world::WorldMotion* motion();
 
  private:
   scene::BeamTime beam_time_;

@@ -65,6 +65,8 @@ class MovingRayCaster final : public RayCaster {
   // batches of casts. A ray timed outside the prepared window is still answered exactly, by
   // testing every moving object (slower, never wrong).
   void prepare(double t0_s, double t1_s);
+  // Forgets the prepared window: the next prepare rebuilds (after a runtime move).
+  void invalidate();
 
   // Const and thread-safe between prepare calls.
   std::optional<Hit> cast(const Ray& ray) const override;

@@ -29,6 +29,7 @@ class SceneCaster final : public raycast::RayCaster {
 
  private:
   double min_window_s_;
+  std::uint64_t moves_seen_ = 0;
   WorldMotion motion_;
   std::vector<std::uint32_t> static_indices_;  // static caster's object index -> Scene::objects
   std::unique_ptr<raycast::OdeWorld> static_world_;

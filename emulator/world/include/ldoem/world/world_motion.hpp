@@ -41,6 +41,8 @@ class WorldMotion final : public raycast::MotionSource {
   bool keeps_orientation(std::size_t k) const override;
 
   const RigidBodies& rigid_bodies() const { return bodies_; }
+  // Counts accepted moves: an index prepared before a move must be rebuilt (SceneCaster does).
+  std::uint64_t moves_accepted() const { return moves_accepted_; }
 
  private:
   struct Move {
@@ -56,6 +58,7 @@ class WorldMotion final : public raycast::MotionSource {
   };
 
   std::vector<Mover> movers_;
+  std::uint64_t moves_accepted_ = 0;
   std::vector<std::uint32_t> scene_indices_;
   RigidBodies bodies_;
 };
