@@ -24,10 +24,11 @@ struct ConversationExtractor::TcpDirection {
 
 namespace {
 
-IsoTpReceiverConfig receiver_config(std::uint32_t flow_control_id, std::size_t max_bytes) {
+IsoTpReceiverConfig receiver_config(std::uint32_t flow_control_id, const ConversationConfig& conversation) {
   IsoTpReceiverConfig config;
   config.flow_control_id = flow_control_id;
-  config.max_message_bytes = max_bytes;
+  config.max_message_bytes = conversation.max_telegram_bytes;
+  config.n_cr_timeout = conversation.isotp_gap_limit;
   return config;
 }
 
@@ -35,8 +36,8 @@ IsoTpReceiverConfig receiver_config(std::uint32_t flow_control_id, std::size_t m
 
 ConversationExtractor::ConversationExtractor(ConversationConfig config)
     : config_(config),
-      can_requests_(receiver_config(config.response_can_id, config.max_telegram_bytes)),
-      can_replies_(receiver_config(config.request_can_id, config.max_telegram_bytes)) {}
+      can_requests_(receiver_config(config.response_can_id, config)),
+      can_replies_(receiver_config(config.request_can_id, config)) {}
 
 ConversationExtractor::~ConversationExtractor() = default;
 

@@ -17,7 +17,9 @@ TEST(CorridorReplayVcan, RecordedAndCandumpCaptures_ReplayToTheSameBytes) {
   TempDir dir;
   // candump -L writes the log format of candump -l on stdout: our ChildProcess keeps it.
   // A large receive buffer: a whole profile arrives as a burst of 600+ frames.
-  auto candump = ChildProcess::start("/usr/bin/candump", {"-L", "-r", "16777216", "vcan0"}, dir.path("candump"));
+  // stdbuf -oL: each frame's line is written at once, so stopping candump loses none.
+  auto candump = ChildProcess::start("/usr/bin/stdbuf", {"-oL", "/usr/bin/candump", "-L", "-r", "16777216", "vcan0"},
+                                     dir.path("candump"));
   ASSERT_TRUE(candump.has_value());
   ScanSettings live_settings;
   const std::string capture = dir.path("live.pcapng");

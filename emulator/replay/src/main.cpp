@@ -41,8 +41,11 @@ int main(int argc, char** argv) {
               << '\n';
     return 2;
   }
+  const auto& capture_counters = loaded->conversation.counters;
   std::cerr << "ldoem-replay: " << options->capture.string() << ": " << exchanges.size() << " exchanges ("
-            << protocol::transport_name(*transport) << ")\n";
+            << protocol::transport_name(*transport) << "); " << capture_counters.packets << " packets, "
+            << capture_counters.framing_errors << " framing errors, " << capture_counters.tcp_gaps << " TCP gaps, "
+            << capture_counters.ignored_packets << " ignored\n";
   auto host = replay::ReplayHost::create(*options, replay::ReplayDevice(std::move(exchanges), options->speed),
                                          std::cout, std::cerr);
   if (!host) {

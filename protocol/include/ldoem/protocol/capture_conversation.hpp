@@ -39,6 +39,10 @@ struct ConversationConfig {
   std::uint32_t response_can_id = kIsoTpDeviceToHostId;  // D1
   // ISO-TP reassembly bound. Profiles over CAN may exceed D3's 5816 bytes (D1 has no limit).
   std::size_t max_telegram_bytes = kIsoTpDefaultMaxMessageBytes;
+  // How long a recorded ISO-TP message may pause between frames. Not D1's N_Cr: a capture is
+  // read after the fact, and a recording host that was briefly descheduled (a loaded CI
+  // machine, UML) stamps late frames that the live receiver still took in time.
+  SimTime isotp_gap_limit = std::chrono::seconds(30);
 };
 
 // What could not be turned into telegrams, so a user sees a capture's gaps instead of guessing.
