@@ -3,6 +3,7 @@
 // reading is dropped once its queue is full.
 #pragma once
 
+#include <chrono>
 #include <map>
 #include <memory>
 #include <optional>
@@ -38,6 +39,8 @@ class TcpEndpoint final : public HostEndpoint {
   };
 
   void on_listener_ready();
+  void rest_listener(const std::string& why);
+  void resume_listener();
   void on_client_ready(std::uint32_t index, io::Readiness readiness);
   void flush(std::uint32_t index);
   void drop(std::uint32_t index, std::string_view why);
@@ -48,6 +51,20 @@ class TcpEndpoint final : public HostEndpoint {
   std::optional<io::TcpListener> listener_;
   std::map<std::uint32_t, Client> clients_;
   std::uint32_t next_index_ = 1;
+
+  static constexpr std::chrono::milliseconds kListenerRest{100};
+  static constexpr std::chrono::seconds kWarnPeriod{10};
+  bool listener_resting_ = false;
+  io::EventLoop::TimerId resume_timer_ = 0;
+  bool warned_once_ = false;
+  std::chrono::steady_clock::time_point last_warning_;
+  std::uint64_t held_back_warnings_ = 0;
+
+ public:
+  std::uint64_t listener_rests() const { return listener_rests_; }  // accept() out of descriptors
+
+ private:
+  std::uint64_t listener_rests_ = 0;
 };
 
 }  // namespace ldoem::endpoints
