@@ -46,7 +46,8 @@ class SteadyHead final : public c::HeadModel {
 
 class FlatSource final : public c::MeasurementSource {
  public:
-  void measure(std::uint64_t, std::span<const c::BeamQuery> beams, std::span<c::BeamReturn> returns) override {
+  void measure(const c::RevolutionQuery&, std::span<const c::BeamQuery> beams,
+               std::span<c::BeamReturn> returns) override {
     for (std::size_t i = 0; i < beams.size(); ++i) returns[i] = c::BeamReturn{512, 100};
   }
 };
@@ -160,9 +161,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         now = until;
         break;
       }
-      case 3:
-        unit.on_connection_closed(from);
+      case 3: {
+        const c::Actions actions = unit.on_connection_closed(now, from);
+        for (const c::OutgoingTelegram& telegram : actions.telegrams) check(!(telegram.to == from));
+        keep_timers(actions);
         break;
+      }
     }
   }
   return 0;
