@@ -1,5 +1,6 @@
 // D4: the emulated flash kept in a file beside the scene (<scene>.flash) or named by --flash.
-// save() writes a temporary file and renames it, so a crash never leaves half an image.
+// save() writes a fresh temporary file (mkstemp), fsyncs it, renames it over the image and fsyncs
+// the folder, so a crash never leaves half an image and a saved image survives a power cut.
 #pragma once
 
 #include <filesystem>
