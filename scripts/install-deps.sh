@@ -13,6 +13,8 @@ packages=(
   tshark wireshark-qt xvfb xdotool x11-apps netpbm
   # sd_notify for the systemd units, systemd-analyze to check them (scripts/check-units.sh)
   libsystemd-dev systemd
+  # cpack -G DEB finds the package's library dependencies with dpkg-shlibdeps
+  dpkg-dev
   # for the gpio-sim UML kernel (scripts/uml/build-gpio-kernel.sh)
   linux-source-6.1 build-essential bc flex bison libelf-dev xz-utils
 )

@@ -6,13 +6,25 @@
 #      conformance, can-utils interop, robustness floods, the paper's scan end to end);
 #   3. the gpio-labelled tests inside one boot of the project's gpio-sim UML kernel (built once,
 #      cached in ${LDOEM_CACHE:-~/.cache/ldoem});
-#   4. every libFuzzer target for a short, fixed number of runs under ASan+UBSan.
+#   4. the installed package: cmake --install, the systemd units (verify, security <= 2.0), the
+#      examples/consumer program built against find_package(ldoem) and pkg-config and run
+#      against the installed daemon, the .deb (scripts/check-install.sh);
+#   5. every libFuzzer target for a short, fixed number of runs under ASan+UBSan.
+# Each step prints its wall time (docs/ci.md).
 # The whole suite under ASan+UBSan is scripts/test-asan.sh; slow benchmarks are scripts/bench-*.sh.
 # Exit status: 0 only if all passed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-step() { printf '\n=== %s\n' "$*"; }
+step_started=$SECONDS
+step_name=""
+step() {
+  [ -n "$step_name" ] && printf '=== %s: %d s\n' "$step_name" $((SECONDS - step_started))
+  step_name=$*
+  step_started=$SECONDS
+  printf '\n=== %s\n' "$*"
+}
+trap '[ -n "$step_name" ] && printf "=== %s: %d s\n" "$step_name" $((SECONDS - step_started)); printf "=== total: %d s\n" $SECONDS' EXIT
 cache=${LDOEM_CACHE:-$HOME/.cache/ldoem}
 # The compiler cache lives outside the clone and ignores where the clone is.
 export CCACHE_DIR=${CCACHE_DIR:-$cache/ccache} CCACHE_BASEDIR=$PWD CCACHE_NOHASHDIR=1 CCACHE_MAXSIZE=${CCACHE_MAXSIZE:-3G}
@@ -26,6 +38,9 @@ cmake --build --preset default
 
 step "host tests"
 ctest --preset default -LE 'vcan|gpio|slow|fuzz' -j2
+
+step "installed package, systemd units, libldoem consumer"
+scripts/check-install.sh build/default
 
 step "vcan tests inside User-Mode Linux"
 scripts/uml/run.sh -- ctest --test-dir build/default -L vcan --output-on-failure
