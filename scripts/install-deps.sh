@@ -1,7 +1,17 @@
 #!/usr/bin/env bash
 # Installs every Debian package ldoem needs to build, test, run and benchmark. Idempotent and
 # non-interactive; run as root (or with sudo available). Debian 12 (bookworm).
+# Usage: scripts/install-deps.sh [--screenshot]
+#   --screenshot  also the GUI packages that only scripts/wireshark-screenshot.sh needs (Qt
+#                 Wireshark, X tools); CI and the demo do not install them.
 set -euo pipefail
+screenshot=false
+case "${1:-}" in
+  --screenshot) screenshot=true ;;
+  -h|--help) sed -n '2,6p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+  "") ;;
+  *) echo "install-deps.sh: unknown argument '$1' (try --help)" >&2; exit 2 ;;
+esac
 packages=(
   cmake ninja-build ccache g++ clang libclang-rt-14-dev pkg-config
   libode-dev libyaml-cpp-dev libembree-dev libassimp-dev libeigen3-dev
@@ -9,8 +19,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   can-utils user-mode-linux kmod iproute2 procps python3
   gnuplot-nox
-  # the Wireshark dissector's tests (tshark) and its screenshot (scripts/wireshark-screenshot.sh)
-  tshark wireshark-qt xvfb xdotool x11-apps netpbm
+  # the Wireshark dissector's tests
+  tshark
   # sd_notify for the systemd units, systemd-analyze to check them (scripts/check-units.sh)
   libsystemd-dev systemd
   # cpack -G DEB finds the package's library dependencies with dpkg-shlibdeps
@@ -18,6 +28,7 @@ packages=(
   # for the gpio-sim UML kernel (scripts/uml/build-gpio-kernel.sh)
   linux-source-6.1 build-essential bc flex bison libelf-dev xz-utils
 )
+if $screenshot; then packages+=(wireshark-qt xvfb xdotool x11-apps netpbm); fi
 sudo_cmd=()
 if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
 missing=()

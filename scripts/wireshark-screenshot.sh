@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Takes docs/wireshark.png: Wireshark (under Xvfb) with the ldoem dissector, showing a profile
 # telegram with its tree expanded. Usage: scripts/wireshark-screenshot.sh CAPTURE FRAME [OUT.png]
-# Needs wireshark-qt, xvfb, xdotool, x11-apps (xwd) and netpbm (scripts/install-deps.sh).
+# Needs wireshark-qt, xvfb, xdotool, x11-apps (xwd) and netpbm (scripts/install-deps.sh --screenshot).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 capture=${1:?usage: scripts/wireshark-screenshot.sh CAPTURE FRAME [OUT.png]}
