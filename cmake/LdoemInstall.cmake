@@ -1,6 +1,6 @@
 # cmake --install and CPack (docs/service.md): the programs, the scenes, the docs, the systemd
 # units, and libldoem for other people's programs: static libldoem.a + libldoem_protocol.a,
-# their headers, a CMake package (find_package(ldoem) -> ldoem::driver) and ldoem.pc.
+# libldoem_base.a, their headers, a CMake package (find_package(ldoem) -> ldoem::driver) and ldoem.pc.
 # Only what this configuration builds is installed (LDOEM_ONLY may leave parts out).
 include(CMakePackageConfigHelpers)
 
@@ -23,10 +23,12 @@ install(FILES ${PROJECT_SOURCE_DIR}/packaging/etc/hub.yaml DESTINATION ${CMAKE_I
 if(TARGET ldoem_driver AND TARGET ldoem_protocol)
   set_target_properties(ldoem_driver PROPERTIES EXPORT_NAME driver OUTPUT_NAME ldoem)
   set_target_properties(ldoem_protocol PROPERTIES EXPORT_NAME protocol)
-  install(TARGETS ldoem_driver ldoem_protocol EXPORT ldoemTargets
+  set_target_properties(ldoem_base PROPERTIES EXPORT_NAME base)
+  install(TARGETS ldoem_driver ldoem_protocol ldoem_base EXPORT ldoemTargets
           ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT development
           INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-  install(DIRECTORY ${PROJECT_SOURCE_DIR}/protocol/include/ldoem ${PROJECT_SOURCE_DIR}/driver/lib/include/ldoem
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/base/include/ldoem ${PROJECT_SOURCE_DIR}/protocol/include/ldoem
+                    ${PROJECT_SOURCE_DIR}/driver/lib/include/ldoem
           DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} COMPONENT development)
   set(package_dir ${CMAKE_INSTALL_LIBDIR}/cmake/ldoem)
   install(EXPORT ldoemTargets NAMESPACE ldoem:: DESTINATION ${package_dir} COMPONENT development)

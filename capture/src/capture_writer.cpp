@@ -9,6 +9,7 @@
 #include <functional>
 #include <system_error>
 
+#include "ldoem/base/device_constants.hpp"
 #include "ldoem/protocol/pcapng.hpp"
 #include "ldoem/protocol/tcp_framing.hpp"
 
@@ -132,8 +133,8 @@ protocol::TcpSegment CaptureWriter::segment(std::uint32_t connection, WireDirect
   const bool to_device = direction == WireDirection::host_to_device;
   segment.source_ip = to_device ? kSynthesizedHostIp : kSynthesizedDeviceIp;
   segment.destination_ip = to_device ? kSynthesizedDeviceIp : kSynthesizedHostIp;
-  segment.source_port = to_device ? host_port : protocol::kTcpServicePort;
-  segment.destination_port = to_device ? protocol::kTcpServicePort : host_port;
+  segment.source_port = to_device ? host_port : base::kHostTcpPort;
+  segment.destination_port = to_device ? base::kHostTcpPort : host_port;
   segment.sequence = to_device ? state.host_next : state.device_next;
   segment.acknowledgement = to_device ? state.device_next : state.host_next;
   segment.flags = flags;

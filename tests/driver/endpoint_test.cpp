@@ -57,7 +57,7 @@ TEST(ParseEndpoint, FormattedEndpoint_ParsesBackToItself) {
 TEST(ParseEndpoint, DefaultCanIds_AreD1Values) {
   EXPECT_EQ(kDefaultCanRequestId, 0x6C0u);
   EXPECT_EQ(kDefaultCanResponseId, 0x6C1u);
-  EXPECT_EQ(kDefaultTcpPort, 49152);
+  EXPECT_EQ(base::kHostTcpPort, 49152);
   EXPECT_EQ(format_endpoint(CanEndpoint{"vcan0"}), "can:vcan0");
 }
 

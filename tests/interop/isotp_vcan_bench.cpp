@@ -14,14 +14,15 @@
 #include <poll.h>
 
 #include <atomic>
-#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <optional>
 #include <string>
 #include <thread>
+#include <type_traits>
 
+#include "ldoem/base/numbers.hpp"
 #include "ldoem/protocol/isotp.hpp"
 #include "raw_can_socket.hpp"
 
@@ -53,9 +54,14 @@ SimTime now_sim() { return std::chrono::duration_cast<SimTime>(Clock::now().time
 
 template <class T>
 bool parse_number(const char* text, T& out) {
-  const char* end = text + std::strlen(text);
-  const auto [stop, error] = std::from_chars(text, end, out);
-  return error == std::errc() && stop == end;
+  std::optional<T> value;
+  if constexpr (std::is_floating_point_v<T>) {
+    value = ldoem::base::parse_double(text);
+  } else {
+    value = ldoem::base::parse_integer<T>(text);
+  }
+  if (value) out = *value;
+  return value.has_value();
 }
 
 std::optional<Options> parse_options(int argc, char** argv) {

@@ -1,10 +1,11 @@
 #include "isotpdump_log.hpp"
 
-#include <charconv>
 #include <map>
 #include <optional>
 #include <string_view>
 #include <sstream>
+
+#include "ldoem/base/numbers.hpp"
 
 namespace ldoem::interop {
 namespace {
@@ -28,10 +29,7 @@ std::string strip_colour(std::string_view line) {
 
 template <class T>
 std::optional<T> number(const std::string& digits, int base) {
-  T value{};
-  const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), value, base);
-  if (error != std::errc() || end != digits.data() + digits.size()) return std::nullopt;
-  return value;
+  return ldoem::base::parse_integer<T>(digits, base);
 }
 
 // The "HH HH .." after "data:", up to the first token that is not two hex digits (the ASCII

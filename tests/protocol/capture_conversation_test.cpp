@@ -2,6 +2,7 @@
 // lost bytes), ISO-TP on the D1 identifiers, serial in both directions.
 #include <gtest/gtest.h>
 
+#include "ldoem/base/device_constants.hpp"
 #include "ldoem/protocol/capture_conversation.hpp"
 #include "ldoem/protocol/isotp.hpp"
 #include "ldoem/protocol/serial_framing.hpp"
@@ -18,10 +19,10 @@ const Bytes kGetStatus = hex("01 02");
 const Bytes kStatusReply = hex("81 02 00 00 00 01");
 
 TcpSegment to_device(std::uint32_t sequence, ByteView payload, std::uint16_t host_port = 40000) {
-  return TcpSegment{0x7F000001, 0x7F000002, host_port, kTcpServicePort, sequence, 0, kTcpAck, Bytes(payload.begin(), payload.end())};
+  return TcpSegment{0x7F000001, 0x7F000002, host_port, base::kHostTcpPort, sequence, 0, kTcpAck, Bytes(payload.begin(), payload.end())};
 }
 TcpSegment to_host(std::uint32_t sequence, ByteView payload, std::uint16_t host_port = 40000) {
-  return TcpSegment{0x7F000002, 0x7F000001, kTcpServicePort, host_port, sequence, 0, kTcpAck, Bytes(payload.begin(), payload.end())};
+  return TcpSegment{0x7F000002, 0x7F000001, base::kHostTcpPort, host_port, sequence, 0, kTcpAck, Bytes(payload.begin(), payload.end())};
 }
 
 TEST(Conversation, TcpFramesSplitOverSegments_AreReassembledPerDirection) {

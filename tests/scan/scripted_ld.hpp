@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "ldoem/base/device_constants.hpp"
 #include "ldoem/driver/lpt_port.hpp"
 #include "ldoem/driver/tilt_stepper.hpp"
 #include "ldoem/driver/transport.hpp"
@@ -184,20 +185,21 @@ class ScriptedLd {
     const std::int64_t step = global_.angle_step_ticks;
     const std::int64_t tilt = tilt_();
     std::uint32_t beam = 0;
+    constexpr std::int64_t kTurn = base::kTicksPerTurn;
     for (std::size_t s = 0; s < used; ++s) {
       protocol::SectorBlock block;
       block.sector_num = static_cast<std::uint16_t>(s);
       block.dir_step_ticks = static_cast<std::uint16_t>(step);
-      const std::int64_t previous = s == 0 ? sectors_[used - 1].second - 5760 : sectors_[s - 1].second;
+      const std::int64_t previous = s == 0 ? sectors_[used - 1].second - kTurn : sectors_[s - 1].second;
       const std::int64_t start = previous + step;
       const std::int64_t stop = sectors_[s].second;
-      block.start_dir_ticks = static_cast<std::uint16_t>((start + 5760) % 5760);
-      block.end_dir_ticks = static_cast<std::uint16_t>(stop % 5760);
+      block.start_dir_ticks = static_cast<std::uint16_t>((start + kTurn) % kTurn);
+      block.end_dir_ticks = static_cast<std::uint16_t>(stop % kTurn);
       if (sectors_[s].first == protocol::sector_function::kNormalMeasurement) {
         for (std::int64_t angle = start; angle <= stop; angle += step) {
           protocol::ProfilePoint point;
           point.distance_q8_m = range_(beam, tilt);
-          point.direction_ticks = static_cast<std::uint16_t>((angle + 5760) % 5760);
+          point.direction_ticks = static_cast<std::uint16_t>((angle + kTurn) % kTurn);
           point.echo = static_cast<std::uint16_t>(100 + beam);
           block.points.push_back(point);
           ++beam;

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "ldoem/io/unique_fd.hpp"
+#include "ldoem/base/unique_fd.hpp"
 
 namespace ldoem::io {
 namespace {
@@ -23,14 +23,14 @@ std::unique_ptr<EventLoop> make_loop() {
 }
 
 struct Pipe {
-  UniqueFd read_end;
-  UniqueFd write_end;
+  base::UniqueFd read_end;
+  base::UniqueFd write_end;
 };
 
 Pipe make_pipe() {
   int fds[2] = {-1, -1};
   EXPECT_EQ(::pipe2(fds, O_CLOEXEC | O_NONBLOCK), 0);
-  return Pipe{UniqueFd(fds[0]), UniqueFd(fds[1])};
+  return Pipe{base::UniqueFd(fds[0]), base::UniqueFd(fds[1])};
 }
 
 TEST(EventLoop, Timers_FireInDeadlineOrderNotCreationOrder) {

@@ -9,7 +9,7 @@
 #include <fstream>
 
 #include "ldoem/io/event_loop.hpp"
-#include "ldoem/io/unique_fd.hpp"
+#include "ldoem/base/unique_fd.hpp"
 
 namespace ldoem::io {
 namespace {
@@ -49,7 +49,7 @@ protocol::Bytes receive_bytes(PseudoTerminal& terminal, std::size_t count,
 TEST_F(PseudoTerminalTest, BytesWrittenByThePeer_ArriveUnchanged) {
   auto terminal = PseudoTerminal::open();
   ASSERT_TRUE(terminal) << terminal.error().message();
-  UniqueFd host(::open(terminal->peer_path().c_str(), O_RDWR | O_NOCTTY));
+  base::UniqueFd host(::open(terminal->peer_path().c_str(), O_RDWR | O_NOCTTY));
   ASSERT_TRUE(host.valid());
   // Raw mode: CR, LF, ^C, ^D, DEL and 8-bit bytes are data, not terminal controls.
   const protocol::Bytes sent{0x00, 0x0A, 0x0D, 0x03, 0x04, 0x7F, 0xFF, 0x11, 0x13, 0x05};
@@ -60,7 +60,7 @@ TEST_F(PseudoTerminalTest, BytesWrittenByThePeer_ArriveUnchanged) {
 TEST_F(PseudoTerminalTest, BytesSentToThePeer_ArriveUnchanged) {
   auto terminal = PseudoTerminal::open();
   ASSERT_TRUE(terminal) << terminal.error().message();
-  UniqueFd host(::open(terminal->peer_path().c_str(), O_RDWR | O_NOCTTY));
+  base::UniqueFd host(::open(terminal->peer_path().c_str(), O_RDWR | O_NOCTTY));
   ASSERT_TRUE(host.valid());
   const protocol::Bytes sent{0x02, 0x0A, 0x0D, 0xFF};
   auto accepted = terminal->send(sent);
@@ -84,7 +84,7 @@ TEST_F(PseudoTerminalTest, HostClosingThePeer_IsNotAHangUp) {
   auto terminal = PseudoTerminal::open();
   ASSERT_TRUE(terminal) << terminal.error().message();
   {
-    UniqueFd host(::open(terminal->peer_path().c_str(), O_RDWR | O_NOCTTY));
+    base::UniqueFd host(::open(terminal->peer_path().c_str(), O_RDWR | O_NOCTTY));
     ASSERT_TRUE(host.valid());
   }
   auto loop = EventLoop::create();
@@ -102,7 +102,7 @@ TEST_F(PseudoTerminalTest, Symlink_PointsAtThePeerAndIsRemovedOnClose) {
     ASSERT_TRUE(terminal) << terminal.error().message();
     ASSERT_TRUE(fs::is_symlink(link));
     EXPECT_EQ(fs::read_symlink(link), terminal->peer_path());
-    UniqueFd host(::open(link.c_str(), O_RDWR | O_NOCTTY));
+    base::UniqueFd host(::open(link.c_str(), O_RDWR | O_NOCTTY));
     ASSERT_TRUE(host.valid());
     ASSERT_EQ(::write(host.get(), "\x05", 1), 1);
     EXPECT_EQ(receive_bytes(*terminal, 1, 2s), protocol::Bytes{0x05});

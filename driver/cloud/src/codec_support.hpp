@@ -11,6 +11,8 @@
 #include <string>
 #include <string_view>
 
+#include "ldoem/base/numbers.hpp"
+
 namespace ldoem::cloud::detail {
 
 // Both formats store binary numbers little-endian whatever the host is, so bytes are
@@ -49,22 +51,15 @@ inline void append_uint_text(std::string& out, std::uint64_t value) {
   out.append(buffer, result.ptr);
 }
 
-// Whole token must be a number; "nan", "inf" accepted (from_chars does).
+// Whole token must be a number. "nan" and "inf" are accepted: files store NaN for no echo. A
+// leading '+' is accepted too, as other writers put it there and from_chars does not take it.
 inline std::optional<double> parse_double(std::string_view token) {
   if (!token.empty() && token.front() == '+') token.remove_prefix(1);
-  double value = 0.0;
-  const auto result = std::from_chars(token.data(), token.data() + token.size(), value);
-  if (result.ec != std::errc{} || result.ptr != token.data() + token.size()) return std::nullopt;
-  return value;
+  return base::parse_double(token, base::NonFinite::accept);
 }
 
 inline std::optional<std::uint64_t> parse_unsigned(std::string_view token) {
-  std::uint64_t value = 0;
-  const auto result = std::from_chars(token.data(), token.data() + token.size(), value);
-  if (token.empty() || result.ec != std::errc{} || result.ptr != token.data() + token.size()) {
-    return std::nullopt;
-  }
-  return value;
+  return base::parse_integer<std::uint64_t>(token);
 }
 
 // Scalar types both formats can describe.

@@ -2,9 +2,10 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include <charconv>
 #include <cmath>
 #include <set>
+
+#include "ldoem/base/numbers.hpp"
 
 namespace ldoem::hub {
 namespace {
@@ -151,9 +152,8 @@ protocol::Expected<ListenAddress, std::string> parse_listen_address(std::string_
   }
   std::string_view host = text.substr(0, colon);
   const std::string_view port_text = text.substr(colon + 1);
-  unsigned port = 0;
-  const auto [end, error] = std::from_chars(port_text.data(), port_text.data() + port_text.size(), port);
-  if (error != std::errc{} || end != port_text.data() + port_text.size() || port > 65535) {
+  const std::optional<std::uint16_t> port = base::parse_integer<std::uint16_t>(port_text);
+  if (!port) {
     return config_error("`" + std::string(port_text) + "` is not a port number");
   }
   if (host.size() >= 2 && host.front() == '[' && host.back() == ']') {
@@ -163,7 +163,7 @@ protocol::Expected<ListenAddress, std::string> parse_listen_address(std::string_
   if (!host.empty()) {
     address.host = std::string(host);
   }
-  address.port = static_cast<std::uint16_t>(port);
+  address.port = *port;
   return address;
 }
 

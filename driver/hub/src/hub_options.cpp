@@ -1,6 +1,6 @@
 #include "ldoem/hub/hub_options.hpp"
 
-#include <charconv>
+#include "ldoem/base/numbers.hpp"
 
 namespace ldoem::hub {
 namespace {
@@ -8,12 +8,7 @@ namespace {
 using protocol::Unexpected;
 
 std::optional<unsigned long long> parse_count(std::string_view text) {
-  unsigned long long value = 0;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (error != std::errc{} || end != text.data() + text.size() || text.empty()) {
-    return std::nullopt;
-  }
-  return value;
+  return base::parse_integer<unsigned long long>(text);
 }
 
 // Large enough for any sane setting, small enough that no later arithmetic overflows.

@@ -2,33 +2,17 @@
 #pragma once
 
 #include <charconv>
-#include <cmath>
 #include <optional>
 #include <string>
 #include <string_view>
 
+#include "ldoem/base/numbers.hpp"
 #include "ldoem/protocol/bytes.hpp"
 
 namespace ldoem::hub::text {
 
-template <class Integer>
-inline std::optional<Integer> parse_integer(std::string_view text, int base = 10) {
-  Integer value{};
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value, base);
-  if (error != std::errc{} || end != text.data() + text.size() || text.empty()) {
-    return std::nullopt;
-  }
-  return value;
-}
-
-inline std::optional<double> parse_double(std::string_view text) {
-  double value = 0.0;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (error != std::errc{} || end != text.data() + text.size() || text.empty() || !std::isfinite(value)) {
-    return std::nullopt;
-  }
-  return value;
-}
+using base::parse_double;
+using base::parse_integer;
 
 inline std::string format_double(double value) {
   char buffer[64];

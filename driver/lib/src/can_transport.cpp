@@ -115,7 +115,7 @@ CanIsoTpTransport::~CanIsoTpTransport() { close(); }
 Expected<std::unique_ptr<CanIsoTpTransport>, DriverError> CanIsoTpTransport::open(const CanEndpoint& endpoint,
                                                                                   IsoTpOptions options) {
   const std::string object = format_endpoint(endpoint);
-  detail::UniqueFd fd(::socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK | SOCK_CLOEXEC, CAN_RAW));
+  base::UniqueFd fd(::socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK | SOCK_CLOEXEC, CAN_RAW));
   if (!fd.valid()) {
     return fail(system_error("socket CAN_RAW", object, errno));
   }

@@ -1,9 +1,10 @@
 #include "ldoem/driver/endpoint.hpp"
 
 #include <array>
-#include <charconv>
 #include <optional>
 #include <vector>
+
+#include "ldoem/base/numbers.hpp"
 
 namespace ldoem::driver {
 namespace {
@@ -34,19 +35,6 @@ std::vector<std::string_view> split_fields(std::string_view rest) {
   }
 }
 
-template <class T>
-std::optional<T> parse_number(std::string_view digits, int base) {
-  T value{};
-  if (digits.empty()) {
-    return std::nullopt;
-  }
-  const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value, base);
-  if (ec != std::errc{} || end != digits.data() + digits.size()) {
-    return std::nullopt;
-  }
-  return value;
-}
-
 std::optional<std::uint64_t> parse_hex_id(std::string_view field) {
   if (field.size() > 2 && field[0] == '0' && (field[1] == 'x' || field[1] == 'X')) {
     field.remove_prefix(2);
@@ -54,7 +42,7 @@ std::optional<std::uint64_t> parse_hex_id(std::string_view field) {
   if (field.size() > 8) {
     return std::nullopt;
   }
-  return parse_number<std::uint64_t>(field, 16);
+  return base::parse_integer<std::uint64_t>(field, 16);
 }
 
 Expected<std::uint32_t, EndpointError> parse_can_id(std::string_view text, std::string_view field,
@@ -144,7 +132,7 @@ Expected<Endpoint, EndpointError> parse_tcp(std::string_view text, std::string_v
   }
   tcp.host = std::string(host);
   if (has_port) {
-    const auto port = parse_number<std::uint32_t>(port_field, 10);
+    const auto port = base::parse_integer<std::uint32_t>(port_field);
     if (!port) {
       return error(EndpointErrorKind::bad_number, text, "port `" + std::string(port_field) + "` is not a number");
     }
@@ -178,7 +166,7 @@ Expected<Endpoint, EndpointError> parse_serial(std::string_view text, std::strin
   const std::size_t colon = rest.rfind(':');
   if (colon != std::string_view::npos && all_digits(rest.substr(colon + 1))) {
     path = rest.substr(0, colon);
-    const auto baud = parse_number<std::uint32_t>(rest.substr(colon + 1), 10);
+    const auto baud = base::parse_integer<std::uint32_t>(rest.substr(colon + 1));
     bool listed = false;
     for (std::uint32_t known : kSerialBauds) {
       listed = listed || (baud && *baud == known);

@@ -1,47 +1,17 @@
-// File-descriptor helpers shared by the transports and LPT ports: ownership, and waiting on
-// one descriptor until a monotonic deadline.
+// Waiting on one descriptor until a monotonic deadline, shared by the transports and LPT ports
+// (ownership is base::UniqueFd).
 #pragma once
 
 #include <poll.h>
 #include <unistd.h>
 
 #include <string>
-#include <utility>
 
+#include "ldoem/base/unique_fd.hpp"
 #include "ldoem/driver/error.hpp"
 #include "ldoem/driver/transport.hpp"
 
 namespace ldoem::driver::detail {
-
-class UniqueFd {
- public:
-  UniqueFd() = default;
-  explicit UniqueFd(int fd) : fd_(fd) {}
-  UniqueFd(UniqueFd&& other) noexcept : fd_(std::exchange(other.fd_, -1)) {}
-  UniqueFd& operator=(UniqueFd&& other) noexcept {
-    if (this != &other) {
-      reset();
-      fd_ = std::exchange(other.fd_, -1);
-    }
-    return *this;
-  }
-  UniqueFd(const UniqueFd&) = delete;
-  UniqueFd& operator=(const UniqueFd&) = delete;
-  ~UniqueFd() { reset(); }
-
-  int get() const { return fd_; }
-  int release() { return std::exchange(fd_, -1); }
-  bool valid() const { return fd_ >= 0; }
-  void reset() {
-    if (fd_ >= 0) {
-      ::close(fd_);
-      fd_ = -1;
-    }
-  }
-
- private:
-  int fd_ = -1;
-};
 
 enum class WaitOutcome { ready, deadline_passed };
 

@@ -66,7 +66,7 @@ KernelIsoTpTransport::~KernelIsoTpTransport() { close(); }
 Expected<std::unique_ptr<KernelIsoTpTransport>, DriverError> KernelIsoTpTransport::open(
     const CanEndpoint& endpoint, IsoTpOptions options) {
   const std::string object = format_endpoint(endpoint);
-  detail::UniqueFd fd(::socket(PF_CAN, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, CAN_ISOTP));
+  base::UniqueFd fd(::socket(PF_CAN, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, CAN_ISOTP));
   if (!fd.valid()) {
     if (means_no_isotp(errno)) {
       return fail(kernel_isotp_unavailable(endpoint, errno));

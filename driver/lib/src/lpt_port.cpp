@@ -17,7 +17,7 @@ namespace ldoem::driver {
 
 Expected<std::unique_ptr<PpdevLptPort>, DriverError> PpdevLptPort::open(const std::string& path) {
   const std::string object = "lpt:" + path;
-  detail::UniqueFd fd(::open(path.c_str(), O_RDWR | O_CLOEXEC));
+  base::UniqueFd fd(::open(path.c_str(), O_RDWR | O_CLOEXEC));
   if (!fd.valid()) {
     return fail(system_error("open", object, errno));
   }
@@ -46,7 +46,7 @@ Status PpdevLptPort::write_data(std::uint8_t value) {
 
 Expected<std::unique_ptr<PtyLptPort>, DriverError> PtyLptPort::open(const std::string& path) {
   const std::string object = "lpt:pty:" + path;
-  detail::UniqueFd fd(::open(path.c_str(), O_WRONLY | O_NOCTTY | O_CLOEXEC));
+  base::UniqueFd fd(::open(path.c_str(), O_WRONLY | O_NOCTTY | O_CLOEXEC));
   if (!fd.valid()) {
     return fail(system_error("open", object, errno));
   }

@@ -62,7 +62,7 @@ SerialTransport::~SerialTransport() { close(); }
 
 Expected<std::unique_ptr<SerialTransport>, DriverError> SerialTransport::open(const SerialEndpoint& endpoint) {
   const std::string object = format_endpoint(endpoint);
-  detail::UniqueFd fd(::open(endpoint.path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC));
+  base::UniqueFd fd(::open(endpoint.path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC));
   if (!fd.valid()) {
     return fail(system_error("open", object, errno));
   }

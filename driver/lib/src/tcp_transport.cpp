@@ -22,9 +22,9 @@ struct AddrInfoDeleter {
   void operator()(addrinfo* list) const { freeaddrinfo(list); }
 };
 
-Expected<detail::UniqueFd, DriverError> connect_one(const addrinfo& address, Deadline deadline,
+Expected<base::UniqueFd, DriverError> connect_one(const addrinfo& address, Deadline deadline,
                                                     const std::string& object) {
-  detail::UniqueFd fd(::socket(address.ai_family, address.ai_socktype | SOCK_NONBLOCK | SOCK_CLOEXEC,
+  base::UniqueFd fd(::socket(address.ai_family, address.ai_socktype | SOCK_NONBLOCK | SOCK_CLOEXEC,
                                address.ai_protocol));
   if (!fd.valid()) {
     return fail(system_error("socket", object, errno));

@@ -19,9 +19,9 @@ double beam_angle_deg(const protocol::SectorBlock& sector, std::size_t point_ind
                                  ? sector.points[point_index].direction_ticks
                                  : static_cast<std::int64_t>(sector.start_dir_ticks) +
                                        static_cast<std::int64_t>(point_index) * sector.dir_step_ticks;
-  std::int64_t wrapped = ticks % kTicksPerRevolution;
-  if (wrapped > static_cast<std::int64_t>(kTicksPerRevolution / 2)) {
-    wrapped -= kTicksPerRevolution;
+  std::int64_t wrapped = ticks % kTicksPerTurn;
+  if (wrapped > static_cast<std::int64_t>(kTicksPerTurn / 2)) {
+    wrapped -= kTicksPerTurn;
   }
   return static_cast<double>(wrapped) / kTicksPerDegree;
 }

@@ -1,10 +1,11 @@
 #include "ldoem/scan/scan_options.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <functional>
 #include <map>
+
+#include "ldoem/base/numbers.hpp"
 
 namespace ldoem::scan {
 namespace {
@@ -15,14 +16,7 @@ using OptionsResult = protocol::Expected<ScanOptions, std::string>;
 
 Unexpected<std::string> usage_error(std::string text) { return Unexpected<std::string>(std::move(text)); }
 
-std::optional<double> parse_double(std::string_view text) {
-  double value = 0.0;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (error != std::errc{} || end != text.data() + text.size() || text.empty() || !std::isfinite(value)) {
-    return std::nullopt;
-  }
-  return value;
-}
+using base::parse_double;
 
 std::optional<Vector3> parse_vector(std::string_view text) {
   double values[3];
@@ -91,12 +85,11 @@ const std::map<std::string_view, Setter>& setters() {
       {"--step-rate", number_into(&ScanOptions::step_rate_hz, true)},
       {"--speed",
        [](ScanOptions& o, std::string_view v) -> std::optional<std::string> {
-         unsigned value = 0;
-         const auto [end, error] = std::from_chars(v.data(), v.data() + v.size(), value);
-         if (error != std::errc{} || end != v.data() + v.size() || value < 5 || value > 20) {
+         const auto value = base::parse_integer<std::uint16_t>(v);
+         if (!value || *value < 5 || *value > 20) {
            return "`" + std::string(v) + "` is not a motor speed of 5..20 Hz (spec 6)";
          }
-         o.speed_hz = static_cast<std::uint16_t>(value);
+         o.speed_hz = *value;
          return std::nullopt;
        }},
       {"--out",

@@ -40,13 +40,13 @@ Expected<SectorPlan, std::string> plan_sectors(double horizontal_apex_deg, doubl
   }
   const auto step_ticks = as_integer(horizontal_resolution_deg * kTicksPerDegree);
   if (!step_ticks || *step_ticks <= 0 || *step_ticks % kAngleStepGranuleTicks != 0 ||
-      kTicksPerRevolution % *step_ticks != 0) {
+      kTicksPerTurn % *step_ticks != 0) {
     return plan_error("horizontal resolution " + number(horizontal_resolution_deg) +
                       " deg is not a multiple of 0.125 deg dividing 360 deg (spec 6)");
   }
   SectorPlan plan;
   plan.angle_step_ticks = static_cast<std::uint16_t>(*step_ticks);
-  plan.max_pulse_frequency_hz = static_cast<double>(kTicksPerRevolution / *step_ticks) * motor_speed_hz;
+  plan.max_pulse_frequency_hz = static_cast<double>(kTicksPerTurn / *step_ticks) * motor_speed_hz;
   if (plan.max_pulse_frequency_hz > kMaxPulseFrequencyHz) {
     return plan_error("maximum pulse frequency " + number(plan.max_pulse_frequency_hz) +
                       " Hz is above 14400 Hz: use a coarser resolution or a lower speed (spec 5)");
@@ -57,13 +57,13 @@ Expected<SectorPlan, std::string> plan_sectors(double horizontal_apex_deg, doubl
                       " deg) must be a positive multiple of the resolution (spec 3.6: stops on the step grid)");
   }
   // Sector 1 (no measurement) ends one step before sector 0 starts at -half_apex.
-  const long long blank_stop = static_cast<long long>(kTicksPerRevolution) - *half_apex_ticks - *step_ticks;
+  const long long blank_stop = static_cast<long long>(kTicksPerTurn) - *half_apex_ticks - *step_ticks;
   if (blank_stop <= *half_apex_ticks) {
     return plan_error("horizontal apex " + number(horizontal_apex_deg) + " deg leaves no room for a blanked sector");
   }
   // Spec 5: a measuring sector's area is its stop minus the previous sector's stop (mod 360).
-  const double area_ticks = static_cast<double>(*half_apex_ticks + (kTicksPerRevolution - blank_stop));
-  plan.mean_pulse_frequency_hz = plan.max_pulse_frequency_hz * area_ticks / kTicksPerRevolution;
+  const double area_ticks = static_cast<double>(*half_apex_ticks + (kTicksPerTurn - blank_stop));
+  plan.mean_pulse_frequency_hz = plan.max_pulse_frequency_hz * area_ticks / kTicksPerTurn;
   if (plan.mean_pulse_frequency_hz > kMaxMeanPulseFrequencyHz) {
     return plan_error("mean pulse frequency " + number(plan.mean_pulse_frequency_hz) +
                       " Hz is above 10800 Hz: narrow the apex or lower the speed (spec 5)");

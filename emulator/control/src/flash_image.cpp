@@ -1,8 +1,9 @@
 #include "ldoem/control/flash_image.hpp"
 
-#include <charconv>
 #include <string>
 #include <vector>
+
+#include "ldoem/base/numbers.hpp"
 
 namespace ldoem::control {
 namespace {
@@ -49,13 +50,12 @@ Expected<Record, FlashError> parse_record(std::string_view line, std::size_t lin
     line.remove_prefix(space + 1);
     space = line.find(' ');
     const std::string_view token = line.substr(0, space);
-    unsigned long value = 0;
-    const auto [end, error] = std::from_chars(token.data(), token.data() + token.size(), value);
-    if (token.empty() || error != std::errc{} || end != token.data() + token.size()) return Unexpected(malformed);
+    const std::optional<unsigned long> value = base::parse_integer<unsigned long>(token);
+    if (!value) return Unexpected(malformed);
     // serialise_flash_image writes no leading zeros, so "025" is not its image of 25 (fuzz_flash_image).
     if (token.size() > 1 && token.front() == '0') return Unexpected(malformed);
-    if (value > 0xFFFF) return Unexpected(FlashError{FlashErrorKind::value_out_of_range, line_number});
-    record.fields.push_back(static_cast<std::uint16_t>(value));
+    if (*value > 0xFFFF) return Unexpected(FlashError{FlashErrorKind::value_out_of_range, line_number});
+    record.fields.push_back(static_cast<std::uint16_t>(*value));
   }
   return record;
 }

@@ -14,7 +14,7 @@
 #include <cstring>
 #include <string>
 
-#include "ldoem/io/unique_fd.hpp"
+#include "ldoem/base/unique_fd.hpp"
 
 namespace ldoem::io {
 namespace {
@@ -58,7 +58,7 @@ IoResult<CanInterfaceStatus> check_can_interface(std::string_view interface_name
     return io_failure(can_error(ENODEV, name, "does not exist"));
   }
   // Any socket can carry the interface ioctls; AF_UNIX exists even where AF_CAN does not.
-  UniqueFd probe(::socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC, 0));
+  base::UniqueFd probe(::socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC, 0));
   if (!probe.valid()) {
     return io_failure(last_system_error("socket AF_UNIX", name));
   }

@@ -48,7 +48,7 @@ IoResult<CanRawSocket> CanRawSocket::open(std::string_view interface_name,
   if (name.empty() || name.size() >= IFNAMSIZ) {
     return io_failure(IoError{"open", name, EINVAL, "not a valid interface name"});
   }
-  UniqueFd fd(::socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK | SOCK_CLOEXEC, CAN_RAW));
+  base::UniqueFd fd(::socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK | SOCK_CLOEXEC, CAN_RAW));
   if (!fd.valid()) {
     return io_failure(last_system_error("socket PF_CAN", name));
   }

@@ -44,7 +44,7 @@ IoResult<TcpConnection> TcpConnection::connect(std::string_view address, std::ui
   if (!target) {
     return io_failure(target.error());
   }
-  UniqueFd fd(::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0));
+  base::UniqueFd fd(::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0));
   if (!fd.valid()) {
     return io_failure(last_system_error("socket", where));
   }
@@ -112,7 +112,7 @@ IoResult<TcpListener> TcpListener::listen(std::uint16_t port, std::string_view a
   if (!local) {
     return io_failure(local.error());
   }
-  UniqueFd fd(::socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0));
+  base::UniqueFd fd(::socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0));
   if (!fd.valid()) {
     return io_failure(last_system_error("socket", where));
   }
@@ -139,7 +139,7 @@ IoResult<std::optional<TcpConnection>> TcpListener::accept() {
   for (;;) {
     sockaddr_in peer{};
     socklen_t length = sizeof peer;
-    UniqueFd fd(::accept4(fd_.get(), reinterpret_cast<sockaddr*>(&peer), &length,
+    base::UniqueFd fd(::accept4(fd_.get(), reinterpret_cast<sockaddr*>(&peer), &length,
                           SOCK_NONBLOCK | SOCK_CLOEXEC));
     if (fd.valid()) {
       const int on = 1;

@@ -1,5 +1,6 @@
 #include "scanner_reader.hpp"
 
+#include "ldoem/base/device_constants.hpp"
 #include "ldoem/scene/optics.hpp"
 #include "motion_reader.hpp"
 #include "pose_reader.hpp"
@@ -17,7 +18,6 @@ constexpr double kMinPulseWidth_s = 1e-10;
 constexpr double kMaxPulseWidth_s = 1e-7;
 constexpr double kMaxBeamDivergence_rad = 0.1;
 constexpr std::uint64_t kMaxCanId = 0x7FF;      // 11-bit identifiers (D1)
-constexpr std::uint64_t kFullCircle_ticks = 5760;  // 360 deg in 1/16 deg (spec 3.6)
 constexpr std::uint64_t kMaxSectorFunction = 4;   // spec 3.6: 0..4
 
 void read_optics(const std::string& file, const YAML::Node& node, const std::string& path,
@@ -162,7 +162,7 @@ void read_sectors(const std::string& file, const YAML::Node& node, const std::st
     MapReader map(file, node[i], sector_path);
     read_field(map, "function", sectors[i].function, 0, kMaxSectorFunction);
     read_field(map, "stop_ticks", sectors[i].stop_ticks, 0, 0xFFFF);
-    if (sectors[i].function != 0 && sectors[i].stop_ticks > kFullCircle_ticks) {
+    if (sectors[i].function != 0 && sectors[i].stop_ticks > std::uint64_t{base::kTicksPerTurn}) {
       fail(file, SceneErrorKind::out_of_range, node[i], map.child_path("stop_ticks"),
            "an initialised sector stops at <= 5760 (360 deg, spec 3.6)");
     }
@@ -175,7 +175,7 @@ void read_flash(const std::string& file, const YAML::Node& node, const std::stri
   MapReader map(file, node, path);
   read_field(map, "sensor_id", flash.sensor_id, 1, 254);
   read_field(map, "motor_speed_hz", flash.motor_speed_hz, 5, 20);
-  read_field(map, "angle_step_ticks", flash.angle_step_ticks, 1, kFullCircle_ticks);
+  read_field(map, "angle_step_ticks", flash.angle_step_ticks, 1, std::uint64_t{base::kTicksPerTurn});
   if (auto sectors = map.get("sectors")) read_sectors(file, *sectors, map.child_path("sectors"), flash.sectors);
   if (auto ip = map.get("ip_address")) flash.ip_address = read_ipv4(file, *ip, map.child_path("ip_address"));
   if (auto mask = map.get("subnet_mask")) flash.subnet_mask = read_ipv4(file, *mask, map.child_path("subnet_mask"));

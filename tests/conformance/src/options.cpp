@@ -1,8 +1,10 @@
 #include "options.hpp"
 
-#include <charconv>
 #include <cmath>
 #include <fnmatch.h>
+
+#include "ldoem/base/numbers.hpp"
+
 
 namespace ldoem::conformance {
 namespace {
@@ -12,12 +14,7 @@ using protocol::Unexpected;
 
 Unexpected<UsageError> usage(std::string message) { return Unexpected<UsageError>(UsageError{std::move(message)}); }
 
-std::optional<double> parse_double(std::string_view text) {
-  double value = 0;
-  const auto result = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (result.ec != std::errc{} || result.ptr != text.data() + text.size() || !std::isfinite(value)) return std::nullopt;
-  return value;
-}
+using base::parse_double;
 
 // "6C0,6C1" (hex, optional 0x) -> the two ids as the endpoint grammar writes them.
 std::optional<std::pair<std::string, std::string>> split_ids(std::string_view text) {

@@ -8,7 +8,8 @@ namespace {
 using namespace protocol;
 
 std::uint16_t wrap_ticks(int ticks) {
-  const int wrapped = ((ticks % kTicksPerRevolution) + kTicksPerRevolution) % kTicksPerRevolution;
+  constexpr int kTicksPerTurn = static_cast<int>(base::kTicksPerTurn);
+  const int wrapped = ((ticks % kTicksPerTurn) + kTicksPerTurn) % kTicksPerTurn;
   return static_cast<std::uint16_t>(wrapped);
 }
 

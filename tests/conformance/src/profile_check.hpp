@@ -9,13 +9,12 @@
 #include <string_view>
 #include <vector>
 
+#include "ldoem/base/device_constants.hpp"
 #include "ldoem/protocol/messages.hpp"
 #include "ldoem/protocol/profile.hpp"
 #include "session.hpp"
 
 namespace ldoem::conformance {
-
-inline constexpr std::uint16_t kTicksPerRevolution = 5760;  // spec 2.3: 1/16 degree
 
 struct ExpectedSector {
   std::uint16_t sector = 0;

@@ -12,6 +12,7 @@
 #include <tuple>
 #include <vector>
 
+#include "ldoem/base/device_constants.hpp"
 #include "ldoem/protocol/bytes.hpp"
 #include "ldoem/protocol/capture_packets.hpp"
 #include "ldoem/protocol/isotp.hpp"
@@ -34,7 +35,7 @@ struct CapturedTelegram {
 };
 
 struct ConversationConfig {
-  std::uint16_t tcp_port = kTcpServicePort;  // the device's port (spec 4.1)
+  std::uint16_t tcp_port = base::kHostTcpPort;  // the device's port (spec 4.1)
   std::uint32_t request_can_id = kIsoTpHostToDeviceId;   // D1
   std::uint32_t response_can_id = kIsoTpDeviceToHostId;  // D1
   // ISO-TP reassembly bound. Profiles over CAN may exceed D3's 5816 bytes (D1 has no limit).

@@ -18,7 +18,6 @@ namespace ldoem::protocol {
 inline constexpr std::array<std::uint8_t, 4> kTcpMagic{0x02, 0x55, 0x53, 0x50};  // STX "USP"
 inline constexpr std::size_t kTcpHeaderSize = 8;                                 // magic + length
 inline constexpr std::size_t kTcpTrailerSize = 1;                                // XOR checksum
-inline constexpr std::uint16_t kTcpServicePort = 49152;
 
 constexpr std::size_t tcp_frame_size(std::size_t payload_size) {
   return kTcpHeaderSize + payload_size + kTcpTrailerSize;

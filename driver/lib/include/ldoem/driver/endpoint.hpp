@@ -20,6 +20,7 @@
 #include <string_view>
 #include <variant>
 
+#include "ldoem/base/device_constants.hpp"
 #include "ldoem/protocol/expected.hpp"
 
 namespace ldoem::driver {
@@ -27,8 +28,6 @@ namespace ldoem::driver {
 // D1 defaults.
 inline constexpr std::uint32_t kDefaultCanRequestId = 0x6C0;
 inline constexpr std::uint32_t kDefaultCanResponseId = 0x6C1;
-// Spec 4.1: the LD's service port.
-inline constexpr std::uint16_t kDefaultTcpPort = 49152;
 // S2's default line speed (spec 4.2).
 inline constexpr std::uint32_t kDefaultSerialBaud = 115200;
 
@@ -42,7 +41,7 @@ struct CanEndpoint {
 
 struct TcpEndpoint {
   std::string host;  // name or address literal, without brackets
-  std::uint16_t port = kDefaultTcpPort;
+  std::uint16_t port = base::kHostTcpPort;
   bool operator==(const TcpEndpoint&) const = default;
 };
 

@@ -7,18 +7,18 @@
 #include <string>
 #include <vector>
 
+#include "ldoem/base/device_constants.hpp"
 #include "ldoem/driver/scanner.hpp"
 #include "ldoem/protocol/expected.hpp"
 #include "ldoem/protocol/lpt.hpp"
 
 namespace ldoem::scan {
 
+using base::kTicksPerDegree;
+using base::kTicksPerTurn;
 using protocol::Expected;
 using protocol::StepMode;
 
-// Spec 2.3 / 6: 5760 encoder ticks per revolution, 1/16 degree each.
-inline constexpr std::uint32_t kTicksPerRevolution = 5760;
-inline constexpr double kTicksPerDegree = 16.0;
 // Spec 5 (S1's rules, LD manual p. 22): pulse frequency limits checked by TRANS_MEASURE.
 inline constexpr double kMaxPulseFrequencyHz = 14400.0;
 inline constexpr double kMaxMeanPulseFrequencyHz = 10800.0;

@@ -7,10 +7,11 @@
 #include <string>
 #include <vector>
 
+#include "ldoem/base/device_constants.hpp"
+
 namespace ldoem::control {
 
-// Spec 2.3: one revolution is 5760 encoder ticks of 1/16 degree.
-inline constexpr std::uint32_t kTicksPerTurn = 5760;
+using base::kTicksPerTurn;
 
 // Spec 5 / 6 (S1's model of the LD manual): pulse-frequency limits checked by TRANS_MEASURE.
 inline constexpr std::uint32_t kMaxPulseFrequencyHz = 14400;

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "ldoem/io/io_error.hpp"
-#include "ldoem/io/unique_fd.hpp"
+#include "ldoem/base/unique_fd.hpp"
 #include "ldoem/protocol/can_frame.hpp"
 
 namespace ldoem::io {
@@ -50,10 +50,10 @@ class CanRawSocket {
   std::uint64_t dropped_foreign_frames() const { return dropped_foreign_frames_; }
 
  private:
-  CanRawSocket(UniqueFd fd, std::string interface_name)
+  CanRawSocket(base::UniqueFd fd, std::string interface_name)
       : fd_(std::move(fd)), interface_name_(std::move(interface_name)) {}
 
-  UniqueFd fd_;
+  base::UniqueFd fd_;
   std::string interface_name_;
   std::uint64_t dropped_foreign_frames_ = 0;
 };

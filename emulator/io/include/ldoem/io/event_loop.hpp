@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "ldoem/io/io_error.hpp"
-#include "ldoem/io/unique_fd.hpp"
+#include "ldoem/base/unique_fd.hpp"
 
 namespace ldoem::io {
 
@@ -105,8 +105,8 @@ class EventLoop {
   int wait_budget_ms(MonotonicTime limit) const;
   void handle_signalfd();
 
-  UniqueFd epoll_fd_;
-  UniqueFd signal_fd_;
+  base::UniqueFd epoll_fd_;
+  base::UniqueFd signal_fd_;
   SignalCallback signal_callback_;
   std::unordered_map<int, Watch> watches_;
   std::uint64_t next_generation_ = 1;

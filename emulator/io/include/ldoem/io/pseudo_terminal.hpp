@@ -9,7 +9,7 @@
 
 #include "ldoem/io/byte_stream.hpp"
 #include "ldoem/io/io_error.hpp"
-#include "ldoem/io/unique_fd.hpp"
+#include "ldoem/base/unique_fd.hpp"
 
 namespace ldoem::io {
 
@@ -40,8 +40,8 @@ class PseudoTerminal {
   PseudoTerminal() = default;
   void remove_link();
 
-  UniqueFd controller_;    // the master side, ours
-  UniqueFd peer_keeper_;   // our own open of the peer side: no EPOLLHUP while the host is away
+  base::UniqueFd controller_;    // the master side, ours
+  base::UniqueFd peer_keeper_;   // our own open of the peer side: no EPOLLHUP while the host is away
   std::string peer_path_;
   std::optional<std::filesystem::path> link_path_;
 };

@@ -9,7 +9,7 @@
 
 #include "ldoem/io/byte_stream.hpp"
 #include "ldoem/io/io_error.hpp"
-#include "ldoem/io/unique_fd.hpp"
+#include "ldoem/base/unique_fd.hpp"
 
 namespace ldoem::io {
 
@@ -20,7 +20,7 @@ class TcpConnection {
   // Connects (blocking, then switches to non-blocking): for tests and simple clients.
   static IoResult<TcpConnection> connect(std::string_view address, std::uint16_t port);
   // Takes over an accepted, already non-blocking socket.
-  TcpConnection(UniqueFd fd, std::string peer) : fd_(std::move(fd)), peer_(std::move(peer)) {}
+  TcpConnection(base::UniqueFd fd, std::string peer) : fd_(std::move(fd)), peer_(std::move(peer)) {}
 
   IoResult<Received> receive(std::size_t max_bytes = 65536);
   // How many leading bytes the kernel took (0 when its buffer is full). Never raises SIGPIPE:
@@ -31,7 +31,7 @@ class TcpConnection {
   const std::string& peer() const { return peer_; }  // "127.0.0.1:40412"
 
  private:
-  UniqueFd fd_;
+  base::UniqueFd fd_;
   std::string peer_;
 };
 
@@ -50,10 +50,10 @@ class TcpListener {
   const std::string& address() const { return address_; }
 
  private:
-  TcpListener(UniqueFd fd, std::string address, std::uint16_t port)
+  TcpListener(base::UniqueFd fd, std::string address, std::uint16_t port)
       : fd_(std::move(fd)), address_(std::move(address)), port_(port) {}
 
-  UniqueFd fd_;
+  base::UniqueFd fd_;
   std::string address_;
   std::uint16_t port_ = 0;
 };

@@ -1,32 +1,11 @@
-// Owns one file descriptor: closed exactly once, on destruction or reset().
+// Transitional: the descriptor owner is base::UniqueFd (ldoem/base/unique_fd.hpp). This name
+// stays only until the daemon's endpoints use base's directly; new code includes base's header.
 #pragma once
 
-#include <utility>
+#include "ldoem/base/unique_fd.hpp"
 
 namespace ldoem::io {
 
-class UniqueFd {
- public:
-  UniqueFd() = default;
-  explicit UniqueFd(int fd) : fd_(fd) {}
-  UniqueFd(UniqueFd&& other) noexcept : fd_(std::exchange(other.fd_, -1)) {}
-  UniqueFd& operator=(UniqueFd&& other) noexcept {
-    if (this != &other) {
-      reset(std::exchange(other.fd_, -1));
-    }
-    return *this;
-  }
-  UniqueFd(const UniqueFd&) = delete;
-  UniqueFd& operator=(const UniqueFd&) = delete;
-  ~UniqueFd() { reset(); }
-
-  int get() const { return fd_; }
-  bool valid() const { return fd_ >= 0; }
-  int release() { return std::exchange(fd_, -1); }
-  void reset(int fd = -1);
-
- private:
-  int fd_ = -1;
-};
+using base::UniqueFd;
 
 }  // namespace ldoem::io

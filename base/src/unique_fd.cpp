@@ -1,8 +1,8 @@
-#include "ldoem/io/unique_fd.hpp"
+#include "ldoem/base/unique_fd.hpp"
 
 #include <unistd.h>
 
-namespace ldoem::io {
+namespace ldoem::base {
 
 void UniqueFd::reset(int fd) {
   if (fd_ >= 0 && fd_ != fd) {
@@ -13,4 +13,4 @@ void UniqueFd::reset(int fd) {
   fd_ = fd;
 }
 
-}  // namespace ldoem::io
+}  // namespace ldoem::base
