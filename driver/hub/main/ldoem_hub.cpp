@@ -1,14 +1,12 @@
 // ldoem-hub: reads the device list, opens one back-end handler per device, serves clients
 // until SIGINT/SIGTERM (docs/hub.md).
-#include <signal.h>
-#include <sys/signalfd.h>
 #include <systemd/sd-daemon.h>
-#include <unistd.h>
 
 #include <fstream>
 #include <iostream>
 #include <sstream>
 
+#include "ldoem/driver/stop_signals.hpp"
 #include "ldoem/hub/hub_options.hpp"
 #include "ldoem/hub/hub_server.hpp"
 #include "ldoem/hub/scanner_device.hpp"
@@ -64,17 +62,12 @@ int main(int argc, char** argv) {
   settings.max_in_flight = command_line->max_in_flight;
   settings.idle_timeout = command_line->idle_timeout;
 
-  // Signals arrive as a readable descriptor in the hub's loop (no handler, no global state).
-  sigset_t stop_signals;
-  sigemptyset(&stop_signals);
-  sigaddset(&stop_signals, SIGINT);
-  sigaddset(&stop_signals, SIGTERM);
-  // A shell starts background jobs with SIGINT ignored; an ignored signal never reaches the
-  // signalfd, so the default disposition is restored before the signals are blocked.
-  signal(SIGINT, SIG_DFL);
-  signal(SIGTERM, SIG_DFL);
-  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);  // before the BEMH threads start
-  const int signal_fd = signalfd(-1, &stop_signals, SFD_CLOEXEC);
+  // Signals arrive as a readable descriptor in the hub's loop; set up before the BEMH threads start.
+  auto stop_signals = ldoem::driver::StopSignals::block_and_open();
+  if (!stop_signals) {
+    std::cerr << "ldoem-hub: " << ldoem::driver::describe(stop_signals.error()) << "\n";
+    return kExitFailure;
+  }
 
   // Under systemd (Type=notify, WatchdogSec=): the loop itself pings, so a stuck loop is
   // restarted. Outside systemd sd_watchdog_enabled() is 0 and sd_notify does nothing.
@@ -94,14 +87,11 @@ int main(int argc, char** argv) {
   }
   std::cerr << "\n";
   sd_notifyf(0, "READY=1\nSTATUS=listening on %s:%u", settings.listen.host.c_str(), static_cast<unsigned>(hub.port()));
-  if (auto served = hub.run(signal_fd); !served) {
+  if (auto served = hub.run(stop_signals->fd()); !served) {
     std::cerr << "ldoem-hub: " << ldoem::driver::describe(served.error()) << "\n";
     return kExitFailure;
   }
   sd_notify(0, "STOPPING=1");
-  signalfd_siginfo info{};
-  if (read(signal_fd, &info, sizeof info) == static_cast<ssize_t>(sizeof info)) {
-    return kExitSignalBase + static_cast<int>(info.ssi_signo);
-  }
-  return kExitOk;
+  const int signal_number = stop_signals->take_pending();
+  return signal_number != 0 ? kExitSignalBase + signal_number : kExitOk;
 }

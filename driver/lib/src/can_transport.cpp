@@ -143,7 +143,7 @@ Expected<std::unique_ptr<CanIsoTpTransport>, DriverError> CanIsoTpTransport::ope
 Status CanIsoTpTransport::write_frame(const CanFrame& frame, Deadline deadline) {
   const can_frame raw = to_socketcan(frame);
   while (true) {
-    const ssize_t written = ::write(fd_, &raw, sizeof raw);
+    const ssize_t written = ::write(fd_.get(), &raw, sizeof raw);
     if (written == static_cast<ssize_t>(sizeof raw)) {
       return ok();
     }
@@ -159,7 +159,8 @@ Status CanIsoTpTransport::write_frame(const CanFrame& frame, Deadline deadline) 
     if (Clock::now() >= deadline) {
       return fail(system_error("write", name_, errno));  // busy: the queue stayed full
     }
-    auto waited = detail::wait_for(fd_, POLLOUT, std::min(deadline, Clock::now() + kTxQueueRetry), "write", name_);
+    auto waited =
+        detail::wait_for(fd_.get(), POLLOUT, std::min(deadline, Clock::now() + kTxQueueRetry), "write", name_);
     if (!waited) {
       return fail(waited.error());
     }
@@ -183,7 +184,7 @@ Status CanIsoTpTransport::dispatch(const CanFrame& frame, Deadline deadline) {
 }
 
 Status CanIsoTpTransport::pump(Deadline wake, Deadline deadline) {
-  auto waited = detail::wait_for(fd_, POLLIN, wake, "receive", name_);
+  auto waited = detail::wait_for(fd_.get(), POLLIN, wake, "receive", name_);
   if (!waited) {
     return fail(waited.error());
   }
@@ -192,7 +193,7 @@ Status CanIsoTpTransport::pump(Deadline wake, Deadline deadline) {
   }
   while (true) {
     can_frame raw{};
-    const ssize_t count = ::read(fd_, &raw, sizeof raw);
+    const ssize_t count = ::read(fd_.get(), &raw, sizeof raw);
     if (count < 0) {
       if (errno == EINTR) {
         continue;
@@ -224,7 +225,7 @@ Status CanIsoTpTransport::run_receiver_timer(Deadline) {
 }
 
 Status CanIsoTpTransport::send(ByteView payload, Deadline deadline) {
-  if (fd_ < 0) {
+  if (!fd_.valid()) {
     return fail(make_error(ErrorKind::connection_closed, "send", name_, "transport closed"));
   }
   auto started = sender_.start(monotonic_now(), payload);
@@ -262,7 +263,7 @@ Status CanIsoTpTransport::send(ByteView payload, Deadline deadline) {
 
 Expected<Bytes, DriverError> CanIsoTpTransport::receive(Deadline deadline) {
   while (received_.empty()) {
-    if (fd_ < 0) {
+    if (!fd_.valid()) {
       return fail(make_error(ErrorKind::connection_closed, "receive", name_, "transport closed"));
     }
     (void)run_receiver_timer(deadline);
@@ -283,10 +284,7 @@ Expected<Bytes, DriverError> CanIsoTpTransport::receive(Deadline deadline) {
 }
 
 void CanIsoTpTransport::close() {
-  if (fd_ >= 0) {
-    ::close(fd_);
-    fd_ = -1;
-  }
+  fd_.reset();
   sender_.reset();
   receiver_.reset();
 }

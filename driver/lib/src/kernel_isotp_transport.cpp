@@ -9,7 +9,7 @@
 #include <cerrno>
 #include <vector>
 
-#include "fd_util.hpp"
+#include "stream_io.hpp"
 #include "ldoem/driver/can_transport.hpp"
 
 namespace ldoem::driver {
@@ -18,6 +18,11 @@ namespace {
 // Largest telegram we read in one piece; D3 gives ISO-TP no protocol limit, this is memory
 // protection only (as protocol::kIsoTpDefaultMaxMessageBytes).
 constexpr std::size_t kMaxMessageBytes = protocol::kIsoTpDefaultMaxMessageBytes;
+
+// The kernel's word for a segment sequence it dropped (wrong sequence number, N_Cr/N_Bs timeout).
+bool means_broken_sequence(int errno_value) {
+  return errno_value == EILSEQ || errno_value == EBADMSG || errno_value == ETIMEDOUT || errno_value == EPROTO;
+}
 
 bool means_no_isotp(int errno_value) {
   return errno_value == EPROTONOSUPPORT || errno_value == EAFNOSUPPORT ||
@@ -93,67 +98,37 @@ Expected<std::unique_ptr<KernelIsoTpTransport>, DriverError> KernelIsoTpTranspor
 }
 
 Status KernelIsoTpTransport::send(ByteView payload, Deadline deadline) {
-  if (fd_ < 0) {
+  if (!fd_.valid()) {
     return fail(make_error(ErrorKind::connection_closed, "send", name_, "transport closed"));
   }
-  while (true) {
-    const ssize_t written = ::write(fd_, payload.data(), payload.size());
-    if (written == static_cast<ssize_t>(payload.size())) {
-      ++counters_.telegrams_sent;
-      return ok();
-    }
-    if (written >= 0) {
-      return fail(make_error(ErrorKind::system, "send", name_, "short ISO-TP write"));
-    }
-    if (errno == EINTR) {
-      continue;
-    }
-    if (errno != EAGAIN && errno != EWOULDBLOCK) {
-      return fail(system_error("send", name_, errno));
-    }
-    auto waited = detail::wait_for(fd_, POLLOUT, deadline, "send", name_);
-    if (!waited) {
-      return fail(waited.error());
-    }
-    if (*waited == detail::WaitOutcome::deadline_passed) {
-      return fail(make_error(ErrorKind::timeout, "send", name_, "telegram not sent before the deadline"));
-    }
+  // A CAN_ISOTP socket takes a telegram whole or not at all, so the write loop never splits one.
+  auto written = detail::write_when_ready(fd_.get(), payload, deadline, detail::kIsoTpDatagrams, name_);
+  if (written) {
+    ++counters_.telegrams_sent;
   }
+  return written;
 }
 
 Expected<Bytes, DriverError> KernelIsoTpTransport::receive(Deadline deadline) {
   std::vector<std::uint8_t> buffer(kMaxMessageBytes);
   while (true) {
-    if (fd_ < 0) {
+    if (!fd_.valid()) {
       return fail(make_error(ErrorKind::connection_closed, "receive", name_, "transport closed"));
     }
-    const ssize_t count = ::read(fd_, buffer.data(), buffer.size());
-    if (count > 0) {
+    const Expected<std::size_t, DriverError> count =
+        detail::read_when_ready(fd_.get(), buffer, deadline, detail::kIsoTpDatagrams, name_);
+    if (count) {
       ++counters_.telegrams_received;
-      return Bytes(buffer.begin(), buffer.begin() + count);
+      return Bytes(buffer.begin(), buffer.begin() + static_cast<std::ptrdiff_t>(*count));
     }
-    if (count < 0 && errno != EINTR && errno != EAGAIN && errno != EWOULDBLOCK) {
-      if (errno == EILSEQ || errno == EBADMSG || errno == ETIMEDOUT || errno == EPROTO) {
-        ++counters_.dropped_frames;  // the kernel dropped a broken segment sequence (D1)
-        continue;
-      }
-      return fail(system_error("receive", name_, errno));
+    if (count.error().kind == ErrorKind::system && means_broken_sequence(count.error().system_errno)) {
+      ++counters_.dropped_frames;  // the kernel dropped a broken segment sequence (D1)
+      continue;
     }
-    auto waited = detail::wait_for(fd_, POLLIN, deadline, "receive", name_);
-    if (!waited) {
-      return fail(waited.error());
-    }
-    if (*waited == detail::WaitOutcome::deadline_passed) {
-      return fail(make_error(ErrorKind::timeout, "receive", name_, "no telegram before the deadline"));
-    }
+    return fail(count.error());
   }
 }
 
-void KernelIsoTpTransport::close() {
-  if (fd_ >= 0) {
-    ::close(fd_);
-    fd_ = -1;
-  }
-}
+void KernelIsoTpTransport::close() { fd_.reset(); }
 
 }  // namespace ldoem::driver

@@ -4,12 +4,11 @@
 #include <termios.h>
 #include <unistd.h>
 
-#include <array>
 #include <cerrno>
 #include <optional>
 #include <variant>
 
-#include "fd_util.hpp"
+#include "stream_io.hpp"
 
 namespace ldoem::driver {
 namespace {
@@ -74,79 +73,24 @@ Expected<std::unique_ptr<SerialTransport>, DriverError> SerialTransport::open(co
 }
 
 Status SerialTransport::send(ByteView payload, Deadline deadline) {
-  if (fd_ < 0) {
+  if (!fd_.valid()) {
     return fail(make_error(ErrorKind::connection_closed, "send", name_, "transport closed"));
   }
   // The whole telegram in one buffer (D10); a tty may take it in several writes.
   const Bytes telegram = protocol::encode_serial_request(payload);
-  std::size_t written = 0;
-  while (written < telegram.size()) {
-    const ssize_t result = ::write(fd_, telegram.data() + written, telegram.size() - written);
-    if (result > 0) {
-      written += static_cast<std::size_t>(result);
-      continue;
-    }
-    if (result < 0 && errno == EINTR) {
-      continue;
-    }
-    if (result < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
-      auto waited = detail::wait_for(fd_, POLLOUT, deadline, "send", name_);
-      if (!waited) {
-        return fail(waited.error());
-      }
-      if (*waited == detail::WaitOutcome::deadline_passed) {
-        return fail(make_error(ErrorKind::timeout, "send", name_, "line not writable before the deadline"));
-      }
-      continue;
-    }
-    return fail(system_error("send", name_, errno));
+  auto written = detail::write_when_ready(fd_.get(), telegram, deadline, detail::kSerialLine, name_);
+  if (written) {
+    ++counters_.telegrams_sent;
   }
-  ++counters_.telegrams_sent;
-  return ok();
+  return written;
 }
 
 Expected<Bytes, DriverError> SerialTransport::receive(Deadline deadline) {
-  while (received_.empty()) {
-    if (fd_ < 0) {
-      return fail(make_error(ErrorKind::connection_closed, "receive", name_, "transport closed"));
-    }
-    auto waited = detail::wait_for(fd_, POLLIN, deadline, "receive", name_);
-    if (!waited) {
-      return fail(waited.error());
-    }
-    if (*waited == detail::WaitOutcome::deadline_passed) {
-      return fail(make_error(ErrorKind::timeout, "receive", name_, "no telegram before the deadline"));
-    }
-    std::array<std::uint8_t, kReadChunkBytes> chunk{};
-    const ssize_t count = ::read(fd_, chunk.data(), chunk.size());
-    if (count < 0 && (errno == EINTR || errno == EAGAIN || errno == EWOULDBLOCK)) {
-      continue;
-    }
-    // A pseudo terminal whose other side closed reads EIO; a tty that hung up reads 0.
-    if (count == 0 || (count < 0 && errno == EIO)) {
-      return fail(make_error(ErrorKind::connection_closed, "receive", name_, "line hung up"));
-    }
-    if (count < 0) {
-      return fail(system_error("receive", name_, errno));
-    }
-    for (auto& event : reassembler_.feed(ByteView(chunk.data(), static_cast<std::size_t>(count)))) {
-      if (auto* telegram = std::get_if<protocol::Telegram>(&event)) {
-        received_.push_back(std::move(telegram->payload));
-      }
-    }
-  }
-  Bytes payload = std::move(received_.front());
-  received_.pop_front();
-  ++counters_.telegrams_received;
-  return payload;
+  return detail::receive_telegram<kReadChunkBytes>(fd_.get(), deadline, detail::kSerialLine, name_, reassembler_,
+                                                   received_, counters_);
 }
 
-void SerialTransport::close() {
-  if (fd_ >= 0) {
-    ::close(fd_);
-    fd_ = -1;
-  }
-}
+void SerialTransport::close() { fd_.reset(); }
 
 TransportCounters SerialTransport::counters() const {
   TransportCounters counters = counters_;

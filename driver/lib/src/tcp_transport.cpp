@@ -7,11 +7,11 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include <array>
 #include <cerrno>
 #include <variant>
 
 #include "fd_util.hpp"
+#include "stream_io.hpp"
 
 namespace ldoem::driver {
 namespace {
@@ -87,39 +87,13 @@ Expected<std::unique_ptr<TcpTransport>, DriverError> TcpTransport::connect(
   return fail(last);
 }
 
-Status TcpTransport::write_all(ByteView bytes, Deadline deadline) {
-  std::size_t written = 0;
-  while (written < bytes.size()) {
-    const ssize_t result = ::send(fd_, bytes.data() + written, bytes.size() - written, MSG_NOSIGNAL);
-    if (result > 0) {
-      written += static_cast<std::size_t>(result);
-      continue;
-    }
-    if (result < 0 && errno == EINTR) {
-      continue;
-    }
-    if (result < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
-      auto waited = detail::wait_for(fd_, POLLOUT, deadline, "send", name_);
-      if (!waited) {
-        return fail(waited.error());
-      }
-      if (*waited == detail::WaitOutcome::deadline_passed) {
-        return fail(make_error(ErrorKind::timeout, "send", name_, "socket not writable before the deadline"));
-      }
-      continue;
-    }
-    return fail(system_error("send", name_, errno));
-  }
-  return ok();
-}
-
 Status TcpTransport::send(ByteView payload, Deadline deadline) {
-  if (fd_ < 0) {
+  if (!fd_.valid()) {
     return fail(make_error(ErrorKind::connection_closed, "send", name_, "transport closed"));
   }
   // The whole frame in one buffer and one send() call: a frame is never split by us (D10).
   const Bytes frame = protocol::encode_tcp_frame(payload);
-  auto written = write_all(frame, deadline);
+  auto written = detail::write_when_ready(fd_.get(), frame, deadline, detail::kTcpStream, name_);
   if (written) {
     ++counters_.telegrams_sent;
   }
@@ -127,47 +101,11 @@ Status TcpTransport::send(ByteView payload, Deadline deadline) {
 }
 
 Expected<Bytes, DriverError> TcpTransport::receive(Deadline deadline) {
-  while (received_.empty()) {
-    if (fd_ < 0) {
-      return fail(make_error(ErrorKind::connection_closed, "receive", name_, "transport closed"));
-    }
-    auto waited = detail::wait_for(fd_, POLLIN, deadline, "receive", name_);
-    if (!waited) {
-      return fail(waited.error());
-    }
-    if (*waited == detail::WaitOutcome::deadline_passed) {
-      return fail(make_error(ErrorKind::timeout, "receive", name_, "no telegram before the deadline"));
-    }
-    std::array<std::uint8_t, kReadChunkBytes> chunk{};
-    const ssize_t count = ::recv(fd_, chunk.data(), chunk.size(), 0);
-    if (count == 0) {
-      return fail(make_error(ErrorKind::connection_closed, "receive", name_, "peer closed the connection"));
-    }
-    if (count < 0) {
-      if (errno == EINTR || errno == EAGAIN || errno == EWOULDBLOCK) {
-        continue;
-      }
-      return fail(system_error("receive", name_, errno));
-    }
-    for (auto& event : deframer_.feed(ByteView(chunk.data(), static_cast<std::size_t>(count)))) {
-      if (auto* telegram = std::get_if<protocol::Telegram>(&event)) {
-        received_.push_back(std::move(telegram->payload));
-      }
-      // A FramingError is dropped silently, as S1 does (spec 4.1); the deframer counts it.
-    }
-  }
-  Bytes payload = std::move(received_.front());
-  received_.pop_front();
-  ++counters_.telegrams_received;
-  return payload;
+  return detail::receive_telegram<kReadChunkBytes>(fd_.get(), deadline, detail::kTcpStream, name_, deframer_, received_,
+                                                   counters_);
 }
 
-void TcpTransport::close() {
-  if (fd_ >= 0) {
-    ::close(fd_);
-    fd_ = -1;
-  }
-}
+void TcpTransport::close() { fd_.reset(); }
 
 TransportCounters TcpTransport::counters() const {
   TransportCounters counters = counters_;

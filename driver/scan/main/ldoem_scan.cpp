@@ -1,12 +1,8 @@
 // ldoem-scan: parse, plan, open the device, acquire, write (docs/scan.md).
-#include <poll.h>
-#include <signal.h>
-#include <sys/signalfd.h>
-#include <unistd.h>
-
 #include <iostream>
 
 #include "ldoem/cloud/range_image.hpp"
+#include "ldoem/driver/stop_signals.hpp"
 #include "ldoem/hub/hub_client.hpp"
 #include "ldoem/hub/scanner_device.hpp"
 #include "ldoem/scan/progress_bar.hpp"
@@ -31,16 +27,6 @@ protocol::Expected<std::unique_ptr<driver::Device>, driver::DriverError> open_de
   device_options.stepper.step_rate_hz = options.step_rate_hz;
   return std::unique_ptr<driver::Device>(hub::ScannerDevice::from_endpoints(
       driver::format_endpoint(*options.device), *options.device, options.lpt, device_options));
-}
-
-// The signal that arrived, if any (0: none); never blocks.
-int pending_signal(int signal_fd) {
-  pollfd entry{signal_fd, POLLIN, 0};
-  if (poll(&entry, 1, 0) <= 0) {
-    return 0;
-  }
-  signalfd_siginfo info{};
-  return read(signal_fd, &info, sizeof info) == static_cast<ssize_t>(sizeof info) ? static_cast<int>(info.ssi_signo) : 0;
 }
 
 int write_outputs(const scan::ScanOptions& options, const scan::Scan& result) {
@@ -98,16 +84,11 @@ int main(int argc, char** argv) {
     return scan::kExitUsage;
   }
 
-  sigset_t stop_signals;
-  sigemptyset(&stop_signals);
-  sigaddset(&stop_signals, SIGINT);
-  sigaddset(&stop_signals, SIGTERM);
-  // A shell starts background jobs with SIGINT ignored; an ignored signal never reaches the
-  // signalfd, so the default disposition is restored before the signals are blocked.
-  signal(SIGINT, SIG_DFL);
-  signal(SIGTERM, SIG_DFL);
-  sigprocmask(SIG_BLOCK, &stop_signals, nullptr);
-  const int signal_fd = signalfd(-1, &stop_signals, SFD_CLOEXEC);
+  auto stop_signals = driver::StopSignals::block_and_open();
+  if (!stop_signals) {
+    std::cerr << "ldoem-scan: " << driver::describe(stop_signals.error()) << "\n";
+    return kExitFailure;
+  }
 
   auto device = open_device(*options);
   if (!device) {
@@ -120,9 +101,9 @@ int main(int argc, char** argv) {
   hooks.on_layer = [&progress](std::uint32_t done, std::uint32_t total) {
     progress.update(done, total, driver::Clock::now().time_since_epoch());
   };
-  hooks.should_stop = [&signal_seen, signal_fd] {
+  hooks.should_stop = [&signal_seen, &stop_signals] {
     if (signal_seen == 0) {
-      signal_seen = pending_signal(signal_fd);
+      signal_seen = stop_signals->take_pending();
     }
     return signal_seen != 0;
   };

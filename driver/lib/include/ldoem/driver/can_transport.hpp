@@ -12,6 +12,7 @@
 #include <memory>
 #include <string>
 
+#include "ldoem/base/unique_fd.hpp"
 #include "ldoem/driver/transport.hpp"
 #include "ldoem/protocol/can_frame.hpp"
 #include "ldoem/protocol/isotp.hpp"
@@ -59,7 +60,7 @@ class CanIsoTpTransport final : public Transport {
   Status dispatch(const protocol::CanFrame& frame, Deadline deadline);
   Status run_receiver_timer(Deadline deadline);
 
-  int fd_;
+  base::UniqueFd fd_;
   std::string name_;
   protocol::IsoTpSender sender_;
   protocol::IsoTpReceiver receiver_;
@@ -87,7 +88,7 @@ class KernelIsoTpTransport final : public Transport {
  private:
   KernelIsoTpTransport(int fd, std::string name);
 
-  int fd_;
+  base::UniqueFd fd_;
   std::string name_;
   TransportCounters counters_;
 };

@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 
+#include "ldoem/base/unique_fd.hpp"
 #include "ldoem/driver/transport.hpp"
 #include "ldoem/protocol/serial_framing.hpp"
 
@@ -31,7 +32,7 @@ class SerialTransport final : public Transport {
  private:
   SerialTransport(int fd, std::string name);
 
-  int fd_;
+  base::UniqueFd fd_;
   std::string name_;
   protocol::SerialReplyReassembler reassembler_;
   std::deque<Bytes> received_;

@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 
+#include "ldoem/base/unique_fd.hpp"
 #include "ldoem/driver/transport.hpp"
 #include "ldoem/protocol/tcp_framing.hpp"
 
@@ -36,9 +37,8 @@ class TcpTransport final : public Transport {
 
  private:
   TcpTransport(int fd, std::string name);
-  Status write_all(ByteView bytes, Deadline deadline);
 
-  int fd_;
+  base::UniqueFd fd_;
   std::string name_;
   protocol::TcpDeframer deframer_;
   std::deque<Bytes> received_;
