@@ -15,7 +15,7 @@ esac
 packages=(
   cmake ninja-build ccache g++ clang libclang-rt-14-dev pkg-config
   libode-dev libyaml-cpp-dev libembree-dev libassimp-dev libeigen3-dev
-  libsocketcan-dev libgpiod-dev gpiod libpng-dev libpcap-dev
+  libsocketcan-dev libgpiod-dev gpiod libpng-dev libpcap-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   can-utils user-mode-linux kmod iproute2 procps python3
   gnuplot-nox

@@ -41,6 +41,10 @@ int main(int argc, char** argv) {
     std::cout << hub_usage("ldoem-hub");
     return kExitOk;
   }
+  if (command_line->completion_script) {
+    std::cout << *command_line->completion_script;
+    return kExitOk;
+  }
   std::ifstream file(command_line->config_path);
   if (!file) {
     std::cerr << "ldoem-hub: open " << command_line->config_path << ": cannot read the file\n";

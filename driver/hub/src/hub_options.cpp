@@ -1,5 +1,6 @@
 #include "ldoem/hub/hub_options.hpp"
 
+#include "ldoem/base/command_line.hpp"
 #include "ldoem/base/numbers.hpp"
 
 namespace ldoem::hub {
@@ -7,67 +8,65 @@ namespace {
 
 using protocol::Unexpected;
 
-std::optional<unsigned long long> parse_count(std::string_view text) {
-  return base::parse_integer<unsigned long long>(text);
-}
-
 // Large enough for any sane setting, small enough that no later arithmetic overflows.
-constexpr unsigned long long kMaxCount = 1'000'000;
-constexpr unsigned long long kMaxTimeoutMs = 7ULL * 24 * 3600 * 1000;
+constexpr std::uint64_t kMaxCount = 1'000'000;
+constexpr std::uint64_t kMaxTimeoutMs = 7ULL * 24 * 3600 * 1000;
+
+// A count option's check: a whole number in [1, kMaxCount], stored in `slot`.
+auto count_into(std::size_t& slot) {
+  return [&slot](const std::string& value) -> std::optional<std::string> {
+    const auto count = base::parse_integer<std::uint64_t>(value);
+    if (!count || *count == 0 || *count > kMaxCount) {
+      return "`" + value + "` is not a number in [1, " + std::to_string(kMaxCount) + "]";
+    }
+    slot = static_cast<std::size_t>(*count);
+    return std::nullopt;
+  };
+}
 
 }  // namespace
 
 protocol::Expected<HubCommandLine, std::string> parse_hub_command_line(const std::vector<std::string_view>& args) {
   HubCommandLine line;
-  const auto usage_error = [](std::string text) { return Unexpected<std::string>(std::move(text)); };
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string_view option = args[i];
-    if (option == "--help" || option == "-h") {
-      line.help = true;
-      continue;
+  base::CommandLine command_line("ldoem-hub");
+  CLI::App& app = command_line.app();
+  app.add_option("--config", line.config_path);
+  base::take_text(app, "--listen", [&line](const std::string& value) -> std::optional<std::string> {
+    auto address = parse_listen_address(value);
+    if (!address) {
+      return address.error();
     }
-    if (i + 1 >= args.size()) {
-      return usage_error(option.starts_with("--") ? std::string(option) + " needs a value"
-                                                  : "unknown argument `" + std::string(option) + "`");
+    line.listen = address.value();
+    return std::nullopt;
+  });
+  base::take_text(app, "--max-age-ms", [&line](const std::string& value) -> std::optional<std::string> {
+    const auto age = base::parse_integer<std::uint64_t>(value);
+    if (!age || *age > kMaxTimeoutMs) {
+      return "`" + value + "` is not a number of milliseconds";
     }
-    const std::string_view value = args[++i];
-    if (option == "--config") {
-      line.config_path = std::string(value);
-    } else if (option == "--listen") {
-      auto address = parse_listen_address(value);
-      if (!address) {
-        return usage_error("--listen: " + address.error());
-      }
-      line.listen = address.value();
-    } else if (option == "--max-age-ms") {
-      const auto age = parse_count(value);
-      if (!age || *age > kMaxTimeoutMs) {
-        return usage_error("--max-age-ms: `" + std::string(value) + "` is not a number of milliseconds");
-      }
-      line.max_age = std::chrono::milliseconds(*age);
-    } else if (option == "--max-clients" || option == "--queue" || option == "--max-in-flight") {
-      const auto count = parse_count(value);
-      if (!count || *count == 0 || *count > kMaxCount) {
-        return usage_error(std::string(option) + ": `" + std::string(value) + "` is not a number in [1, " +
-                           std::to_string(kMaxCount) + "]");
-      }
-      std::size_t& target = option == "--queue"           ? line.queue_capacity
-                            : option == "--max-in-flight" ? line.max_in_flight
-                                                          : line.max_clients;
-      target = static_cast<std::size_t>(*count);
-    } else if (option == "--idle-timeout-ms") {
-      const auto timeout = parse_count(value);
-      if (!timeout || *timeout > kMaxTimeoutMs) {
-        return usage_error("--idle-timeout-ms: `" + std::string(value) + "` is not a number of milliseconds in [0, " +
-                           std::to_string(kMaxTimeoutMs) + "]");
-      }
-      line.idle_timeout = std::chrono::milliseconds(*timeout);
-    } else {
-      return usage_error("unknown option `" + std::string(option) + "`");
+    line.max_age = std::chrono::milliseconds(*age);
+    return std::nullopt;
+  });
+  base::take_text(app, "--max-clients", count_into(line.max_clients));
+  base::take_text(app, "--queue", count_into(line.queue_capacity));
+  base::take_text(app, "--max-in-flight", count_into(line.max_in_flight));
+  base::take_text(app, "--idle-timeout-ms", [&line](const std::string& value) -> std::optional<std::string> {
+    const auto timeout = base::parse_integer<std::uint64_t>(value);
+    if (!timeout || *timeout > kMaxTimeoutMs) {
+      return "`" + value + "` is not a number of milliseconds in [0, " + std::to_string(kMaxTimeoutMs) + "]";
     }
+    line.idle_timeout = std::chrono::milliseconds(*timeout);
+    return std::nullopt;
+  });
+  if (auto problem = command_line.parse(args)) {
+    return Unexpected(*problem);
   }
-  if (!line.help && line.config_path.empty()) {
-    return usage_error("--config FILE is required");
+  line.help = command_line.help_requested();
+  if (command_line.completion_requested()) {
+    line.completion_script = command_line.completion_script();
+  }
+  if (!line.help && !line.completion_script && line.config_path.empty()) {
+    return Unexpected(std::string("--config FILE is required"));
   }
   return line;
 }

@@ -78,6 +78,10 @@ int main(int argc, char** argv) {
     std::cout << scan::scan_usage("ldoem-scan");
     return scan::kExitOk;
   }
+  if (options->completion_script) {
+    std::cout << *options->completion_script;
+    return scan::kExitOk;
+  }
   auto plan = scan::make_plan(*options);
   if (!plan) {
     std::cerr << "ldoem-scan: " << plan.error() << "\n";

@@ -5,6 +5,7 @@
 #include <functional>
 #include <map>
 
+#include "ldoem/base/command_line.hpp"
 #include "ldoem/base/numbers.hpp"
 
 namespace ldoem::scan {
@@ -174,32 +175,23 @@ std::optional<std::string> check_combination(const ScanOptions& options) {
 
 OptionsResult parse_scan_options(const std::vector<std::string_view>& args) {
   ScanOptions options;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string_view option = args[i];
-    if (option == "--help" || option == "-h") {
-      options.help = true;
-      continue;
-    }
-    if (option == "--half-step") {
-      options.half_step = true;
-      continue;
-    }
-    if (option == "--fit") {
-      options.fit = true;
-      continue;
-    }
-    const auto setter = setters().find(option);
-    if (setter == setters().end()) {
-      return usage_error("unknown option `" + std::string(option) + "`");
-    }
-    if (i + 1 >= args.size()) {
-      return usage_error(std::string(option) + " needs a value");
-    }
-    if (auto problem = setter->second(options, args[++i])) {
-      return usage_error(std::string(option) + ": " + *problem);
-    }
+  base::CommandLine command_line("ldoem-scan");
+  CLI::App& app = command_line.app();
+  app.add_flag("--half-step", options.half_step);
+  app.add_flag("--fit", options.fit);
+  for (const auto& [name, setter] : setters()) {
+    base::take_text(app, std::string(name), [&options, &setter](const std::string& value) {
+      return setter(options, value);
+    });
   }
-  if (options.help) {
+  if (auto problem = command_line.parse(args)) {
+    return usage_error(*problem);
+  }
+  options.help = command_line.help_requested();
+  if (command_line.completion_requested()) {
+    options.completion_script = command_line.completion_script();
+  }
+  if (options.help || options.completion_script) {
     return options;
   }
   if (auto problem = check_combination(options)) {

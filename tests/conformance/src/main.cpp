@@ -22,6 +22,10 @@ int main(int argc, char** argv) {
     std::cout << usage_text("ldoem-conformance");
     return kExitAllPassed;
   }
+  if (options->completion_script) {
+    std::cout << *options->completion_script;
+    return kExitAllPassed;
+  }
   if (options->against) {
     return run_against(*options, std::cout, std::cerr);
   }

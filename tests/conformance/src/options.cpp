@@ -3,8 +3,8 @@
 #include <cmath>
 #include <fnmatch.h>
 
+#include "ldoem/base/command_line.hpp"
 #include "ldoem/base/numbers.hpp"
-
 
 namespace ldoem::conformance {
 namespace {
@@ -114,53 +114,40 @@ struct Parser {
   }
 };
 
-bool takes_value(std::string_view name) {
-  return name == "--can" || name == "--ids" || name == "--tcp" || name == "--serial" || name == "--target" ||
-         name == "--time-scale" || name == "--timeout" || name == "--filter" || name == "--vectors" ||
-         name == "--against" || name == "--mask" || name == "--record";
-}
+constexpr std::string_view kValueOptions[] = {"--can",     "--ids",    "--tcp",     "--serial", "--target", "--time-scale",
+                                             "--timeout", "--filter", "--vectors", "--against", "--mask",  "--record"};
 
 }  // namespace
 
 Expected<Options, UsageError> parse_options(std::span<const std::string_view> arguments) {
   Parser parser;
-  for (std::size_t i = 0; i < arguments.size(); ++i) {
-    std::string_view argument = arguments[i];
-    if (argument == "--help" || argument == "-h") {
-      parser.options.help = true;
-      continue;
-    }
-    if (argument == "--list") {
-      parser.options.list = true;
-      continue;
-    }
-    if (argument == "--virtual-time") {
-      parser.options.virtual_time = true;
-      continue;
-    }
-    if (argument == "--mask-times" || argument == "--mask-counters") {
-      const auto& globs = argument == "--mask-times" ? kTimeFieldMasks : kCounterFieldMasks;
-      parser.options.masks.insert(parser.options.masks.end(), globs.begin(), globs.end());
-      continue;
-    }
-    if (argument == "--verbose" || argument == "-v") {
-      parser.options.verbose = true;
-      continue;
-    }
-    std::string_view name = argument;
-    std::optional<std::string_view> value;
-    if (const std::size_t equals = argument.find('='); equals != std::string_view::npos && argument.starts_with("--")) {
-      name = argument.substr(0, equals);
-      value = argument.substr(equals + 1);
-    }
-    if (!takes_value(name)) return usage("unknown option `" + std::string(argument) + "` (try --help)");
-    if (!value) {
-      if (i + 1 >= arguments.size()) return usage(std::string(name) + ": needs a value");
-      value = arguments[++i];
-    }
-    auto applied = parser.apply(name, *value);
-    if (!applied) return Unexpected<UsageError>(applied.error());
+  base::CommandLine command_line("ldoem-conformance");
+  CLI::App& app = command_line.app();
+  app.add_flag("--list", parser.options.list);
+  app.add_flag("--virtual-time", parser.options.virtual_time);
+  app.add_flag("-v,--verbose", parser.options.verbose);
+  for (const std::string_view option : kValueOptions) {
+    // Every value is applied, repeats included: --filter and --mask add patterns, a second
+    // endpoint option is the error "give only one".
+    const std::string name(option);
+    app.add_option_function<std::vector<std::string>>(name, [&parser, name](const std::vector<std::string>& values) {
+         for (const std::string& value : values) {
+           if (auto applied = parser.apply(name, value); !applied) throw CLI::ValidationError(applied.error().message);
+         }
+       })
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+        ->allow_extra_args(false);  // one value per occurrence
   }
+  // After the value options: CLI11 applies them in declaration order, so --mask comes first.
+  for (const auto& [flag, globs] : {std::pair{"--mask-times", &kTimeFieldMasks}, {"--mask-counters", &kCounterFieldMasks}}) {
+    app.add_flag_callback(flag, [&parser, globs = globs] {
+      parser.options.masks.insert(parser.options.masks.end(), globs->begin(), globs->end());
+    });
+  }
+  if (auto problem = command_line.parse(arguments)) return usage(*problem);
+  parser.options.help = command_line.help_requested();
+  if (command_line.completion_requested()) parser.options.completion_script = command_line.completion_script();
+  if (parser.options.completion_script) return parser.options;
   if (!parser.options.masks.empty() && !parser.options.against) {
     return usage("--mask, --mask-times and --mask-counters need --against");
   }

@@ -40,6 +40,7 @@ struct Options {
   std::optional<std::string> against;
   std::vector<std::string> masks;  // field-name globs left out of the comparison
   std::optional<std::string> record;  // write the run's telegrams to this capture file
+  std::optional<std::string> completion_script;  // --completion bash: print it and exit 0
 };
 
 // --mask-times and --mask-counters stand for these globs.
@@ -50,7 +51,8 @@ struct UsageError {
   std::string message;  // one line naming the option
 };
 
-// `arguments` excludes argv[0]. Values follow their option as the next argument or after '='.
+// `arguments` excludes argv[0]. Values follow their option as the next argument or after '='
+// (parsed with CLI11, base/command_line.hpp).
 [[nodiscard]] protocol::Expected<Options, UsageError> parse_options(std::span<const std::string_view> arguments);
 
 std::string usage_text(std::string_view program_name);

@@ -28,10 +28,12 @@ struct HubCommandLine {
   std::size_t queue_capacity = 256;
   std::size_t max_in_flight = 16;
   std::chrono::milliseconds idle_timeout{60000};
+  std::optional<std::string> completion_script;  // --completion bash: print it and exit 0
   bool operator==(const HubCommandLine&) const = default;
 };
 
-// `args` without the program name. The error is one line for stderr.
+// `args` without the program name (parsed with CLI11, base/command_line.hpp). The error is one
+// line for stderr.
 protocol::Expected<HubCommandLine, std::string> parse_hub_command_line(const std::vector<std::string_view>& args);
 
 std::string hub_usage(std::string_view program);

@@ -44,9 +44,11 @@ struct ScanOptions {
   bool fit = false;
   std::chrono::milliseconds timeout{5000};
   Vector3 optical_offset_m;
+  std::optional<std::string> completion_script;  // --completion bash: print it and exit 0
 };
 
-// `args` without the program name; the error is one line for stderr (exit code 2).
+// `args` without the program name (parsed with CLI11, base/command_line.hpp); the error is one
+// line for stderr (exit code 2).
 protocol::Expected<ScanOptions, std::string> parse_scan_options(const std::vector<std::string_view>& args);
 
 // .ply or .pcd (case-insensitive) with the encoding; nullopt for any other extension.

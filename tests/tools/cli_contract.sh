@@ -1,0 +1,111 @@
+#!/bin/sh
+# The command-line contract of one tool, checked from outside as a user meets it:
+# --help and -h print the recorded usage text (golden/TOOL.help, taken from the tool before its
+# options moved to CLI11) and exit 0; each bad command line of this tool's table exits 2 with
+# one line "TOOL: ..." on stderr; `--completion bash` prints a bash completion; ldoem-hub ends
+# with 128+15 on SIGTERM. Every run is bounded by timeout(1).
+# Usage: cli_contract.sh TOOL_PATH GOLDEN_DIR [SOURCE_DIR]
+set -u
+tool=$1
+golden_dir=$2
+name=$(basename "$tool")
+work=$(mktemp -d /tmp/ldoem-cli.XXXXXX)
+trap 'rm -rf "$work"' EXIT
+failures=0
+
+fail() {
+  echo "FAIL $name: $*"
+  failures=$((failures + 1))
+}
+
+# expect_exit CODE ARGS...: the tool exits CODE; for 2, stderr starts with "NAME: ".
+expect_exit() {
+  expected=$1
+  shift
+  timeout 10 "$tool" "$@" >"$work/out" 2>"$work/err" </dev/null
+  status=$?
+  if [ "$status" -ne "$expected" ]; then
+    fail "'$*' exited $status, expected $expected; stderr: $(head -n1 "$work/err")"
+    return
+  fi
+  if [ "$expected" -eq 2 ] && ! head -n1 "$work/err" | grep -q "^$name: ."; then
+    fail "'$*' gave no one-line reason on stderr: $(head -n1 "$work/err")"
+  fi
+}
+
+for help in --help -h; do
+  expect_exit 0 "$help"
+  if ! cmp -s "$work/out" "$golden_dir/$name.help"; then
+    fail "$help differs from $golden_dir/$name.help:"
+    diff "$golden_dir/$name.help" "$work/out" | head -n 20
+  fi
+done
+
+if [ "$name" != ldoem-emud ]; then  # ldoem-emud moves to CLI11 with the daemon's endpoints
+  expect_exit 0 --completion bash
+  grep -q "^complete -o filenames -F _" "$work/out" || fail "--completion bash printed no completion"
+  grep -q -- "--help" "$work/out" || fail "--completion bash does not offer --help"
+  expect_exit 2 --completion zsh
+fi
+expect_exit 2 --no-such-option
+expect_exit 2 stray-argument
+
+case $name in
+  ldoem-hub)
+    printf 'devices:\n  - name: left\n    scanner: tcp:127.0.0.1:1\n' >"$work/hub.yaml"
+    expect_exit 2
+    expect_exit 2 --config
+    expect_exit 2 --config "$work/hub.yaml" --listen nowhere
+    expect_exit 2 --config "$work/hub.yaml" --max-age-ms soon
+    expect_exit 2 --config "$work/hub.yaml" --max-clients 0
+    expect_exit 2 --config "$work/hub.yaml" --queue -1
+    expect_exit 2 --config "$work/missing.yaml"
+    # Started for real on a free port, then stopped: 128 + SIGTERM.
+    timeout 10 "$tool" --config "$work/hub.yaml" --listen 127.0.0.1:0 2>"$work/err" &
+    hub=$!
+    tries=0
+    while ! grep -q "listening" "$work/err" && [ $tries -lt 100 ]; do
+      sleep 0.05
+      tries=$((tries + 1))
+    done
+    kill -TERM $hub
+    wait $hub
+    status=$?
+    [ $status -eq 143 ] || fail "SIGTERM: exited $status, expected 143; stderr: $(cat "$work/err")"
+    ;;
+  ldoem-scan)
+    expect_exit 2
+    expect_exit 2 --out scan.ply
+    expect_exit 2 --device tcp:127.0.0.1:1 --out scan.txt
+    expect_exit 2 --device tcp:127.0.0.1:1 --out scan.ply --speed 30
+    expect_exit 2 --device tcp:127.0.0.1:1 --out scan.ply --format text
+    expect_exit 2 --device tcp:127.0.0.1:1 --out scan.ply --optical-offset 1,2
+    expect_exit 2 --device tcp:127.0.0.1:1 --out scan.ply --timeout
+    expect_exit 2 --device lpt:pty:/tmp/x --out scan.ply
+    expect_exit 2 --hub 127.0.0.1:49200 --out scan.ply
+    expect_exit 2 --device tcp:127.0.0.1:1 --hub 127.0.0.1:49200 --hub-device a --out scan.ply
+    # A good command line against a port where nothing listens: a runtime failure, exit 1.
+    expect_exit 1 --device tcp:127.0.0.1:1 --vertical-apex 0 --out "$work/scan.ply" --timeout 1
+    ;;
+  ldoem-conformance)
+    expect_exit 2
+    expect_exit 2 --tcp
+    expect_exit 2 --tcp 127.0.0.1:1 --serial /dev/null
+    expect_exit 2 --tcp 127.0.0.1:1 --target robot
+    expect_exit 2 --tcp 127.0.0.1:1 --time-scale 0
+    expect_exit 2 --tcp=127.0.0.1:1 --timeout=-1
+    expect_exit 2 --ids 6C0,6C1 --tcp 127.0.0.1:1
+    expect_exit 2 --can vcan0 --ids 6C0
+    expect_exit 2 --tcp 127.0.0.1:1 --filter ''
+    expect_exit 0 --list
+    expect_exit 0 --list --tcp 127.0.0.1:1 --filter 'tcp/*' --filter 'x'
+    expect_exit 1 --tcp 127.0.0.1:1 --timeout 1 --filter 'tcp/vectors/*'
+    ;;
+  ldoem-emud)
+    expect_exit 2 --scene
+    expect_exit 2 --scene "$work/missing.yaml" --no-can --tcp 127.0.0.1:0
+    ;;
+esac
+
+[ $failures -eq 0 ] && echo "PASS $name" && exit 0
+exit 1
