@@ -1,4 +1,4 @@
-// Byte views and the one place where big-endian WORDs are read and written (spec 2.1).
+// Byte views; big-endian WORDs at fixed offsets (spec 2.1). Framers assemble theirs byte by byte.
 #pragma once
 
 #include <cstddef>
