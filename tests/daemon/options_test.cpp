@@ -105,7 +105,7 @@ TEST(Options, BadCommandLines_AreUsageErrorsNamingTheOption) {
   const std::vector<BadCase> cases{
       {{}, "--scene: required"},
       {{"--scene"}, "--scene: needs a value"},
-      {{"--scene", "s", "--frobnicate"}, "unknown option '--frobnicate'"},
+      {{"--scene", "s", "--frobnicate"}, "unknown option `--frobnicate`"},
       {{"--scene", "s", "--time-scale", "0"}, "--time-scale: must be a number > 0"},
       {{"--scene", "s", "--time-scale", "-1"}, "--time-scale: must be a number > 0"},
       {{"--scene", "s", "--time-scale", "fast"}, "--time-scale: must be a number > 0"},

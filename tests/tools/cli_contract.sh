@@ -41,12 +41,10 @@ for help in --help -h; do
   fi
 done
 
-if [ "$name" != ldoem-emud ]; then  # ldoem-emud moves to CLI11 with the daemon's endpoints
-  expect_exit 0 --completion bash
-  grep -q "^complete -o filenames -F _" "$work/out" || fail "--completion bash printed no completion"
-  grep -q -- "--help" "$work/out" || fail "--completion bash does not offer --help"
-  expect_exit 2 --completion zsh
-fi
+expect_exit 0 --completion bash
+grep -q "^complete -o filenames -F _" "$work/out" || fail "--completion bash printed no completion"
+grep -q -- "--help" "$work/out" || fail "--completion bash does not offer --help"
+expect_exit 2 --completion zsh
 expect_exit 2 --no-such-option
 expect_exit 2 stray-argument
 
@@ -102,7 +100,14 @@ case $name in
     expect_exit 1 --tcp 127.0.0.1:1 --timeout 1 --filter 'tcp/vectors/*'
     ;;
   ldoem-emud)
+    expect_exit 0 --version
+    expect_exit 0 --help --time-scale 0  # --help and --version first win over later problems
+    expect_exit 2
     expect_exit 2 --scene
+    expect_exit 2 --scene s.yaml --no-can
+    expect_exit 2 --scene s.yaml --no-flash=1
+    expect_exit 2 --scene s.yaml --tcp h:70000
+    expect_exit 2 --scene s.yaml --can-ids 6C0:6C1 --can-ids 6C1:6C2
     expect_exit 2 --scene "$work/missing.yaml" --no-can --tcp 127.0.0.1:0
     ;;
 esac

@@ -29,6 +29,10 @@ int main(int argc, char** argv) {
     std::cout << version_text();
     return kExitOk;
   }
+  if (command->kind == CommandKind::completion) {
+    std::cout << command->completion_script;
+    return kExitOk;
+  }
   auto scene = ldoem::scene::load_scene(command->options.scene_path);
   if (!scene) {
     std::cerr << "ldoem-emud: " << scene.error().message() << '\n';

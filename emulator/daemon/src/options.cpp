@@ -1,11 +1,12 @@
 #include "ldoem/daemon/options.hpp"
 
-#include <charconv>
 #include <cmath>
 #include <functional>
 #include <map>
 #include <set>
 
+#include "ldoem/base/command_line.hpp"
+#include "ldoem/base/numbers.hpp"
 #include "ldoem/protocol/can_frame.hpp"
 
 namespace ldoem::daemon {
@@ -18,26 +19,8 @@ Unexpected<UsageError> usage_error(std::string_view option, std::string_view wha
   return Unexpected(UsageError{std::string(option) + ": " + std::string(what)});
 }
 
-template <class Integer>
-std::optional<Integer> parse_integer(std::string_view text, int base = 10) {
-  Integer value{};
-  const char* end = text.data() + text.size();
-  const auto [stop, error] = std::from_chars(text.data(), end, value, base);
-  if (text.empty() || error != std::errc() || stop != end) {
-    return std::nullopt;
-  }
-  return value;
-}
-
-std::optional<double> parse_double(std::string_view text) {
-  double value = 0.0;
-  const char* end = text.data() + text.size();
-  const auto [stop, error] = std::from_chars(text.data(), end, value);
-  if (text.empty() || error != std::errc() || stop != end || !std::isfinite(value)) {
-    return std::nullopt;
-  }
-  return value;
-}
+using base::parse_double;
+using base::parse_integer;
 
 std::optional<std::uint16_t> parse_can_id(std::string_view text) {
   if (text.starts_with("0x") || text.starts_with("0X")) {
@@ -259,41 +242,37 @@ Expected<TcpOption, UsageError> parse_tcp_option(std::string_view text) {
 Expected<Command, UsageError> parse_command_line(std::span<const std::string_view> arguments) {
   Command command;
   Seen seen;
-  for (std::size_t i = 0; i < arguments.size(); ++i) {
-    std::string_view argument = arguments[i];
-    if (argument == "--help" || argument == "-h") {
-      return Command{CommandKind::help, {}};
-    }
-    if (argument == "--version") {
-      return Command{CommandKind::version, {}};
-    }
-    std::optional<std::string_view> inline_value;
-    if (const auto equals = argument.find('='); argument.starts_with("--") && equals != std::string_view::npos) {
-      inline_value = argument.substr(equals + 1);
-      argument = argument.substr(0, equals);
-    }
-    if (const auto flag = flag_options().find(argument); flag != flag_options().end()) {
-      if (inline_value) {
-        return usage_error(argument, "takes no value");
-      }
-      flag->second(command.options, seen);
-      continue;
-    }
-    const auto handler = value_options().find(argument);
-    if (handler == value_options().end()) {
-      return Unexpected(UsageError{"unknown option '" + std::string(argument) + "' (try --help)"});
-    }
-    std::string_view value;
-    if (inline_value) {
-      value = *inline_value;
-    } else if (i + 1 < arguments.size()) {
-      value = arguments[++i];
-    } else {
-      return usage_error(argument, "needs a value");
-    }
-    if (auto error = handler->second(value, command.options, seen)) {
-      return Unexpected(std::move(*error));
-    }
+  bool version = false;
+  base::CommandLine command_line("ldoem-emud", base::HelpPrecedence::before_problems);
+  CLI::App& app = command_line.app();
+  command_line.answer_first("--version", version);
+  for (const auto& [name, handler] : flag_options()) {
+    app.add_flag_callback(std::string(name), [&, &handler = handler] { handler(command.options, seen); })
+        ->disable_flag_override();
+  }
+  for (const auto& [name, handler] : value_options()) {
+    // Every value is applied in turn: --can-ids adds a pair each time, the others keep the last.
+    app.add_option_function<std::vector<std::string>>(
+           std::string(name),
+           [&, &handler = handler](const std::vector<std::string>& values) {
+             for (const std::string& value : values) {
+               if (auto error = handler(value, command.options, seen)) throw CLI::ValidationError(error->message);
+             }
+           })
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+        ->allow_extra_args(false);  // one value per occurrence
+  }
+  if (auto problem = command_line.parse(arguments)) {
+    return Unexpected(UsageError{std::move(*problem)});
+  }
+  if (command_line.help_requested()) {
+    return Command{CommandKind::help, {}, {}};
+  }
+  if (version) {
+    return Command{CommandKind::version, {}, {}};
+  }
+  if (command_line.completion_requested()) {
+    return Command{CommandKind::completion, {}, command_line.completion_script()};
   }
   if (auto error = check_combination(command.options, seen)) {
     return Unexpected(std::move(*error));

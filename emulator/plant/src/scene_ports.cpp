@@ -24,7 +24,7 @@ constexpr double kMinWorldWindow_s = 1e-6;
 }  // namespace
 
 double head_ticks_to_rad(std::uint32_t angle_ticks) {
-  return static_cast<double>(angle_ticks) * (2.0 * std::numbers::pi / kHeadTicksPerRevolution);
+  return static_cast<double>(angle_ticks) * (2.0 * std::numbers::pi / base::kTicksPerTurn);
 }
 
 SimTime SpinUpHeadModel::time_to_reach(double from_hz, double to_hz) const {

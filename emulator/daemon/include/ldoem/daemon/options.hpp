@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "ldoem/base/device_constants.hpp"
 #include "ldoem/endpoints/can_id_pair.hpp"
 #include "ldoem/endpoints/logger.hpp"
 #include "ldoem/protocol/expected.hpp"
@@ -23,7 +24,6 @@ inline constexpr int kExitUsageError = 2;  // bad option, bad scene, unusable tr
 inline constexpr int kExitSignalBase = 128;  // + SIGINT / SIGTERM number
 
 inline constexpr std::string_view kDefaultCanInterface = "vcan0";
-inline constexpr std::uint16_t kDefaultTcpPort = 49152;  // spec 4.1
 inline constexpr std::string_view kFlashFileSuffix = ".flash";  // D4: <scene>.flash
 
 using endpoints::CanIdPair;
@@ -31,7 +31,7 @@ using endpoints::LogLevel;
 
 struct TcpOption {
   std::string address;
-  std::uint16_t port = kDefaultTcpPort;  // 0 = any free port (printed on stdout)
+  std::uint16_t port = base::kHostTcpPort;  // 0 = any free port (printed on stdout)
   bool operator==(const TcpOption&) const = default;
 };
 
@@ -70,18 +70,20 @@ struct Options {
   bool operator==(const Options&) const = default;
 };
 
-enum class CommandKind : std::uint8_t { run, help, version };
+enum class CommandKind : std::uint8_t { run, help, version, completion };
 
 struct Command {
   CommandKind kind = CommandKind::run;
-  Options options;  // meaningful for run
+  Options options;                // meaningful for run
+  std::string completion_script;  // for completion (--completion bash)
 };
 
 struct UsageError {
   std::string message;  // one line, names the option: "--time-scale: must be a number > 0"
 };
 
-// `arguments` excludes argv[0]. Options take their value as the next argument or after '='.
+// `arguments` excludes argv[0]. Options take their value as the next argument or after '='
+// (parsed with CLI11, base/command_line.hpp); --help and --version win over any problem.
 [[nodiscard]] protocol::Expected<Command, UsageError> parse_command_line(
     std::span<const std::string_view> arguments);
 

@@ -12,6 +12,7 @@
 #include <functional>
 #include <optional>
 
+#include "ldoem/base/device_constants.hpp"
 #include "ldoem/control/ports.hpp"
 #include "ldoem/motor/head_ripple_track.hpp"
 #include "ldoem/plant/tilt_plate.hpp"
@@ -22,9 +23,7 @@ namespace ldoem::plant {
 
 using protocol::SimTime;
 
-// Spec 6: 5760 encoder ticks per head revolution.
-inline constexpr double kHeadTicksPerRevolution = 5760.0;
-
+// Head angle in encoder ticks (base::kTicksPerTurn per turn, spec 6) to radians.
 double head_ticks_to_rad(std::uint32_t angle_ticks);
 
 class SpinUpHeadModel final : public control::HeadModel {

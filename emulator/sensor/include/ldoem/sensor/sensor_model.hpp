@@ -2,9 +2,9 @@
 // out. It makes the D5 rays, hands them to a RayCaster, and runs the D9 pipeline built from the
 // scene's effects.
 //
-// Tilt per beam is the caller's business: the daemon's MeasurementSource (not the control unit)
-// gives each beam the tilt at its own time with `sweep_motion`, else the tilt at the start of
-// its revolution, the same for every beam of that revolution (D9).
+// Tilt per beam is the caller's business: plant::SceneMeasurement (not the control unit) gives
+// each beam the tilt at its own time with `sweep_motion`, else the tilt at the start of its
+// revolution, the same for every beam of that revolution (D9).
 #pragma once
 
 #include <ldoem/raycast/ray_caster.hpp>
