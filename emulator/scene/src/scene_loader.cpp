@@ -3,6 +3,7 @@
 // catch it (and yaml-cpp's and the standard library's exceptions) and return a SceneError.
 #include "ldoem/scene/scene_loader.hpp"
 
+#include "fault_reader.hpp"
 #include "mesh_import.hpp"
 #include "motion_reader.hpp"
 #include "pose_reader.hpp"
@@ -267,6 +268,7 @@ Scene read_scene(LoadContext& context, const YAML::Node& root) {
     if (auto section = map.get(key)) scene.scanner = detail::read_scanner(context.file, *section, std::string(key));
   }
   if (auto world = map.get("world")) scene.world = detail::read_world(context.file, *world, "world");
+  if (auto faults = map.get("faults")) scene.faults = detail::read_faults(context.file, *faults);
   if (auto objects = map.get("objects")) {
     detail::require_sequence(context.file, *objects, "objects");
     if (objects->size() > kMaxSceneObjects) {
@@ -316,6 +318,8 @@ std::string_view to_string(SceneErrorKind kind) {
     case SceneErrorKind::out_of_range: return "out_of_range";
     case SceneErrorKind::mesh: return "mesh";
     case SceneErrorKind::unknown_effect: return "unknown_effect";
+    case SceneErrorKind::unknown_fault: return "unknown_fault";
+    case SceneErrorKind::unknown_service: return "unknown_service";
     case SceneErrorKind::internal: return "internal";
   }
   return "internal";

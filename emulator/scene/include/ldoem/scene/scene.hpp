@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 
+#include "ldoem/faults/fault_spec.hpp"
 #include "ldoem/scene/motion.hpp"
 
 #include <array>
@@ -213,6 +214,8 @@ struct Scene {
   EffectSet effects;
   std::uint64_t seed = 1;
   WorldConfig world;  // D12: used only when something moves
+  // D11: faults the scene injects (empty: none, and the daemon builds no fault machinery).
+  std::vector<faults::FaultSpec> faults;
 
   // D12 effects on demand: false means the scene builds no per-beam time machinery.
   bool moves() const {

@@ -26,6 +26,8 @@ enum class SceneErrorKind : std::uint8_t {
   out_of_range,      // negative size, reflectance outside [0, 1], ...
   mesh,              // a mesh file missing, unreadable or without triangles (assimp)
   unknown_effect,    // an effect name D9 does not list
+  unknown_fault,     // a fault kind D11 does not list
+  unknown_service,   // a service name spec 3.2 does not list (fault triggers)
   internal,          // anything else (out of memory): reported, never thrown
 };
 
