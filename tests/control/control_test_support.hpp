@@ -154,6 +154,8 @@ class Bench {
     return result;
   }
   std::size_t pending_timers() const { return timers_.size(); }
+  // Actions from a call other than request/on_timer (fault injection): logged, timers armed.
+  std::vector<Sent> deliver(Actions actions) { return apply(std::move(actions)); }
 
   // IDLE -> ROTATE (flash speed) -> MEASURE, leaving now at the end of the spin-up.
   void enter_measure(ConnectionId from = kTcp1) {

@@ -42,6 +42,7 @@ DeviceState power_up_state(SimTime now, const DeviceConfig& flash) {
   state.flash = flash;
   state.clock = DeviceClock::reading(now, 0);
   state.port_value = 0;
+  state.motor_fault.reset();
   return state;
 }
 
@@ -56,6 +57,7 @@ std::vector<TimerId> ControlUnit::live_timers() const {
   std::vector<TimerId> live;
   if (state_.spin_up) live.push_back(state_.spin_up->timer);
   if (state_.revolution_timer) live.push_back(state_.revolution_timer->timer);
+  if (state_.motor_fault && state_.motor_fault->timer) live.push_back(*state_.motor_fault->timer);  // D11
   return live;
 }
 
@@ -101,6 +103,14 @@ Actions ControlUnit::handle_request(SimTime now, ConnectionId from, protocol::By
     reply(event, protocol::ServiceFailure{error.request_code, error.reason});
     return out;
   }
+  // D11: in ERROR only GET_*, DO_RESET and CANCEL_PROFILE are served (the payload decoded, so
+  // it holds a request code).
+  const auto request_code = static_cast<std::uint16_t>((payload[0] << 8) | payload[1]);
+  if (state_.mode == DeviceMode::error && !allowed_in_error(request_code)) {
+    ++diagnostics_.service_failures_sent;
+    reply(event, protocol::ServiceFailure{request_code, FailureReason::wrong_state});
+    return out;
+  }
   const std::vector<TimerId> live_before = live_timers();
   std::visit([this, &event](const auto& typed) { serve(event, typed); }, *request);
   report_changes(out, live_before, std::nullopt);
@@ -116,6 +126,8 @@ Actions ControlUnit::on_timer(SimTime now, TimerId timer, const TransportQuery& 
     const std::uint64_t revolution = state_.revolution_timer->revolution;
     state_.revolution_timer.reset();
     emit_profiles(now, revolution, transport, out);
+  } else if (state_.motor_fault && state_.motor_fault->timer == timer) {
+    run_motor_fault_steps(now, out);
   }
   // Any other id belongs to something a reset or a stop made obsolete: nothing to do.
   report_changes(out, live_before, timer);
@@ -153,6 +165,9 @@ protocol::StatusByte ControlUnit::status_byte() const {
   if (state_.spin_up) {
     status.motor = state_.spin_up->to_hz > state_.spin_up->from_hz ? protocol::MotorMode::spin_too_low
                                                                    : protocol::MotorMode::spin_too_high;
+  }
+  if (state_.motor_fault && state_.motor_fault->nibble != protocol::MotorMode::ok) {
+    status.motor = state_.motor_fault->nibble;  // D11
   }
   return status;
 }
@@ -240,11 +255,19 @@ std::string ControlUnit::dump(SimTime now) const {
   }
   text << "clock: " << state_.clock.value_at(now) << " ms (offset " << state_.clock.offset_ms() << ")\n";
   text << "port_value: 0x" << std::hex << state_.port_value << std::dec << "\n";
+  if (state_.motor_fault) {
+    text << "motor_fault: " << static_cast<int>(state_.motor_fault->fault) << ", nibble 0x" << std::hex
+         << static_cast<unsigned>(state_.motor_fault->nibble) << std::dec << ", steps left "
+         << state_.motor_fault->steps.size() << "\n";
+  } else {
+    text << "motor_fault: none\n";
+  }
   dump_config(text, "ram", state_.ram);
   dump_config(text, "flash", state_.flash);
   text << "diagnostics: skipped_profiles " << diagnostics_.skipped_profiles << ", profiles_sent "
        << diagnostics_.profiles_sent << ", service_failures_sent " << diagnostics_.service_failures_sent
-       << "\n";
+       << ", spontaneous_resets " << diagnostics_.spontaneous_resets << ", power_cycles "
+       << diagnostics_.power_cycles << "\n";
   return text.str();
 }
 

@@ -57,8 +57,10 @@ void ControlUnit::serve(const Event& event, const protocol::TransIdle&) {
       return;
     case DeviceMode::idle:  // D2: a transition to the current state answers the status
       break;
+    case DeviceMode::error:  // D11: refused in handle_request (reason 3); DO_RESET 2 leaves ERROR
+      fail(event, Service::trans_idle, FailureReason::wrong_state);
+      return;
     case DeviceMode::rotate:
-    case DeviceMode::error:  // S1 sends TRANS_IDLE to leave ERROR (spec 7.3)
       stop_head(event.now);
       state_.mode = DeviceMode::idle;
       break;
@@ -80,6 +82,17 @@ void ControlUnit::serve(const Event& event, const protocol::TransRotate& request
   }
   const std::uint16_t target_hz =
       request.frequency_hz == kUseFlashSpeed ? state_.flash.global.motor_speed_hz : request.frequency_hz;
+  if (hardware_motor_fault_) {
+    // D11: a motor that has not been repaired fails as soon as the device tries to spin it.
+    stop_all_streams();
+    MotorFaultCourse course;
+    course.fault = *hardware_motor_fault_;
+    course.steps.push_back({event.now, settled_nibble(*hardware_motor_fault_), true});
+    state_.motor_fault = std::move(course);
+    run_motor_fault_steps(event.now, event.out);
+    reply(event, protocol::TransRotateReply{status_block()});
+    return;
+  }
   if (state_.mode == DeviceMode::measure) {
     stop_all_streams();  // D10: before the reply, so no profile follows it
     state_.mode = DeviceMode::rotate;
@@ -129,7 +142,8 @@ void ControlUnit::serve(const Event& event, const protocol::DoReset& request) {
     case level::kHaltToIdle:
       stop_all_streams();
       stop_head(event.now);
-      state_.mode = DeviceMode::idle;
+      state_.mode = DeviceMode::idle;  // D11: also out of ERROR
+      state_.motor_fault.reset();
       reply(event, protocol::DoResetReply{request.level});
       return;
     case level::kReloadApdVoltage:  // D3: accepted, changes nothing

@@ -70,7 +70,8 @@ void ControlUnit::serve(const Event& event, const protocol::GetProfile& request)
 }
 
 void ControlUnit::serve(const Event& event, const protocol::CancelProfile&) {
-  if (state_.mode != DeviceMode::measure) {  // D2
+  // D11: in ERROR it is answered with the status block (saying ERROR).
+  if (state_.mode != DeviceMode::measure && state_.mode != DeviceMode::error) {  // D2
     fail(event, Service::cancel_profile, FailureReason::wrong_state);
     return;
   }
@@ -140,6 +141,7 @@ void ControlUnit::emit_profiles(SimTime now, std::uint64_t revolution, const Tra
     measurement_.measure(RevolutionQuery{revolution_number, revolution_time(epoch, speed_hz, revolution, 0)}, beams,
                          returns);
     if (state_.ram.near_field_filter_on) suppress_near_field(returns);  // D14
+    if (!beam_faults_.empty()) apply_beam_faults(revolution_number, beams, returns);  // D11
 
     protocol::Profile profile;
     profile.profile_count = static_cast<std::uint16_t>(revolution_number);

@@ -28,6 +28,7 @@
 
 #include "ldoem/control/device_clock.hpp"
 #include "ldoem/control/device_config.hpp"
+#include "ldoem/control/device_faults.hpp"
 #include "ldoem/control/identification.hpp"
 #include "ldoem/control/ports.hpp"
 #include "ldoem/protocol/framing.hpp"
@@ -77,6 +78,15 @@ struct RevolutionTimer {
   bool operator==(const RevolutionTimer&) const = default;
 };
 
+// A motor fault under way (D11): what the status nibble says now and the steps still to come.
+struct MotorFaultCourse {
+  MotorFault fault = MotorFault::stall;
+  protocol::MotorMode nibble = protocol::MotorMode::ok;
+  std::vector<MotorFaultStep> steps;  // in time order
+  std::optional<TimerId> timer;       // fires at steps.front().at
+  bool operator==(const MotorFaultCourse&) const = default;
+};
+
 // Everything the device is. A full reset (DO_RESET 0/1) makes it equal to the power-up state
 // (tested), so every field added here must be set by power_up_state().
 struct DeviceState {
@@ -89,6 +99,7 @@ struct DeviceState {
   DeviceConfig flash;
   DeviceClock clock;
   std::uint16_t port_value = 0;  // GET_SIGNAL / SET_SIGNAL (spec 3.3)
+  std::optional<MotorFaultCourse> motor_fault;  // D11; a reset ends it (the hardware may not heal)
   bool operator==(const DeviceState&) const = default;
 };
 
@@ -100,6 +111,8 @@ struct Diagnostics {
   std::uint64_t skipped_profiles = 0;  // D10: revolutions skipped because the transport was busy
   std::uint64_t profiles_sent = 0;
   std::uint64_t service_failures_sent = 0;
+  std::uint64_t spontaneous_resets = 0;  // D11 reset_spontaneous
+  std::uint64_t power_cycles = 0;        // D11 power_cycle
   bool operator==(const Diagnostics&) const = default;
 };
 
@@ -131,6 +144,24 @@ class ControlUnit {
   // Stops the connection's stream; a held TRANS_ROTATE reply for it is dropped (the head still
   // spins up). The Actions name the revolution timer that no stream needs any more.
   Actions on_connection_closed(SimTime now, ConnectionId connection);
+
+  // D11 device faults (control_unit_faults.cpp). The motor fault is a hardware condition: it
+  // survives DO_RESET and power cycles until clear_motor_fault(). With `decelerates` (the scene
+  // has head_dynamics) a stall coasts down through the head model (nibble 0x4 below 90 % of
+  // nominal, 0xB stopped); without, the head stops at once (0xB). ERROR follows one revolution
+  // after the nibble turns non-zero (encoder_error: at once). A running stream stops at once.
+  // A latent fault (head not spinning) shows when the device next tries to spin: TRANS_ROTATE
+  // is answered at once with ERROR and the fault's nibble.
+  Actions inject_motor_fault(SimTime now, MotorFault fault, bool decelerates);
+  void clear_motor_fault() { hardware_motor_fault_.reset(); }
+  std::optional<MotorFault> hardware_motor_fault() const { return hardware_motor_fault_; }
+  // reset_spontaneous: DO_RESET level 0 that nobody asked for (no reply; streams stop).
+  Actions spontaneous_reset(SimTime now);
+  // power_cycle: the daemon drops every connection; at power-on the device is in the D4
+  // power-up state with flash kept (RAM configuration lost).
+  Actions power_on(SimTime now);
+  // blind / window_dirt, applied to every profile after measuring (empty: nothing to do).
+  void set_beam_faults(BeamFaults faults) { beam_faults_ = std::move(faults); }
 
   const DeviceState& state() const { return state_; }
   const Diagnostics& diagnostics() const { return diagnostics_; }
@@ -183,6 +214,14 @@ class ControlUnit {
   void begin_spin(const Event& event, std::uint16_t to_hz);
   void complete_spin(SimTime now, Actions& out);
 
+  // Faults (control_unit_faults.cpp).
+  bool allowed_in_error(std::uint16_t request_code) const;
+  void start_motor_fault(SimTime now, MotorFault fault, bool decelerates, Actions& out);
+  void run_motor_fault_steps(SimTime now, Actions& out);
+  void enter_error(SimTime now, Actions& out);
+  void apply_beam_faults(std::uint64_t revolution, std::span<const BeamQuery> beams,
+                         std::span<BeamReturn> returns) const;
+
   // Profiles (control_unit_profiles.cpp).
   void stop_all_streams();
   void ensure_revolution_timer(Actions& out);
@@ -201,6 +240,8 @@ class ControlUnit {
   MeasurementSource& measurement_;
   DeviceState state_;
   Diagnostics diagnostics_;
+  std::optional<MotorFault> hardware_motor_fault_;
+  BeamFaults beam_faults_;
   std::uint64_t next_timer_id_ = 1;  // not device state: ids must never repeat, even across resets
   // What the daemon was last told (not device state): the head target as (speed, spin-up reach
   // time or epoch start), and the RAM CAN configuration.
