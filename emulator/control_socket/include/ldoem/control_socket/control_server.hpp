@@ -1,0 +1,67 @@
+// The UNIX stream socket of `ldoem-emud --control PATH`: mode 0600 (only the daemon's user may
+// connect), a greeting to each client, one reply line per request line, event lines to every
+// client. Everything is bounded: line length, number of clients, bytes queued per client. A
+// client over a bound gets an error object; one that stops reading while its queue is full is
+// disconnected. Runs on the daemon's event loop; no threads.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "ldoem/control_socket/line_assembler.hpp"
+#include "ldoem/io/event_loop.hpp"
+
+namespace ldoem::control_socket {
+
+struct ServerLimits {
+  std::size_t max_line_bytes = 64 * 1024;
+  std::size_t max_clients = 128;
+  std::size_t max_queued_bytes = 1024 * 1024;  // per client
+};
+
+class ControlServer {
+ public:
+  using LineHandler = std::function<std::string(std::string_view line)>;
+  // Told when a client connects (true) or goes (false), for the CONNECTION events.
+  using ClientObserver = std::function<void(bool opened, int client_number)>;
+
+  // Creates the socket at `path` (a stale socket left by a dead daemon is replaced; a live one
+  // or any other file is an error), mode 0600.
+  static io::IoResult<std::unique_ptr<ControlServer>> open(io::EventLoop& loop, std::string path, std::string greeting,
+                                                           LineHandler handler, ServerLimits limits = {});
+  ~ControlServer();  // closes every client and removes the socket file
+  ControlServer(const ControlServer&) = delete;
+  ControlServer& operator=(const ControlServer&) = delete;
+
+  void set_client_observer(ClientObserver observer) { observer_ = std::move(observer); }
+  // One line (no newline) to every client.
+  void broadcast(const std::string& line);
+  std::size_t client_count() const { return clients_.size(); }
+  std::uint64_t clients_dropped() const { return clients_dropped_; }
+  const std::string& path() const { return path_; }
+
+ private:
+  struct Client;
+  ControlServer(io::EventLoop& loop, std::string path, std::string greeting, LineHandler handler, ServerLimits limits);
+  void accept_clients();
+  void on_client(int fd, io::Readiness readiness);
+  void queue(Client& client, const std::string& line);
+  void flush(Client& client);
+  void drop(int fd);
+
+  io::EventLoop& loop_;
+  std::string path_;
+  std::string greeting_;
+  LineHandler handler_;
+  ServerLimits limits_;
+  ClientObserver observer_;
+  io::UniqueFd listen_fd_;
+  std::vector<std::unique_ptr<Client>> clients_;
+  int next_client_number_ = 1;
+  std::uint64_t clients_dropped_ = 0;
+};
+
+}  // namespace ldoem::control_socket

@@ -1,0 +1,207 @@
+#include "ldoem/control_socket/control_server.hpp"
+
+#include <fcntl.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+
+#include "ldoem/control_socket/control_protocol.hpp"
+
+namespace ldoem::control_socket {
+
+struct ControlServer::Client {
+  io::UniqueFd fd;
+  int number = 0;
+  LineAssembler lines;
+  std::string output;  // bytes not yet written
+  bool closing = false;  // write what is queued, then close (too many clients, queue overflow)
+  bool greeted = false;  // counted as a client (CONNECTION events)
+};
+
+namespace {
+
+// Only the daemon's user may connect (the issue: not accessible to other users).
+constexpr mode_t kSocketMode = 0600;
+constexpr std::size_t kReadChunkBytes = 4096;
+// The listen backlog: clients beyond it wait in connect() until the loop accepts them.
+constexpr int kListenBacklog = 128;
+
+io::IoResult<sockaddr_un> unix_address(const std::string& path) {
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  if (path.empty() || path.size() >= sizeof(address.sun_path)) {
+    return io::io_failure({"control", path, ENAMETOOLONG, "the socket path must be 1..107 bytes"});
+  }
+  std::memcpy(address.sun_path, path.c_str(), path.size() + 1);
+  return address;
+}
+
+// A socket file left behind by a daemon that died is replaced; a live socket or any other file
+// is not touched.
+io::IoStatus clear_stale_socket(const std::string& path, const sockaddr_un& address) {
+  struct stat info {};
+  if (lstat(path.c_str(), &info) != 0) return io::Done{};  // nothing there
+  if (!S_ISSOCK(info.st_mode)) return io::io_failure({"control", path, EEXIST, "exists and is not a socket"});
+  io::UniqueFd probe(socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
+  if (probe.get() < 0) return io::io_failure(io::last_system_error("socket", path));
+  if (connect(probe.get(), reinterpret_cast<const sockaddr*>(&address), sizeof(address)) == 0) {
+    return io::io_failure({"control", path, EADDRINUSE, "another daemon is listening on it"});
+  }
+  if (unlink(path.c_str()) != 0) return io::io_failure(io::last_system_error("unlink", path));
+  return io::Done{};
+}
+
+}  // namespace
+
+ControlServer::ControlServer(io::EventLoop& loop, std::string path, std::string greeting, LineHandler handler,
+                             ServerLimits limits)
+    : loop_(loop), path_(std::move(path)), greeting_(std::move(greeting)), handler_(std::move(handler)), limits_(limits) {}
+
+io::IoResult<std::unique_ptr<ControlServer>> ControlServer::open(io::EventLoop& loop, std::string path, std::string greeting,
+                                                                 LineHandler handler, ServerLimits limits) {
+  auto address = unix_address(path);
+  if (!address) return io::io_failure(address.error());
+  if (auto cleared = clear_stale_socket(path, *address); !cleared) return io::io_failure(cleared.error());
+  std::unique_ptr<ControlServer> server(
+      new ControlServer(loop, std::move(path), std::move(greeting), std::move(handler), limits));
+  server->listen_fd_.reset(socket(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0));
+  if (server->listen_fd_.get() < 0) return io::io_failure(io::last_system_error("socket", server->path_));
+  // The umask decides the mode bind() creates the file with: never a moment with wider access.
+  const mode_t previous_umask = umask(static_cast<mode_t>(~kSocketMode & 0777));
+  const int bound = bind(server->listen_fd_.get(), reinterpret_cast<const sockaddr*>(&*address), sizeof(*address));
+  const int bind_errno = errno;
+  umask(previous_umask);
+  if (bound != 0) {
+    errno = bind_errno;
+    return io::io_failure(io::last_system_error("bind", server->path_));
+  }
+  if (chmod(server->path_.c_str(), kSocketMode) != 0) return io::io_failure(io::last_system_error("chmod", server->path_));
+  if (listen(server->listen_fd_.get(), kListenBacklog) != 0) return io::io_failure(io::last_system_error("listen", server->path_));
+  ControlServer* self = server.get();
+  if (auto watched = loop.watch(server->listen_fd_.get(), io::Interest::readable,
+                                [self](io::Readiness) { self->accept_clients(); });
+      !watched) {
+    return io::io_failure(watched.error());
+  }
+  return server;
+}
+
+ControlServer::~ControlServer() {
+  for (const auto& client : clients_) loop_.unwatch(client->fd.get());
+  if (listen_fd_.get() >= 0) {
+    loop_.unwatch(listen_fd_.get());
+    unlink(path_.c_str());
+  }
+}
+
+void ControlServer::accept_clients() {
+  for (;;) {
+    const int fd = accept4(listen_fd_.get(), nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC);
+    if (fd < 0) return;  // EAGAIN, or a client that vanished: nothing to do
+    auto client = std::make_unique<Client>(Client{io::UniqueFd(fd), next_client_number_++,
+                                                  LineAssembler(limits_.max_line_bytes), {}, false, false});
+    Client& added = *client;
+    clients_.push_back(std::move(client));
+    if (clients_.size() > limits_.max_clients) {
+      // Told why, then closed once the line is out.
+      queue(added, error_line(kGenericError, "too many control clients (limit " +
+                                                 std::to_string(limits_.max_clients) + ")"));
+      added.closing = true;
+    } else {
+      queue(added, greeting_);
+      added.greeted = true;
+      if (observer_) observer_(true, added.number);
+    }
+    if (!loop_.watch(fd, io::Interest::readable | io::Interest::writable,
+                     [this, fd](io::Readiness readiness) { on_client(fd, readiness); })) {
+      drop(fd);
+    }
+  }
+}
+
+void ControlServer::queue(Client& client, const std::string& line) {
+  if (client.closing) return;
+  if (client.output.size() + line.size() + 1 > limits_.max_queued_bytes) {
+    client.closing = true;  // it does not read: dropped, its queue with it
+    client.output.clear();
+    ++clients_dropped_;
+    return;
+  }
+  client.output += line;
+  client.output += '\n';
+}
+
+void ControlServer::flush(Client& client) {
+  while (!client.output.empty()) {
+    const ssize_t written = send(client.fd.get(), client.output.data(), client.output.size(), MSG_NOSIGNAL);
+    if (written <= 0) return;  // EAGAIN (retried when writable) or an error (seen as hang-up)
+    client.output.erase(0, static_cast<std::size_t>(written));
+  }
+}
+
+void ControlServer::on_client(int fd, io::Readiness readiness) {
+  auto found = std::find_if(clients_.begin(), clients_.end(), [fd](const auto& c) { return c->fd.get() == fd; });
+  if (found == clients_.end()) return;
+  Client& client = **found;
+  bool peer_gone = readiness.hang_up || readiness.error;
+  if (readiness.readable && !client.closing) {
+    char buffer[kReadChunkBytes];
+    const ssize_t got = recv(fd, buffer, sizeof(buffer), 0);
+    if (got == 0 || (got < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) {
+      peer_gone = true;
+    } else if (got > 0) {
+      std::vector<AssembledLine> lines;
+      client.lines.feed(std::string_view(buffer, static_cast<std::size_t>(got)), lines);
+      for (const AssembledLine& line : lines) {
+        if (line.too_long) {
+          queue(client, error_line(kGenericError, "line longer than " + std::to_string(limits_.max_line_bytes) +
+                                                      " bytes: skipped"));
+        } else if (!line.text.empty()) {
+          queue(client, handler_(line.text));
+        }
+      }
+    }
+  }
+  flush(client);
+  if (peer_gone || (client.closing && client.output.empty())) {
+    drop(fd);
+    return;
+  }
+  // Wait for writability only while something is queued (level-triggered epoll would spin).
+  const io::Interest interest = client.output.empty() ? io::Interest::readable : (io::Interest::readable | io::Interest::writable);
+  (void)loop_.change_interest(fd, client.closing ? io::Interest::writable : interest);
+}
+
+void ControlServer::broadcast(const std::string& line) {
+  std::vector<int> overflowed;
+  for (const auto& client : clients_) {
+    if (client->closing) continue;
+    queue(*client, line);
+    if (client->closing) {
+      overflowed.push_back(client->fd.get());
+      continue;
+    }
+    flush(*client);
+    if (!client->output.empty()) {
+      (void)loop_.change_interest(client->fd.get(), io::Interest::readable | io::Interest::writable);
+    }
+  }
+  for (int fd : overflowed) drop(fd);
+}
+
+void ControlServer::drop(int fd) {
+  auto found = std::find_if(clients_.begin(), clients_.end(), [fd](const auto& c) { return c->fd.get() == fd; });
+  if (found == clients_.end()) return;
+  loop_.unwatch(fd);
+  const bool greeted = (*found)->greeted;
+  const int number = (*found)->number;
+  clients_.erase(found);
+  if (greeted && observer_) observer_(false, number);
+}
+
+}  // namespace ldoem::control_socket

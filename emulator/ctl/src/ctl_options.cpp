@@ -1,0 +1,147 @@
+#include "ldoem/ctl/ctl_options.hpp"
+
+#include <CLI/CLI.hpp>
+
+namespace ldoem::ctl {
+namespace {
+
+using nlohmann::json;
+
+// "GET_STATUS:3" -> {"service": "GET_STATUS", <count_key>: 3}
+std::optional<json> service_count(const std::string& text, const char* count_key) {
+  const auto colon = text.rfind(':');
+  if (colon == std::string::npos || colon == 0) return std::nullopt;
+  try {
+    std::size_t used = 0;
+    const unsigned long long count = std::stoull(text.substr(colon + 1), &used);
+    if (used != text.size() - colon - 1) return std::nullopt;
+    return json{{"service", text.substr(0, colon)}, {count_key, count}};
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
+}  // namespace
+
+std::variant<CtlPlan, CtlExit> parse_ctl_options(const std::vector<std::string>& args) {
+  CLI::App app{"ldoem-ctl: talk to ldoem-emud's control socket (ldoem-emud --control PATH).\n"
+               "Exit codes: 0 done, 1 error reply or daemon unreachable, 2 usage.",
+               "ldoem-ctl"};
+  app.footer("Examples:\n"
+             "  ldoem-ctl --control /tmp/ldoem.ctl inject-fault motor_stall --duration 2\n"
+             "  ldoem-ctl --control /tmp/ldoem.ctl inject-fault drop_reply --on GET_STATUS:3 --transport tcp\n"
+             "  ldoem-ctl --control /tmp/ldoem.ctl query-faults\n"
+             "  ldoem-ctl --control /tmp/ldoem.ctl events --count 5 --timeout 10\n"
+             "Fault kinds and their bytes: docs/faults.md");
+  app.require_subcommand(1);
+  CtlPlan plan;
+  double timeout_s = 5.0;
+  app.add_option("--control", plan.control_path, "the daemon's control socket")->required();
+  app.add_flag("--json", plan.json_output, "print the raw JSON lines");
+  app.add_option("--timeout", timeout_s, "seconds to wait for the reply (events: to follow; 0 = forever)")
+      ->default_val(5.0)->check(CLI::Range(0.0, 86400.0));
+
+  json arguments = json::object();
+  auto* inject = app.add_subcommand("inject-fault", "inject a D11 fault now (or at --at)");
+  std::string kind;
+  inject->add_option("kind", kind, "a D11 fault name (motor_stall, drop_reply, ...)")->required();
+  struct NumberOption {
+    const char* flag;
+    const char* key;
+    const char* help;
+    double value = 0.0;
+  };
+  std::vector<NumberOption> numbers{
+      {"--duration", "duration_s", "seconds it stays active"},
+      {"--count", "count", "telegrams (or lost steps) it affects"},
+      {"--at", "at_s", "simulated time at which it starts"},
+      {"--probability", "probability", "per request, drawn from the scene seed"},
+      {"--from-deg", "from_deg", "blind: sector start"},
+      {"--to-deg", "to_deg", "blind: sector end"},
+      {"--fraction", "fraction", "blind / window_dirt fraction"},
+      {"--delay", "delay_s", "delay_reply: seconds"},
+      {"--bytes-kept", "bytes_kept", "truncate_reply: bytes kept"},
+      {"--bytes", "bytes", "garbage: bytes inserted"},
+      {"--bytes-per-s", "bytes_per_s", "bandwidth: bytes per second"},
+      {"--off", "off_s", "power_cycle: seconds off"},
+  };
+  std::vector<CLI::Option*> number_options;
+  for (NumberOption& number : numbers) number_options.push_back(inject->add_option(number.flag, number.value, number.help));
+  std::string transport, service, on, every;
+  inject->add_option("--transport", transport, "tcp, serial, can, lpt or any");
+  inject->add_option("--service", service, "only replies to this service (GET_STATUS, ...)");
+  inject->add_option("--on", on, "SERVICE:N: on the Nth request of SERVICE");
+  inject->add_option("--every", every, "SERVICE:N: on every Nth request of SERVICE");
+
+  auto* clear = app.add_subcommand("clear-fault", "clear one fault (by id) or all");
+  std::optional<std::uint64_t> clear_id;
+  clear->add_option("id", clear_id, "the id inject-fault or query-faults gave");
+  app.add_subcommand("query-faults", "list the active faults");
+  app.add_subcommand("query-status", "state, head speed, tilt steps, counters");
+  auto* power = app.add_subcommand("power-cycle", "cut the power, then restore it");
+  std::optional<double> off_s;
+  power->add_option("--off", off_s, "seconds off (default 1)");
+  app.add_subcommand("quit", "stop the daemon");
+  auto* events = app.add_subcommand("events", "print event lines as they come");
+  std::optional<std::uint64_t> event_count;
+  events->add_option("--count", event_count, "stop after this many events");
+  auto* send = app.add_subcommand("send", "send one raw JSON request line");
+  std::string raw;
+  send->add_option("request", raw, "a JSON object")->required();
+
+  std::vector<std::string> reversed(args.rbegin(), args.rend());
+  try {
+    app.parse(reversed);
+  } catch (const CLI::CallForHelp&) {
+    return CtlExit{kExitOk, app.help()};
+  } catch (const CLI::CallForAllHelp&) {
+    return CtlExit{kExitOk, app.help("", CLI::AppFormatMode::All)};
+  } catch (const CLI::ParseError& error) {
+    return CtlExit{kExitUsage, std::string("ldoem-ctl: ") + error.what() + " (--help for usage)"};
+  }
+  plan.timeout = std::chrono::milliseconds(static_cast<long long>(timeout_s * 1000.0));
+  auto request = [](const std::string& command, json args) {
+    json line{{"execute", command}};
+    if (!args.empty()) line["arguments"] = std::move(args);
+    return line;
+  };
+  auto usage = [](const std::string& text) { return CtlExit{kExitUsage, "ldoem-ctl: " + text + " (--help for usage)"}; };
+
+  if (inject->parsed()) {
+    arguments["kind"] = kind;
+    for (std::size_t i = 0; i < numbers.size(); ++i) {
+      if (number_options[i]->count() > 0) arguments[numbers[i].key] = numbers[i].value;
+    }
+    if (!transport.empty()) arguments["transport"] = transport;
+    if (!service.empty()) arguments["service"] = service;
+    if (!on.empty()) {
+      auto trigger = service_count(on, "nth");
+      if (!trigger) return usage("--on wants SERVICE:N, e.g. GET_STATUS:3");
+      arguments["on"] = *trigger;
+    }
+    if (!every.empty()) {
+      auto trigger = service_count(every, "count");
+      if (!trigger) return usage("--every wants SERVICE:N, e.g. GET_PROFILE:10");
+      arguments["every"] = *trigger;
+    }
+    plan.request = request("inject-fault", arguments);
+  } else if (clear->parsed()) {
+    plan.request = request("clear-fault", clear_id ? json{{"id", *clear_id}} : json::object());
+  } else if (power->parsed()) {
+    plan.request = request("power-cycle", off_s ? json{{"off_s", *off_s}} : json::object());
+  } else if (events->parsed()) {
+    plan.follow_events = true;
+    plan.event_count = event_count;
+  } else if (send->parsed()) {
+    json line = json::parse(raw, nullptr, false);
+    if (line.is_discarded() || !line.is_object()) return usage("send wants one JSON object");
+    plan.request = line;
+  } else {
+    for (const char* name : {"query-faults", "query-status", "quit"}) {
+      if (app.got_subcommand(name)) plan.request = request(name, json::object());
+    }
+  }
+  return plan;
+}
+
+}  // namespace ldoem::ctl

@@ -1,0 +1,82 @@
+// ldoem-ctl's command line -> request (pure).
+#include "ldoem/ctl/ctl_options.hpp"
+
+#include <gtest/gtest.h>
+
+namespace ldoem::ctl {
+namespace {
+
+using nlohmann::json;
+
+CtlPlan plan_of(const std::vector<std::string>& args) {
+  auto parsed = parse_ctl_options(args);
+  if (auto* exit = std::get_if<CtlExit>(&parsed)) {
+    ADD_FAILURE() << exit->text;
+    return {};
+  }
+  return std::get<CtlPlan>(parsed);
+}
+
+CtlExit exit_of(const std::vector<std::string>& args) {
+  auto parsed = parse_ctl_options(args);
+  if (auto* exit = std::get_if<CtlExit>(&parsed)) return *exit;
+  ADD_FAILURE() << "accepted";
+  return {};
+}
+
+TEST(CtlOptions, TheIssuesExample) {
+  const CtlPlan plan = plan_of({"--control", "/tmp/x.ctl", "inject-fault", "motor_stall", "--duration", "2"});
+  EXPECT_EQ(plan.control_path, "/tmp/x.ctl");
+  ASSERT_TRUE(plan.request);
+  EXPECT_EQ(*plan.request, json::parse(R"({"execute": "inject-fault", "arguments": {"kind": "motor_stall", "duration_s": 2.0}})"));
+}
+
+TEST(CtlOptions, TriggersAndParameters) {
+  const CtlPlan plan = plan_of({"--control", "p", "--json", "inject-fault", "drop_reply", "--on", "GET_STATUS:3",
+                                "--transport", "tcp"});
+  EXPECT_TRUE(plan.json_output);
+  EXPECT_EQ((*plan.request)["arguments"],
+            json::parse(R"({"kind": "drop_reply", "on": {"service": "GET_STATUS", "nth": 3}, "transport": "tcp"})"));
+  const CtlPlan every = plan_of({"--control", "p", "inject-fault", "corrupt_checksum", "--every", "GET_PROFILE:10"});
+  EXPECT_EQ((*every.request)["arguments"]["every"], json::parse(R"({"service": "GET_PROFILE", "count": 10})"));
+}
+
+TEST(CtlOptions, OtherCommands) {
+  EXPECT_EQ(*plan_of({"--control", "p", "clear-fault", "4"}).request,
+            json::parse(R"({"execute": "clear-fault", "arguments": {"id": 4}})"));
+  EXPECT_EQ(*plan_of({"--control", "p", "clear-fault"}).request, json::parse(R"({"execute": "clear-fault"})"));
+  EXPECT_EQ(*plan_of({"--control", "p", "query-status"}).request, json::parse(R"({"execute": "query-status"})"));
+  EXPECT_EQ(*plan_of({"--control", "p", "power-cycle", "--off", "0.5"}).request,
+            json::parse(R"({"execute": "power-cycle", "arguments": {"off_s": 0.5}})"));
+  const CtlPlan events = plan_of({"--control", "p", "--timeout", "0", "events", "--count", "3"});
+  EXPECT_TRUE(events.follow_events);
+  EXPECT_EQ(events.event_count, 3u);
+  EXPECT_EQ(events.timeout.count(), 0);
+  EXPECT_EQ(*plan_of({"--control", "p", "send", R"({"execute": "quit"})"}).request, json::parse(R"({"execute": "quit"})"));
+}
+
+TEST(CtlOptions, HelpIsExitZeroWithExamples) {
+  const CtlExit help = exit_of({"--help"});
+  EXPECT_EQ(help.code, kExitOk);
+  EXPECT_NE(help.text.find("inject-fault motor_stall --duration 2"), std::string::npos);
+  EXPECT_NE(help.text.find("Exit codes"), std::string::npos);
+}
+
+TEST(CtlOptions, UsageErrorsAreExitTwo) {
+  for (const auto& args : std::vector<std::vector<std::string>>{
+           {"inject-fault", "motor_stall"},                       // no --control
+           {"--control", "p"},                                    // no command
+           {"--control", "p", "inject-fault"},                    // no kind
+           {"--control", "p", "inject-fault", "x", "--on", "GET_STATUS"},  // no :N
+           {"--control", "p", "inject-fault", "x", "--duration", "soon"},
+           {"--control", "p", "send", "not json"},
+           {"--control", "p", "launch"},
+       }) {
+    const CtlExit exit = exit_of(args);
+    EXPECT_EQ(exit.code, kExitUsage) << exit.text;
+    EXPECT_EQ(exit.text.rfind("ldoem-ctl: ", 0), 0u) << exit.text;
+  }
+}
+
+}  // namespace
+}  // namespace ldoem::ctl
