@@ -1,5 +1,7 @@
 #include "ldoem/fault_injection/fault_injector.hpp"
 
+#include <algorithm>
+
 namespace ldoem::fault_injection {
 namespace {
 
@@ -19,8 +21,14 @@ std::optional<control::MotorFault> motor_fault_of(FaultKind kind) {
 
 void append(control::Actions& into, control::Actions from) {
   for (auto& telegram : from.telegrams) into.telegrams.push_back(std::move(telegram));
+  for (const auto& cancelled : from.cancelled_timers) into.cancelled_timers.push_back(cancelled);
+  std::erase_if(into.timers, [&from](const control::TimerRequest& timer) {
+    return std::find(from.cancelled_timers.begin(), from.cancelled_timers.end(), timer.id) != from.cancelled_timers.end();
+  });
   for (const auto& timer : from.timers) into.timers.push_back(timer);
   if (from.flash_image) into.flash_image = std::move(from.flash_image);
+  if (from.head_target_hz) into.head_target_hz = from.head_target_hz;
+  if (from.can_config) into.can_config = std::move(from.can_config);
 }
 
 }  // namespace
@@ -69,7 +77,7 @@ void FaultInjector::react(const std::vector<faults::FaultEvent>& fault_events, I
     if (const auto motor = motor_fault_of(event.kind)) {
       if (powered()) append(out.actions, unit_.inject_motor_fault(now, *motor, head_dynamics_));
     } else if (event.kind == FaultKind::reset_spontaneous) {
-      if (powered()) unit_.spontaneous_reset(now);
+      if (powered()) append(out.actions, unit_.spontaneous_reset(now));
       std::vector<faults::FaultEvent> acted;
       scheduler_.acted(now, event.id, acted);
       events_from(acted, out);
@@ -117,7 +125,7 @@ InjectorOutput FaultInjector::advance(SimTime now) {
   if (power_on_at_ && *power_on_at_ <= now) {
     const SimTime on_at = *power_on_at_;
     power_on_at_.reset();
-    unit_.power_on(on_at);
+    append(out.actions, unit_.power_on(on_at));
     out.events.push_back({"POWER_ON", nlohmann::json::object(), on_at});
   }
   std::vector<faults::FaultEvent> fault_events;
