@@ -21,6 +21,18 @@ Options run_options(std::vector<std::string_view> arguments) {
   return command->options;
 }
 
+TEST(Options, ControlAndEventLog_OffByDefaultAndTakeAPath) {
+  const Options plain = run_options({"--scene", "s.yaml"});
+  EXPECT_FALSE(plain.control_path);
+  EXPECT_FALSE(plain.event_log_path);
+  const Options options = run_options({"--scene", "s.yaml", "--control", "/tmp/x.ctl", "--event-log=/tmp/e.log"});
+  EXPECT_EQ(options.control_path, std::filesystem::path("/tmp/x.ctl"));
+  EXPECT_EQ(options.event_log_path, std::filesystem::path("/tmp/e.log"));
+  const auto bad = parse({"--scene", "s.yaml", "--control", ""});
+  ASSERT_FALSE(bad);
+  EXPECT_NE(bad.error().message.find("--control"), std::string::npos);
+}
+
 TEST(Options, SceneOnly_GivesEveryDefault) {
   const Options options = run_options({"--scene", "scenes/minimal.yaml"});
   EXPECT_EQ(options.scene_path, "scenes/minimal.yaml");

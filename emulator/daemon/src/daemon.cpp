@@ -9,6 +9,7 @@
 
 #include "ldoem/daemon/device_instance.hpp"
 #include "ldoem/daemon/endpoint_registry.hpp"
+#include "ldoem/daemon/fault_wiring.hpp"
 #include "ldoem/daemon/file_flash_store.hpp"
 #include "ldoem/daemon/sim_clock.hpp"
 #include "ldoem/endpoints/tcp_endpoint.hpp"
@@ -46,6 +47,9 @@ struct Daemon::Impl final : endpoints::Scheduler {
 
   std::unique_ptr<plant::SceneWorld> world;  // shared by the device instances
   std::unique_ptr<DeviceInstance> device;    // one scanner per daemon today
+  // D11: only when the scene names faults or --control/--event-log ask (D9: nothing otherwise).
+  // Declared after the device: it is the device's wire tap and goes first.
+  std::unique_ptr<FaultWiring> faults;
 
   std::uint64_t activity = 0;  // fd callbacks that did something (virtual time: is anything ready?)
   WallTime last_activity_wall{};
@@ -62,11 +66,17 @@ struct Daemon::Impl final : endpoints::Scheduler {
   void cancel(const Key& key) override { deadlines.cancel(key); }
 
   std::optional<StartFailure> build_device(std::vector<std::unique_ptr<endpoints::HostEndpoint>> extra);
+  std::optional<StartFailure> build_faults();
   void fire_due(SimTime at);
   void arm_wall_timer();
   void after_event();
   bool round();
   void on_signal(int signal_number);
+  endpoints::Counters counters() const {
+    endpoints::Counters all = device->counters();
+    if (faults) all.fault_injections = faults->injections();
+    return all;
+  }
   void fail(const io::IoError& error) {
     logger.log(endpoints::LogLevel::error, error.message());
     fatal = true;
@@ -112,6 +122,20 @@ std::optional<StartFailure> Daemon::Impl::build_device(std::vector<std::unique_p
   if (auto failure = device->open_endpoints(*loop, out, activity)) {
     return StartFailure{failure->usage_error ? kExitUsageError : kExitRuntimeFailure, failure->message};
   }
+  return std::nullopt;
+}
+
+std::optional<StartFailure> Daemon::Impl::build_faults() {
+  if (scene.faults.empty() && !options.control_path && !options.event_log_path) return std::nullopt;
+  FaultWiring::Setup setup;
+  if (options.control_path) setup.control_path = options.control_path->string();
+  if (options.event_log_path) setup.event_log_path = options.event_log_path->string();
+  setup.version = LDOEM_VERSION;
+  auto wiring = FaultWiring::create(scene, *device, *this, *loop, logger, std::move(setup), [this] { loop->stop(); });
+  if (!wiring) return StartFailure{kExitUsageError, wiring.error()};
+  faults = std::move(*wiring);
+  device->set_wire_tap(faults.get());
+  if (options.control_path) out << "control " << options.control_path->string() << "\n";
   return std::nullopt;
 }
 
@@ -188,7 +212,7 @@ bool Daemon::Impl::round() {
 void Daemon::Impl::on_signal(int signal_number) {
   if (signal_number == SIGUSR1) {
     // Asked for: shown at every level.
-    logger.log(endpoints::LogLevel::error, format_counters(device->counters()));
+    logger.log(endpoints::LogLevel::error, format_counters(counters()));
     return;
   }
   stop_signal = signal_number;
@@ -217,6 +241,7 @@ protocol::Expected<std::unique_ptr<Daemon>, StartFailure> Daemon::create(
   // Simulated time 0 = power-up (D4) = the moment the endpoints are open.
   impl->clock = impl->options.virtual_time ? SimClock::virtual_clock()
                                            : SimClock::scaled(io::EventLoop::now(), impl->options.time_scale);
+  if (auto failure = impl->build_faults()) return Unexpected(std::move(*failure));
   out << "ready" << std::endl;
   return std::unique_ptr<Daemon>(new Daemon(std::move(impl)));
 }
@@ -247,7 +272,7 @@ int Daemon::run() {
   }
   sd_notify(0, "STOPPING=1");
   d.device->close();
-  d.logger.log(endpoints::LogLevel::info, format_counters(d.device->counters()));
+  d.logger.log(endpoints::LogLevel::info, format_counters(d.counters()));
   if (d.stop_signal) return kExitSignalBase + *d.stop_signal;
   return d.fatal ? kExitRuntimeFailure : kExitOk;
 }
@@ -259,7 +284,7 @@ bool Daemon::run_until(const std::function<bool()>& done, std::chrono::milliseco
   return done();
 }
 
-DaemonCounters Daemon::counters() const { return impl_->device->counters(); }
+DaemonCounters Daemon::counters() const { return impl_->counters(); }
 
 std::optional<std::uint16_t> Daemon::tcp_port() const {
   const auto* tcp = dynamic_cast<const endpoints::TcpEndpoint*>(impl_->device->endpoint("tcp"));

@@ -62,7 +62,8 @@ int main(int argc, char** argv) {
     const auto& can = (*daemon)->device().can_config();
     ldoem::capture::RecorderCanIds ids{can.request_id, can.response_id};
     if (!options.can_id_pairs.empty()) ids = {options.can_id_pairs.front().request_id, options.can_id_pairs.front().response_id};
-    tap.emplace(*recording, ids, logger);
+    // The fault tap (D11), when there is one, comes after: the capture shows what it did.
+    tap.emplace(*recording, ids, logger, (*daemon)->device().wire_tap());
     (*daemon)->device().set_wire_tap(&*tap);
   }
   return (*daemon)->run();

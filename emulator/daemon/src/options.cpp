@@ -140,6 +140,16 @@ const std::map<std::string_view, ValueHandler>& value_options() {
          o.timeout_s = *seconds;
          return std::nullopt;
        }},
+      {"--control", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
+         if (v.empty()) return error_of(usage_error("--control", "expects a socket path"));
+         o.control_path = std::filesystem::path(std::string(v));
+         return std::nullopt;
+       }},
+      {"--event-log", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
+         if (v.empty()) return error_of(usage_error("--event-log", "expects a file path"));
+         o.event_log_path = std::filesystem::path(std::string(v));
+         return std::nullopt;
+       }},
       {"--record", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
          if (v.empty()) return error_of(usage_error("--record", "needs a file name"));
          o.record_path = std::filesystem::path(std::string(v));
@@ -311,6 +321,9 @@ std::string usage_text(std::string_view program_name) {
          "                        FILE (pcapng for Wireshark/tshark, docs/capture.md) [off]\n"
          "  --record-max-mb N     rotate FILE at N MiB: FILE.1, FILE.2, ... [no cap]\n"
          "  --record-files K      files kept when rotating, FILE included [10]\n"
+         "  --control PATH        control socket (JSON lines, QMP-shaped, mode 0600) for\n"
+         "                        faults and status; docs/faults.md, ldoem-ctl [off]\n"
+         "  --event-log FILE      write the fault and state events, one JSON line each [off]\n"
          "  --help, -h            this text\n"
          "  --version             print the version\n"
          "\n"
@@ -329,7 +342,8 @@ std::string usage_text(std::string_view program_name) {
          "  " + p + " --scene scenes/corridor.yaml --can vcan0 --lpt pty:/tmp/ldoem-lpt\n"
          "  " + p + " --scene scenes/minimal.yaml --no-can --tcp 127.0.0.1:49152 --log-level info\n"
          "  " + p + " --scene scenes/minimal.yaml --no-can --serial pty:/tmp/ldoem-serial --no-flash\n"
-         "  " + p + " --scene scenes/minimal.yaml --can vcan0 --can-ids 6C0:6C1 --can-ids 6C2:6C3\n";
+         "  " + p + " --scene scenes/minimal.yaml --can vcan0 --can-ids 6C0:6C1 --can-ids 6C2:6C3\n"
+         "  " + p + " --scene scenes/faults/motor-stall-mid-stream.yaml --no-can --tcp 127.0.0.1:49152 --control /tmp/ldoem.ctl\n";
 }
 
 }  // namespace ldoem::daemon

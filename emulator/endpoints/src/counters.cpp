@@ -11,7 +11,8 @@ std::string format_counters(const Counters& c) {
       << " isotp_queue_overflows=" << c.isotp_queue_overflows << " can_frames_backlogged=" << c.can_frames_backlogged
       << " skipped_profiles=" << c.skipped_profiles << " profiles_sent=" << c.profiles_sent
       << " tcp_connections=" << c.tcp_connections << " tcp_dropped_slow=" << c.tcp_dropped_slow
-      << " serial_overflows=" << c.serial_overflows << " lpt_steps=" << c.lpt_steps;
+      << " serial_overflows=" << c.serial_overflows << " lpt_steps=" << c.lpt_steps
+      << " fault_injections=" << c.fault_injections;
   return out.str();
 }
 

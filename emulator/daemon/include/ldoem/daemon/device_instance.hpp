@@ -54,6 +54,7 @@ class DeviceInstance final : public endpoints::EndpointSink, public endpoints::L
 
   // Every telegram in and out passes `tap` (null: none). The tap must outlive the instance.
   void set_wire_tap(endpoints::WireTap* tap) { tap_ = tap; }
+  endpoints::WireTap* wire_tap() const { return tap_; }
   // For a tap that delays or resets: these do not pass the tap again.
   void deliver_from_host(control::ConnectionId from, protocol::Bytes payload);
   void send_to_host(control::ConnectionId to, protocol::ByteView payload, bool is_profile);
@@ -64,6 +65,10 @@ class DeviceInstance final : public endpoints::EndpointSink, public endpoints::L
   void close();
   Counters counters() const;
   const control::ControlUnit& unit() const { return *unit_; }
+  // The fault machinery (D11, fault_wiring.hpp) acts on the control unit directly and hands the
+  // Actions it got back here, like any other event's.
+  control::ControlUnit& unit_for_faults() { return *unit_; }
+  void perform_actions(protocol::SimTime at, const control::Actions& actions) { perform(at, actions); }
 
   // --- EndpointSink ---
   void on_telegram(control::ConnectionId from, protocol::Bytes payload) override;

@@ -66,6 +66,8 @@ struct Options {
   std::optional<std::filesystem::path> record_path;
   std::uint64_t record_max_bytes = 0;
   unsigned record_files = 10;
+  std::optional<std::filesystem::path> control_path;    // --control: the control socket (D11)
+  std::optional<std::filesystem::path> event_log_path;  // --event-log: fault and state events
 
   bool operator==(const Options&) const = default;
 };

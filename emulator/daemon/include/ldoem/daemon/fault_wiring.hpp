@@ -1,0 +1,69 @@
+// ldoem-emud's fault machinery (D11), built only when the scene names faults or --control is
+// given (D9: a scene without faults pays nothing). It is the device's WireTap: it counts
+// requests for the triggers, applies the wire faults to telegrams, and keeps the device silent
+// while powered off. It drives the FaultInjector from the daemon's simulated clock, serves the
+// control socket and writes the event log.
+#pragma once
+
+#include <cstdint>
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+
+#include "ldoem/control_socket/control_protocol.hpp"
+#include "ldoem/control_socket/control_server.hpp"
+#include "ldoem/daemon/device_instance.hpp"
+#include "ldoem/endpoints/scheduler.hpp"
+#include "ldoem/endpoints/wire_tap.hpp"
+#include "ldoem/fault_injection/fault_injector.hpp"
+
+namespace ldoem::daemon {
+
+class FaultWiring final : public endpoints::WireTap, public control_socket::ControlTarget {
+ public:
+  struct Setup {
+    std::optional<std::string> control_path;    // --control
+    std::optional<std::string> event_log_path;  // --event-log
+    std::string version;
+  };
+  // `device`, `scheduler`, `loop` and `logger` must outlive it. quit() calls `stop`.
+  static protocol::Expected<std::unique_ptr<FaultWiring>, std::string> create(
+      const scene::Scene& scene, DeviceInstance& device, endpoints::Scheduler& scheduler, io::EventLoop& loop,
+      const endpoints::Logger& logger, Setup setup, std::function<void()> stop);
+  ~FaultWiring() override;
+
+  // --- WireTap ---
+  endpoints::WireVerdict on_telegram(endpoints::WireTelegram& telegram) override;
+
+  // --- ControlTarget ---
+  control_socket::CommandResult inject_fault(const faults::FaultSpec& spec) override;
+  control_socket::CommandResult clear_fault(std::optional<std::uint64_t> id) override;
+  nlohmann::json query_faults() override;
+  nlohmann::json query_status() override;
+  void quit() override;
+
+  std::uint64_t injections() const { return injector_->injections(); }
+
+ private:
+  FaultWiring(DeviceInstance& device, endpoints::Scheduler& scheduler, const endpoints::Logger& logger,
+              std::function<void()> stop);
+  void take(fault_injection::InjectorOutput output);
+  void publish(const fault_injection::InjectorEvent& event);
+  void arm_deadline();
+  endpoints::WireVerdict to_host(endpoints::WireTelegram& telegram);
+
+  DeviceInstance& device_;
+  endpoints::Scheduler& scheduler_;
+  const endpoints::Logger& logger_;
+  std::function<void()> stop_;
+  std::unique_ptr<fault_injection::FaultInjector> injector_;
+  std::unique_ptr<control_socket::ControlServer> server_;
+  std::ofstream event_log_;
+  std::optional<endpoints::Scheduler::Key> deadline_;
+  std::optional<protocol::SimTime> deadline_at_;
+  std::set<control::ConnectionId> connections_;  // seen from hosts; a power cycle drops them
+};
+
+}  // namespace ldoem::daemon

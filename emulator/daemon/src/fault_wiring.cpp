@@ -1,0 +1,225 @@
+#include "ldoem/daemon/fault_wiring.hpp"
+
+#include <algorithm>
+
+namespace ldoem::daemon {
+
+using endpoints::LogLevel;
+using endpoints::WireDirection;
+using endpoints::WireVerdict;
+using faults::FaultKind;
+using protocol::SimTime;
+
+namespace {
+
+faults::Transport transport_of(control::TransportKind kind) {
+  switch (kind) {
+    case control::TransportKind::tcp: return faults::Transport::tcp;
+    case control::TransportKind::serial: return faults::Transport::serial;
+    case control::TransportKind::can: return faults::Transport::can;
+  }
+  return faults::Transport::tcp;
+}
+
+// The request a telegram to the host answers: its code without the response bit, the request
+// code inside a SERVICE_FAILURE, GET_PROFILE for a profile.
+std::uint16_t answered_request(protocol::ByteView payload) {
+  if (payload.size() < 2) return 0;
+  const auto code = static_cast<std::uint16_t>((payload[0] << 8) | payload[1]);
+  if (code == protocol::code_of(protocol::Service::service_failure)) {
+    return payload.size() >= 4 ? static_cast<std::uint16_t>((payload[2] << 8) | payload[3]) : 0;
+  }
+  return static_cast<std::uint16_t>(code & ~protocol::kResponseBit);
+}
+
+// The wire faults the tap itself produces (telegram level). The others act inside an endpoint
+// (framing, ISO-TP frames, TCP pacing) or on the LPT.
+constexpr FaultKind kTapKinds[] = {FaultKind::drop_reply, FaultKind::delay_reply, FaultKind::duplicate_reply,
+                                   FaultKind::truncate_reply, FaultKind::tcp_reset};
+
+bool produced_here(FaultKind kind) {
+  if (faults::info(kind).fault_class == faults::FaultClass::device) return true;
+  if (kind == FaultKind::can_silence) return true;
+  return std::find(std::begin(kTapKinds), std::end(kTapKinds), kind) != std::end(kTapKinds);
+}
+
+}  // namespace
+
+FaultWiring::FaultWiring(DeviceInstance& device, endpoints::Scheduler& scheduler, const endpoints::Logger& logger,
+                         std::function<void()> stop)
+    : device_(device), scheduler_(scheduler), logger_(logger), stop_(std::move(stop)) {}
+
+FaultWiring::~FaultWiring() {
+  if (deadline_) scheduler_.cancel(*deadline_);
+}
+
+protocol::Expected<std::unique_ptr<FaultWiring>, std::string> FaultWiring::create(
+    const scene::Scene& scene, DeviceInstance& device, endpoints::Scheduler& scheduler, io::EventLoop& loop,
+    const endpoints::Logger& logger, Setup setup, std::function<void()> stop) {
+  std::unique_ptr<FaultWiring> wiring(new FaultWiring(device, scheduler, logger, std::move(stop)));
+  for (std::size_t i = 0; i < scene.faults.size(); ++i) {
+    if (!produced_here(scene.faults[i].kind)) {
+      logger.log(LogLevel::warn, "faults[" + std::to_string(i) + "]: " + std::string(faults::fault_name(scene.faults[i].kind)) +
+                                     " is not produced by this daemon yet (docs/faults.md); it has no effect");
+    }
+  }
+  wiring->injector_ = std::make_unique<fault_injection::FaultInjector>(
+      scene.faults, scene.seed, scene.effects.has(scene::Effect::head_dynamics), device.unit_for_faults());
+  if (setup.event_log_path) {
+    wiring->event_log_.open(*setup.event_log_path, std::ios::out | std::ios::trunc);
+    if (!wiring->event_log_) return protocol::Unexpected("--event-log " + *setup.event_log_path + ": cannot open");
+  }
+  if (setup.control_path) {
+    FaultWiring* self = wiring.get();
+    auto server = control_socket::ControlServer::open(
+        loop, *setup.control_path, control_socket::greeting_line(setup.version),
+        [self](std::string_view line) { return control_socket::handle_line(line, *self); });
+    if (!server) return protocol::Unexpected("--control: " + server.error().message());
+    wiring->server_ = std::move(*server);
+  }
+  wiring->take(wiring->injector_->advance(scheduler.now()));
+  return wiring;
+}
+
+void FaultWiring::publish(const fault_injection::InjectorEvent& event) {
+  const std::string line = control_socket::event_line(event.name, event.data, event.at);
+  if (event.name == "FAULT_INJECTED") logger_.log(LogLevel::info, "fault: " + line);  // D11: info level
+  if (event_log_.is_open()) event_log_ << line << '\n' << std::flush;
+  if (server_) server_->broadcast(line);
+}
+
+void FaultWiring::take(fault_injection::InjectorOutput output) {
+  if (!output.actions.telegrams.empty() || !output.actions.timers.empty() || output.actions.flash_image) {
+    device_.perform_actions(scheduler_.now(), output.actions);
+  }
+  if (output.drop_all_connections) {
+    const auto connections = std::move(connections_);
+    connections_.clear();
+    for (const control::ConnectionId connection : connections) device_.disconnect(connection);
+  }
+  for (const auto& event : output.events) publish(event);
+  arm_deadline();
+}
+
+void FaultWiring::arm_deadline() {
+  const std::optional<SimTime> next = injector_->next_deadline();
+  if (next == deadline_at_) return;
+  if (deadline_) scheduler_.cancel(*deadline_);
+  deadline_.reset();
+  deadline_at_ = next;
+  if (!next) return;
+  deadline_ = scheduler_.add(*next, [this](SimTime now) {
+    deadline_.reset();
+    deadline_at_.reset();
+    take(injector_->advance(now));
+  });
+}
+
+WireVerdict FaultWiring::on_telegram(endpoints::WireTelegram& telegram) {
+  const faults::Transport transport = transport_of(telegram.connection.kind);
+  const bool silenced = [&] {
+    const faults::ActiveFault* silence = injector_->scheduler().find_active(FaultKind::can_silence);
+    return silence && transport == faults::Transport::can;
+  }();
+  if (telegram.direction == WireDirection::to_host) {
+    if (!injector_->powered() || silenced) return WireVerdict::drop;
+    return to_host(telegram);
+  }
+  if (!injector_->powered()) {
+    // The device is off: a TCP peer is refused at once, CAN and serial hear nothing.
+    if (transport == faults::Transport::tcp) device_.disconnect(telegram.connection);
+    return WireVerdict::drop;
+  }
+  if (silenced) return WireVerdict::drop;
+  connections_.insert(telegram.connection);
+  const std::uint16_t service =
+      telegram.payload.size() >= 2 ? static_cast<std::uint16_t>((telegram.payload[0] << 8) | telegram.payload[1]) : 0;
+  take(injector_->on_request(telegram.at, service, transport));
+  if (!injector_->powered()) return WireVerdict::drop;  // a power cycle this very request started
+  return WireVerdict::pass;
+}
+
+WireVerdict FaultWiring::to_host(endpoints::WireTelegram& telegram) {
+  const faults::Transport transport = transport_of(telegram.connection.kind);
+  const std::uint16_t service = answered_request(telegram.payload);
+  std::vector<faults::FaultEvent> used;
+  std::optional<faults::ActiveFault> fault;
+  for (const FaultKind kind : kTapKinds) {
+    fault = injector_->scheduler().take_wire_fault(telegram.at, kind, transport, service, used);
+    if (fault) break;
+  }
+  fault_injection::InjectorOutput output;
+  injector_->events_from(used, output);
+  // A reply leaves after the request changed the state: STATE_CHANGED goes out with it.
+  injector_->note_state(telegram.at, output.events);
+  for (const auto& event : output.events) publish(event);
+  if (!fault) return WireVerdict::pass;
+  switch (fault->spec.kind) {
+    case FaultKind::drop_reply:
+      return WireVerdict::drop;
+    case FaultKind::delay_reply: {
+      const control::ConnectionId to = telegram.connection;
+      scheduler_.add(telegram.at + fault->spec.delay,
+                     [this, to, payload = telegram.payload, profile = telegram.is_profile](SimTime) {
+                       device_.send_to_host(to, payload, profile);
+                     });
+      return WireVerdict::drop;
+    }
+    case FaultKind::duplicate_reply:
+      device_.send_to_host(telegram.connection, telegram.payload, telegram.is_profile);
+      return WireVerdict::pass;
+    case FaultKind::truncate_reply:
+      telegram.payload.resize(std::min<std::size_t>(telegram.payload.size(), fault->spec.bytes_kept));
+      return WireVerdict::pass;
+    case FaultKind::tcp_reset:
+      device_.disconnect(telegram.connection);
+      return WireVerdict::drop;
+    default:
+      return WireVerdict::pass;
+  }
+}
+
+control_socket::CommandResult FaultWiring::inject_fault(const faults::FaultSpec& spec) {
+  if (!produced_here(spec.kind)) {
+    return control_socket::CommandError{std::string(control_socket::kGenericError),
+                                        std::string(faults::fault_name(spec.kind)) +
+                                            " is not produced by this daemon yet (docs/faults.md)"};
+  }
+  faults::FaultId id = 0;
+  take(injector_->inject(scheduler_.now(), spec, id));
+  return nlohmann::json{{"id", id}};
+}
+
+control_socket::CommandResult FaultWiring::clear_fault(std::optional<std::uint64_t> id) {
+  bool found = false;
+  take(injector_->clear(scheduler_.now(), id, found));
+  if (!found) return control_socket::CommandError{std::string(control_socket::kGenericError), "no active fault " + std::to_string(*id)};
+  return nlohmann::json::object();
+}
+
+nlohmann::json FaultWiring::query_faults() { return injector_->query_faults(); }
+
+nlohmann::json FaultWiring::query_status() {
+  const control::ControlUnit& unit = device_.unit();
+  const endpoints::Counters counters = device_.counters();
+  const SimTime now = scheduler_.now();
+  return nlohmann::json{
+      {"time_s", std::chrono::duration<double>(now).count()},
+      {"powered", injector_->powered()},
+      {"state", std::string(control::describe(unit.state().mode))},
+      {"status_byte", unit.status_byte().to_byte()},
+      {"head_hz", unit.state().head.speed_hz},
+      {"tilt_steps", device_.steps_seen()},
+      {"faults_active", injector_->scheduler().active().size()},
+      {"counters",
+       {{"telegrams_received", counters.telegrams_received},
+        {"framing_errors", counters.framing_errors},
+        {"profiles_sent", counters.profiles_sent},
+        {"skipped_profiles", counters.skipped_profiles},
+        {"tcp_connections", counters.tcp_connections},
+        {"fault_injections", injector_->injections()}}}};
+}
+
+void FaultWiring::quit() { stop_(); }
+
+}  // namespace ldoem::daemon

@@ -1,0 +1,237 @@
+// ldoem-emud with faults (D11): the control socket over a real daemon, scene-scripted wire
+// faults on TCP, and the determinism of bytes and event log. Host-only (TCP and a UNIX socket).
+#include <gtest/gtest.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "daemon_process.hpp"
+#include "host_link.hpp"
+
+namespace ldoem::daemon::test {
+namespace {
+
+using nlohmann::json;
+using namespace std::chrono_literals;
+
+// A control-socket client: JSON lines with bounded waits.
+class ControlClient {
+ public:
+  static std::optional<ControlClient> connect(const std::string& path) {
+    const int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    sockaddr_un address{};
+    address.sun_family = AF_UNIX;
+    std::strncpy(address.sun_path, path.c_str(), sizeof(address.sun_path) - 1);
+    if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address)) != 0) {
+      close(fd);
+      return std::nullopt;
+    }
+    return ControlClient(fd);
+  }
+  ControlClient(ControlClient&& other) noexcept : fd_(std::exchange(other.fd_, -1)), buffer_(std::move(other.buffer_)) {}
+  ~ControlClient() {
+    if (fd_ >= 0) close(fd_);
+  }
+  std::optional<json> next(std::chrono::milliseconds limit = 5s) {
+    const auto deadline = std::chrono::steady_clock::now() + limit;
+    for (;;) {
+      if (const auto newline = buffer_.find('\n'); newline != std::string::npos) {
+        const std::string line = buffer_.substr(0, newline);
+        buffer_.erase(0, newline + 1);
+        return json::parse(line, nullptr, false);
+      }
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+      if (left.count() <= 0 || !wait_readable(fd_, left)) return std::nullopt;
+      char chunk[4096];
+      const ssize_t got = recv(fd_, chunk, sizeof(chunk), 0);
+      if (got <= 0) return std::nullopt;
+      buffer_.append(chunk, static_cast<std::size_t>(got));
+    }
+  }
+  // Sends a request and returns its reply, keeping the events seen meanwhile.
+  std::optional<json> execute(const json& request) {
+    const std::string line = request.dump() + "\n";
+    if (send(fd_, line.data(), line.size(), MSG_NOSIGNAL) != static_cast<ssize_t>(line.size())) return std::nullopt;
+    while (auto reply = next()) {
+      if (reply->contains("event")) {
+        events.push_back(*reply);
+        continue;
+      }
+      return reply;
+    }
+    return std::nullopt;
+  }
+  // Reads lines until an event named `name` whose data has `key` == `value` when given.
+  std::optional<json> wait_event(const std::string& name, std::chrono::milliseconds limit = 5s,
+                                 const std::string& key = "", const json& value = nullptr) {
+    auto matches = [&](const json& event) {
+      return event["event"] == name && (key.empty() || event["data"][key] == value);
+    };
+    for (const json& seen : events) {
+      if (matches(seen)) return seen;
+    }
+    while (auto line = next(limit)) {
+      if (!line->contains("event")) continue;
+      events.push_back(*line);
+      if (matches(*line)) return *line;
+    }
+    return std::nullopt;
+  }
+  std::vector<json> events;
+
+ private:
+  explicit ControlClient(int fd) : fd_(fd) {}
+  int fd_ = -1;
+  std::string buffer_;
+};
+
+struct FaultDaemon {
+  TempDir dir;
+  std::string control_path = dir.path("ctl.sock");
+  std::string event_log = dir.path("events.log");
+  std::optional<DaemonProcess> daemon;
+
+  explicit FaultDaemon(const std::string& scene_text) : daemon(DaemonProcess::start(arguments(scene_text))) {}
+  std::vector<std::string> arguments(const std::string& scene_text) const {
+    return {"--scene", dir.write("scene.yaml", scene_text), "--no-can", "--tcp", "127.0.0.1:0", "--no-flash",
+            "--virtual-time", "--control", control_path, "--event-log", event_log};
+  }
+  bool ready() { return daemon && daemon->wait_ready(); }
+};
+
+std::string reply_text(TcpHost& host, std::string_view request, std::chrono::milliseconds limit = 5s) {
+  host.send(telegram(request));
+  const auto payload = host.next_payload(limit);
+  return payload ? protocol::format_telegram(*payload) : std::string("(nothing)");
+}
+
+TEST(DaemonFaults, ControlSocketIsOffByDefault) {
+  TempDir dir;
+  auto daemon = DaemonProcess::start({"--scene", dir.write("scene.yaml", minimal_scene_text()), "--no-can", "--tcp",
+                                      "127.0.0.1:0", "--no-flash", "--virtual-time"});
+  ASSERT_TRUE(daemon && daemon->wait_ready()) << (daemon ? daemon->stderr_text() : "");
+  for (const auto& entry : std::filesystem::directory_iterator(dir.path(""))) {
+    EXPECT_NE(entry.path().extension(), ".sock") << entry.path();
+  }
+  EXPECT_EQ(daemon->endpoints().count("control"), 0u);
+}
+
+TEST(DaemonFaults, EncoderErrorThroughTheControlSocket_StatusB4OverTcp) {
+  FaultDaemon fd(minimal_scene_text());
+  ASSERT_TRUE(fd.ready()) << fd.daemon->stderr_text();
+  struct stat info {};
+  ASSERT_EQ(stat(fd.control_path.c_str(), &info), 0);
+  EXPECT_EQ(info.st_mode & 0777, 0600u);
+  auto control = ControlClient::connect(fd.control_path);
+  ASSERT_TRUE(control);
+  const auto greeting = control->next();
+  ASSERT_TRUE(greeting && greeting->contains("QMP")) << (greeting ? greeting->dump() : "none");
+  auto host = TcpHost::connect(fd.daemon->tcp_port());
+  ASSERT_TRUE(host);
+  EXPECT_EQ(reply_text(*host, "TRANS_ROTATE 0000"), "TRANS_ROTATE reply 0000 0002");
+  EXPECT_EQ(reply_text(*host, "TRANS_MEASURE"), "TRANS_MEASURE reply 0000 0003 0000");
+  const auto injected = control->execute({{"execute", "inject-fault"}, {"arguments", {{"kind", "encoder_error"}}}, {"id", 1}});
+  ASSERT_TRUE(injected);
+  EXPECT_EQ((*injected)["id"], 1);
+  ASSERT_TRUE(injected->contains("return")) << injected->dump();
+  EXPECT_EQ(reply_text(*host, "GET_STATUS"), "GET_STATUS reply 0000 00b4");
+  EXPECT_EQ(reply_text(*host, "TRANS_IDLE"), "SERVICE_FAILURE 0402 0003");
+  const auto event = control->wait_event("STATE_CHANGED", 5s, "to", "ERROR");
+  ASSERT_TRUE(event);
+  EXPECT_EQ((*event)["data"]["from"], "MEASURE");
+  EXPECT_EQ((*event)["data"]["status_byte"], 0xB4);
+  ASSERT_TRUE(control->wait_event("FAULT_INJECTED", 5s, "kind", "encoder_error"));
+  const auto status = control->execute({{"execute", "query-status"}});
+  ASSERT_TRUE(status);
+  EXPECT_EQ((*status)["return"]["state"], "ERROR");
+  EXPECT_EQ((*status)["return"]["status_byte"], 0xB4);
+  // Cleared and reset: the head spins again.
+  ASSERT_TRUE(control->execute({{"execute", "clear-fault"}}));
+  EXPECT_EQ(reply_text(*host, "DO_RESET 0002"), "DO_RESET reply 0002");
+  EXPECT_EQ(reply_text(*host, "TRANS_ROTATE 0000"), "TRANS_ROTATE reply 0000 0002");
+  const auto quit = control->execute({{"execute", "quit"}});
+  ASSERT_TRUE(quit);
+  EXPECT_EQ(fd.daemon->wait(), 0);
+}
+
+TEST(DaemonFaults, SceneDropsTheSecondGetStatusReplyOnTcp) {
+  FaultDaemon fd(minimal_scene_text() + "faults:\n  - kind: drop_reply\n    on: {service: GET_STATUS, nth: 2}\n");
+  ASSERT_TRUE(fd.ready()) << fd.daemon->stderr_text();
+  auto host = TcpHost::connect(fd.daemon->tcp_port());
+  ASSERT_TRUE(host);
+  EXPECT_EQ(reply_text(*host, "GET_STATUS"), "GET_STATUS reply 0000 0001");
+  EXPECT_EQ(reply_text(*host, "GET_STATUS", 500ms), "(nothing)");
+  EXPECT_EQ(reply_text(*host, "GET_STATUS"), "GET_STATUS reply 0000 0001");
+}
+
+TEST(DaemonFaults, TcpResetClosesTheConnectionAndTheNextOneWorks) {
+  FaultDaemon fd(minimal_scene_text() + "faults:\n  - kind: tcp_reset\n    on: {service: GET_SIGNAL, nth: 1}\n");
+  ASSERT_TRUE(fd.ready()) << fd.daemon->stderr_text();
+  auto host = TcpHost::connect(fd.daemon->tcp_port());
+  ASSERT_TRUE(host);
+  host->send(telegram("GET_SIGNAL"));
+  EXPECT_TRUE(host->closed_by_peer(5s));
+  auto again = TcpHost::connect(fd.daemon->tcp_port());
+  ASSERT_TRUE(again);
+  EXPECT_EQ(reply_text(*again, "GET_SIGNAL"), "GET_SIGNAL reply 0000");
+}
+
+TEST(DaemonFaults, PowerCycleResetsTcpAndComesBackInPowerUpState) {
+  FaultDaemon fd(minimal_scene_text());
+  ASSERT_TRUE(fd.ready()) << fd.daemon->stderr_text();
+  auto control = ControlClient::connect(fd.control_path);
+  ASSERT_TRUE(control && control->next());
+  auto host = TcpHost::connect(fd.daemon->tcp_port());
+  ASSERT_TRUE(host);
+  EXPECT_EQ(reply_text(*host, "TRANS_ROTATE 0000"), "TRANS_ROTATE reply 0000 0002");
+  ASSERT_TRUE(control->execute({{"execute", "power-cycle"}, {"arguments", {{"off_s", 0.5}}}}));
+  EXPECT_TRUE(host->closed_by_peer(5s));
+  ASSERT_TRUE(control->wait_event("POWER_ON", 10s));
+  auto again = TcpHost::connect(fd.daemon->tcp_port());
+  ASSERT_TRUE(again);
+  EXPECT_EQ(reply_text(*again, "GET_STATUS"), "GET_STATUS reply 0000 0001");
+}
+
+// Same scene, seed and conversation: the same bytes and the same event log, twice (D11).
+TEST(DaemonFaults, SameSeedAndConversationGiveTheSameBytesAndEvents) {
+  const std::string scene = minimal_scene_text() + "seed: 99\nfaults:\n"
+                            "  - {kind: drop_reply, probability: 0.3, service: GET_STATUS}\n"
+                            "  - {kind: truncate_reply, bytes_kept: 3, every: {service: GET_CONFIG, count: 2}}\n"
+                            "  - kind: encoder_error\n    on: {service: TRANS_MEASURE, nth: 1}\n";
+  auto run = [&scene]() {
+    FaultDaemon fd(scene);
+    EXPECT_TRUE(fd.ready()) << fd.daemon->stderr_text();
+    std::string transcript;
+    auto host = TcpHost::connect(fd.daemon->tcp_port());
+    if (!host) return std::pair<std::string, std::string>{};
+    auto ask = [&](std::string_view request) { transcript += std::string(request) + " -> " + reply_text(*host, request, 400ms) + "\n"; };
+    for (int i = 0; i < 12; ++i) ask("GET_STATUS");
+    for (int i = 0; i < 4; ++i) ask("GET_CONFIG 0010");
+    ask("TRANS_ROTATE 0000");
+    ask("TRANS_MEASURE");
+    for (int i = 0; i < 6; ++i) ask("GET_STATUS");
+    fd.daemon->signal(SIGTERM);
+    fd.daemon->wait();
+    std::ifstream log(fd.event_log);
+    std::stringstream events;
+    events << log.rdbuf();
+    return std::pair{transcript, events.str()};
+  };
+  const auto first = run();
+  const auto second = run();
+  EXPECT_EQ(first.first, second.first);
+  EXPECT_EQ(first.second, second.second);
+  EXPECT_NE(first.first.find("(nothing)"), std::string::npos) << first.first;      // some drops happened
+  EXPECT_NE(first.first.find("00b4"), std::string::npos) << first.first;           // the encoder fault
+  EXPECT_NE(first.second.find("FAULT_INJECTED"), std::string::npos) << first.second;
+}
+
+}  // namespace
+}  // namespace ldoem::daemon::test
