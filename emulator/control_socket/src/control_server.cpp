@@ -15,7 +15,7 @@
 namespace ldoem::control_socket {
 
 struct ControlServer::Client {
-  io::UniqueFd fd;
+  base::UniqueFd fd;
   int number = 0;
   LineAssembler lines;
   std::string output;  // bytes not yet written
@@ -47,7 +47,7 @@ io::IoStatus clear_stale_socket(const std::string& path, const sockaddr_un& addr
   struct stat info {};
   if (lstat(path.c_str(), &info) != 0) return io::Done{};  // nothing there
   if (!S_ISSOCK(info.st_mode)) return io::io_failure({"control", path, EEXIST, "exists and is not a socket"});
-  io::UniqueFd probe(socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
+  base::UniqueFd probe(socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
   if (probe.get() < 0) return io::io_failure(io::last_system_error("socket", path));
   if (connect(probe.get(), reinterpret_cast<const sockaddr*>(&address), sizeof(address)) == 0) {
     return io::io_failure({"control", path, EADDRINUSE, "another daemon is listening on it"});
@@ -103,7 +103,7 @@ void ControlServer::accept_clients() {
   for (;;) {
     const int fd = accept4(listen_fd_.get(), nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC);
     if (fd < 0) return;  // EAGAIN, or a client that vanished: nothing to do
-    auto client = std::make_unique<Client>(Client{io::UniqueFd(fd), next_client_number_++,
+    auto client = std::make_unique<Client>(Client{base::UniqueFd(fd), next_client_number_++,
                                                   LineAssembler(limits_.max_line_bytes), {}, false, false});
     Client& added = *client;
     clients_.push_back(std::move(client));

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "ldoem/control_socket/line_assembler.hpp"
+#include "ldoem/base/unique_fd.hpp"
 #include "ldoem/io/event_loop.hpp"
 
 namespace ldoem::control_socket {
@@ -58,7 +59,7 @@ class ControlServer {
   LineHandler handler_;
   ServerLimits limits_;
   ClientObserver observer_;
-  io::UniqueFd listen_fd_;
+  base::UniqueFd listen_fd_;
   std::vector<std::unique_ptr<Client>> clients_;
   int next_client_number_ = 1;
   std::uint64_t clients_dropped_ = 0;
