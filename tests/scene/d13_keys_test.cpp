@@ -38,6 +38,16 @@ TEST(D13Keys, EveryKey_Parses) {
   EXPECT_EQ(optical_reflectance(scene.objects[0]), 0.5 * kRetroReflectiveGain);
 }
 
+TEST(D13Keys, FogReturns_WithWaveformAndAtmosphere_Parse) {
+  const auto result = load_scene_from_string(
+      "effects: [waveform, atmosphere]\n"
+      "scanner: {atmosphere: {visibility_m: 50, fog_returns: true, fog_overlap_m: 1.5}}\n",
+      "fog.yaml");
+  ASSERT_TRUE(result.has_value()) << result.error().message();
+  EXPECT_TRUE(result.value().scanner.atmosphere.fog_returns);
+  EXPECT_EQ(result.value().scanner.atmosphere.fog_overlap_m, 1.5);
+}
+
 TEST(D13Keys, Defaults_AreD6s) {
   const auto result = load_scene_from_string("{}", "d13.yaml");
   ASSERT_TRUE(result.has_value());
@@ -69,8 +79,10 @@ const BadKey kBadKeys[] = {
      "scanner.atmosphere.visibility_m", 1, 38},
     {"fog_returns not a flag", "scanner: {atmosphere: {fog_returns: yes}}", SceneErrorKind::wrong_type,
      "scanner.atmosphere.fog_returns", 1, 37},
-    {"fog returns not simulated", "scanner: {atmosphere: {fog_returns: true}}", SceneErrorKind::out_of_range,
-     "scanner.atmosphere.fog_returns", 1, 37},
+    {"fog returns without waveform", "effects: [intensity, atmosphere]\nscanner: {atmosphere: {fog_returns: true}}",
+     SceneErrorKind::conflicting_keys, "scanner.atmosphere.fog_returns", 2, 37},
+    {"fog overlap not positive", "scanner: {atmosphere: {fog_overlap_m: 0}}", SceneErrorKind::out_of_range,
+     "scanner.atmosphere.fog_overlap_m", 1, 39},
     {"negative threshold SNR", "scanner: {snr_noise: {threshold_snr: -1}}", SceneErrorKind::out_of_range,
      "scanner.snr_noise.threshold_snr", 1, 38},
     {"unknown echo scale", "scanner: {optics: {echo_scale: loud}}", SceneErrorKind::out_of_range,

@@ -91,10 +91,7 @@ void read_atmosphere(const std::string& file, const YAML::Node& node, const std:
   MapReader map(file, node, path);
   read_field(map, "visibility_m", atmosphere.visibility_m, Constraint::positive);
   read_field(map, "fog_returns", atmosphere.fog_returns);
-  if (atmosphere.fog_returns) {
-    fail(file, SceneErrorKind::out_of_range, *map.get("fog_returns"), map.child_path("fog_returns"),
-         "fog's own returns are not simulated yet (docs/sensor-model.md): only false is accepted");
-  }
+  read_field(map, "fog_overlap_m", atmosphere.fog_overlap_m, Constraint::positive);
   map.finish();
 }
 

@@ -265,7 +265,16 @@ Scene read_scene(LoadContext& context, const YAML::Node& root) {
     fail(context.file, SceneErrorKind::conflicting_keys, root, "device", "give either scanner or device, not both");
   }
   for (std::string_view key : {"scanner", "device"}) {
-    if (auto section = map.get(key)) scene.scanner = detail::read_scanner(context.file, *section, std::string(key));
+    if (auto section = map.get(key)) {
+      scene.scanner = detail::read_scanner(context.file, *section, std::string(key));
+      // Fog's returns are a pulse in the received waveform, attenuated like every other.
+      const bool fog_can_return = scene.effects.has(Effect::waveform) && scene.effects.has(Effect::atmosphere);
+      if (scene.scanner.atmosphere.fog_returns && !fog_can_return) {
+        fail(context.file, SceneErrorKind::conflicting_keys, (*section)["atmosphere"]["fog_returns"],
+             std::string(key) + ".atmosphere.fog_returns",
+             "fog's returns are pulses in the received waveform: name the effects waveform and atmosphere");
+      }
+    }
   }
   if (auto world = map.get("world")) scene.world = detail::read_world(context.file, *world, "world");
   if (auto faults = map.get("faults")) scene.faults = detail::read_faults(context.file, *faults);

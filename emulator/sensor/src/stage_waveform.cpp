@@ -21,8 +21,10 @@
 #include <ldoem/sensor/effects.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <sstream>
 
 namespace ldoem::sensor {
@@ -34,6 +36,10 @@ const double kFwhmPerSigma = 2.0 * std::sqrt(2.0 * std::numbers::ln2);
 constexpr double kGridStepSigmas = 0.5;
 constexpr double kMaxGridPoints = 4096.0;  // a stretch longer than 2048 sigma gets a coarser grid
 constexpr int kGoldenSections = 60;       // shrinks the bracket by 0.618^60: far below a micrometre
+// Fog's extinction-to-backscatter (lidar) ratio: droplets far larger than the wavelength scatter
+// about 1/18.8 of what they extinguish back per steradian; ceilometers are calibrated on liquid
+// water clouds with this value (docs/sensor-model.md).
+constexpr double kFogLidarRatio_sr = 18.8;
 
 struct Pulse {
   double range_m;
@@ -72,7 +78,8 @@ class WaveformStage final : public BeamStage {
         offsets_(hexagonal_subray_offsets(scanner.beam_divergence_rad, scanner.mixed_pixel_subrays)),
         power_(power),
         sigma_m_(0.5 * kSpeedOfLight_m_s * scanner.waveform.pulse_width_s / kFwhmPerSigma),
-        threshold_(scanner.waveform.threshold_factor * scanner.optics.min_irradiance) {}
+        threshold_(scanner.waveform.threshold_factor * scanner.optics.min_irradiance),
+        fog_(fog_pulse(scanner, power_)) {}
 
   std::string_view name() const override { return "waveform"; }
 
@@ -82,6 +89,7 @@ class WaveformStage final : public BeamStage {
     text << "waveform: " << offsets_.size() << " sub-rays, pulse FWHM " << config_.pulse_width_s
          << " s (sigma " << sigma_m_ << " m of range), threshold " << threshold_ << ", detection "
          << kModes[static_cast<int>(config_.detection)];
+    if (fog_) text << ", fog return at " << fog_->range_m << " m (amplitude " << fog_->amplitude << ")";
     return text.str();
   }
 
@@ -89,8 +97,9 @@ class WaveformStage final : public BeamStage {
     detail::FootprintCast cast;
     detail::cast_footprint(beam.ray, offsets_, context.caster, cast);
     counters.rays_cast += cast.count;
-    std::array<Pulse, detail::kMaxSubrays> pulses;
+    std::array<Pulse, detail::kMaxSubrays + 1> pulses;  // + fog's own
     std::size_t pulse_count = 0;
+    if (fog_) pulses[pulse_count++] = *fog_;
     for (std::size_t i = 0; i < cast.count; ++i) {
       const std::optional<raycast::Hit>& hit = cast.hits[i];
       if (!hit || !detail::usable_hit(*hit)) continue;
@@ -211,11 +220,27 @@ class WaveformStage final : public BeamStage {
     return Echo{.range_m = peak_at_m, .peak = waveform.at(peak_at_m), .peak_at_m = peak_at_m};
   }
 
+  // Fog fills the whole footprint, so its backscatter is one pulse at the full beam's power, as
+  // from a diffuse target of reflectance pi * beta * dr: beta = k / lidar ratio is the volume
+  // backscatter per metre and steradian, dr = c * FWHM / 2 the depth of fog one time sample sees,
+  // and a Lambertian target sends rho / pi per steradian back. It sits where the receiver first
+  // sees the whole beam (fog_overlap_m): nearer, the biaxial optics hide it; farther, 1/r^2 and
+  // extinction make it weaker. Same for every beam, so it costs one more pulse and no draws.
+  static std::optional<Pulse> fog_pulse(const scene::ScannerConfig& scanner, const detail::ReceivedPower& power) {
+    if (!scanner.atmosphere.fog_returns || power.extinction_per_m() == 0.0) return std::nullopt;
+    const double backscatter_per_m_sr = power.extinction_per_m() / kFogLidarRatio_sr;
+    const double depth_m = 0.5 * kSpeedOfLight_m_s * scanner.waveform.pulse_width_s;
+    const double reflectance = std::numbers::pi * backscatter_per_m_sr * depth_m;
+    const double range_m = scanner.atmosphere.fog_overlap_m;
+    return Pulse{range_m, power(reflectance, 1.0, range_m), 1.0, reflectance};
+  }
+
   scene::WaveformConfig config_;
   std::vector<Eigen::Vector2d> offsets_;
   detail::ReceivedPower power_;
   double sigma_m_;
   double threshold_;
+  std::optional<Pulse> fog_;
 };
 
 }  // namespace

@@ -110,7 +110,10 @@ struct SnrNoiseConfig {
 // extinction = 3.912 / V), and optionally fog's own near returns.
 struct AtmosphereConfig {
   double visibility_m = 1000.0;
+  // Fog's own backscatter as a false near echo (needs waveform): it peaks where the receiver's
+  // field of view first fully overlaps the beam, nearer the fog is hidden from the receiver.
   bool fog_returns = false;
+  double fog_overlap_m = 1.0;
 };
 
 
