@@ -49,5 +49,31 @@ TEST(TiltHistory, OldRecords_AreDroppedBeyondTheSpan) {
   EXPECT_NEAR(history.tilt_at(950ms, 0.0), 0.95, 1e-12);
 }
 
+// Issue 11 #6: an LPT flood while a virtual clock stands still is any number of pulses at one
+// instant; the history keeps the way in and the way out of that instant, not every pulse.
+TEST(TiltHistory, PulsesAtOneInstant_KeepTwoRecords) {
+  TiltHistory history;
+  IdealTiltMotor motor(kConfig);
+  motor.attach_history(&history);
+  motor.on_step_pulse(10ms, +1, false);
+  for (int i = 0; i < 100'000; ++i) {
+    motor.on_step_pulse(20ms, +1, false);
+    motor.on_step_pulse(20ms, -1, false);
+  }
+  motor.on_step_pulse(20ms, +1, false);
+  EXPECT_LE(history.size(), 5u);
+  EXPECT_EQ(history.tilt_at(15ms, motor.tilt_rad()), kFullStep);  // before the burst: one step
+  EXPECT_EQ(history.tilt_at(20ms, motor.tilt_rad()), 2 * kFullStep);  // after it: one more
+}
+
+// A flood over distinct instants inside the span (a tiny --time-scale) is bounded by count.
+TEST(TiltHistory, FloodOverDistinctInstants_IsBoundedByCount) {
+  TiltHistory history(std::chrono::hours(1), 1000);
+  for (int i = 0; i < 100'000; ++i) history.record(SimTime(i), (i % 3) * 1e-3);
+  EXPECT_EQ(history.size(), 1000u);
+  EXPECT_NEAR(history.tilt_at(SimTime(99'999), 7.0), 7.0, 0.0);  // the newest end answers "now"
+  EXPECT_NEAR(history.tilt_at(SimTime(99'500), 0.0), (99'500 % 3) * 1e-3, 1e-15);
+}
+
 }  // namespace
 }  // namespace ldoem::motor

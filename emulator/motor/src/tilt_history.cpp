@@ -6,14 +6,22 @@
 namespace ldoem::motor {
 
 void TiltHistory::record(SimTime at, double tilt_rad) {
-  // Steady stretches keep only their two ends, so an idle plate costs no memory.
   const std::size_t count = records_.size();
   if (count >= 2 && records_.back().second == tilt_rad && records_[count - 2].second == tilt_rad) {
+    // Steady stretches keep only their two ends, so an idle plate costs no memory.
     records_.back().first = std::max(records_.back().first, at);
+  } else if (count >= 2 && records_.back().first >= at && records_[count - 2].first >= at) {
+    // Many steps at one instant (a register flood while a virtual clock stands still, issue 11):
+    // tilt_at() sees only the first record of an instant (the way in) and the last (the way
+    // out), so the ones between are overwritten instead of kept.
+    records_.back().second = tilt_rad;
   } else {
     records_.emplace_back(at, tilt_rad);
   }
   while (records_.size() > 2 && records_[1].first < at - span_) records_.pop_front();
+  // A flood spread over distinct instants inside the span (a tiny --time-scale) is bounded by
+  // count: the oldest records go first, and tilt_at() answers with the oldest kept one before them.
+  while (records_.size() > max_records_) records_.pop_front();
 }
 
 double TiltHistory::tilt_at(SimTime at, double current_rad) const {

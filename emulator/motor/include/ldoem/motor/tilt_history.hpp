@@ -8,7 +8,9 @@
 
 #include <ldoem/protocol/sim_time.hpp>
 
+#include <algorithm>
 #include <chrono>
+#include <cstddef>
 #include <deque>
 #include <utility>
 
@@ -20,9 +22,14 @@ class TiltHistory {
  public:
   // How far back tilt_at() answers; a revolution lasts at most 200 ms (5 Hz, spec 6).
   static constexpr SimTime kDefaultSpan = std::chrono::seconds(2);
-  explicit TiltHistory(SimTime span = kDefaultSpan) : span_(span) {}
+  // At most this many records (16 bytes each, 2 MiB): 2 s of pulses at spec 6's 14.4 kHz limit,
+  // two records each, need 57 600; a faster flood loses its oldest records instead of memory.
+  static constexpr std::size_t kDefaultMaxRecords = 1u << 17;
+  explicit TiltHistory(SimTime span = kDefaultSpan, std::size_t max_records = kDefaultMaxRecords)
+      : span_(span), max_records_(std::max<std::size_t>(max_records, 2)) {}
 
-  // The tilt was `tilt_rad` at `at` (records come in time order; two at one time are a step).
+  // The tilt was `tilt_rad` at `at` (records come in time order; two at one time are a step,
+  // and more at one time keep only the first and the last).
   void record(SimTime at, double tilt_rad);
 
   // The tilt at `at`: linear between records, the oldest kept record before them, and
@@ -33,6 +40,7 @@ class TiltHistory {
 
  private:
   SimTime span_;
+  std::size_t max_records_;
   std::deque<std::pair<SimTime, double>> records_;
 };
 
