@@ -47,6 +47,17 @@ TEST(SimClock, Virtual_MovesOnlyWhenAdvanced) {
   EXPECT_EQ(clock.wall_deadline(100s, kStart), kStart);  // due at once
 }
 
+// Issue 11: a scale far outside the options' range (1e-6..1e6) saturates at 146 years instead
+// of overflowing the conversion to int64 nanoseconds (undefined behaviour: on x86 the result was
+// INT64_MIN, a deadline in the past and a clock that never moved).
+TEST(SimClock, ExtremeScales_SaturateInsteadOfOverflowing) {
+  const SimClock slow = SimClock::scaled(kStart, 1e-12);
+  const WallTime far = slow.wall_deadline(SimTime(1h), kStart);
+  EXPECT_GT(far, kStart + std::chrono::hours(24 * 365 * 100));
+  SimClock fast = SimClock::scaled(kStart, 1e12);
+  EXPECT_GT(fast.now(kStart + 1000000s), SimTime(std::chrono::hours(24 * 365 * 100)));
+}
+
 TEST(DeadlineQueue, PopsInTimeThenInsertionOrder) {
   DeadlineQueue queue;
   std::vector<int> fired;

@@ -36,6 +36,10 @@ TEST(ReplayOptions, MistakesAreUsageErrorsNamingTheOption) {
   EXPECT_NE(parse({"--tcp", "127.0.0.1"}).error().message.find("CAPTURE"), std::string::npos);
   EXPECT_NE(parse({"scan.pcapng"}).error().message.find("endpoint"), std::string::npos);
   EXPECT_NE(parse({"scan.pcapng", "--tcp", "h:1", "--speed", "0"}).error().message.find("--speed"), std::string::npos);
+  // Issue 11: out of range, the conversion to int64 nanoseconds would overflow (UB).
+  EXPECT_NE(parse({"scan.pcapng", "--tcp", "h:1", "--speed", "1e-300"}).error().message.find("--speed"), std::string::npos);
+  EXPECT_NE(parse({"scan.pcapng", "--tcp", "h:1", "--timeout", "1e300"}).error().message.find("--timeout"),
+            std::string::npos);
   EXPECT_NE(parse({"scan.pcapng", "--serial", "/dev/x"}).error().message.find("--serial"), std::string::npos);
   EXPECT_NE(parse({"scan.pcapng", "--tcp", "h:1", "--can-ids", "6C0:6C1"}).error().message.find("--can-ids"),
             std::string::npos);

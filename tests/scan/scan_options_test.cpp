@@ -58,7 +58,7 @@ TEST(ScanOptions, BadCombinations_AreUsageErrors) {
 
 TEST(ScanOptions, BadValues_AreUsageErrors) {
   for (auto bad : {words({"--speed", "21"}), words({"--speed", "x"}), words({"--format", "text"}),
-                   words({"--timeout", "0"}), words({"--timeout", "1e300"}), words({"--optical-offset", "1,2"}), words({"--vertical-resolution", "-1"}),
+                   words({"--timeout", "0"}), words({"--timeout", "1e300"}), words({"--step-rate", "1e-300"}), words({"--step-rate", "1e9"}), words({"--optical-offset", "1,2"}), words({"--vertical-resolution", "-1"}),
                    words({"--bogus", "1"}), words({"--out"})}) {
     std::vector<std::string_view> args = bad;
     args.insert(args.begin(), {"--device", "tcp:h"});

@@ -7,6 +7,7 @@
 
 #include "ldoem/base/command_line.hpp"
 #include "ldoem/base/numbers.hpp"
+#include "ldoem/driver/device.hpp"
 
 namespace ldoem::scan {
 namespace {
@@ -83,7 +84,17 @@ const std::map<std::string_view, Setter>& setters() {
       {"--horizontal-resolution", number_into(&ScanOptions::horizontal_resolution_deg, true)},
       {"--vertical-apex", number_into(&ScanOptions::vertical_apex_deg, false)},
       {"--vertical-resolution", number_into(&ScanOptions::vertical_resolution_deg, true)},
-      {"--step-rate", number_into(&ScanOptions::step_rate_hz, true)},
+      {"--step-rate",
+       [](ScanOptions& o, std::string_view v) -> std::optional<std::string> {
+         // MOVEMOTOR's range (driver/device.hpp): a tiny rate would make every move refused.
+         const auto rate = parse_double(v);
+         if (!rate || !(*rate >= driver::kMinStepRateHz && *rate <= driver::kMaxStepRateHz)) {
+           return "`" + std::string(v) + "` is not a step rate of " + std::to_string(static_cast<int>(driver::kMinStepRateHz)) +
+                  ".." + std::to_string(static_cast<int>(driver::kMaxStepRateHz)) + " Hz";
+         }
+         o.step_rate_hz = *rate;
+         return std::nullopt;
+       }},
       {"--speed",
        [](ScanOptions& o, std::string_view v) -> std::optional<std::string> {
          const auto value = base::parse_integer<std::uint16_t>(v);
@@ -262,7 +273,7 @@ Geometry:
   --optical-offset X,Y,Z       optical centre from the tilt pivot, metres (default 0,0,0)
   --speed HZ                   head speed 5..20 (default 10)
   --half-step                  drive the stepper in half steps (default full steps)
-  --step-rate HZ               stepper pulse rate (default 200)
+  --step-rate HZ               stepper pulse rate, 1..20000 (default 200)
 Output:
   --out FILE                   .ply or .pcd (required)
   --format ascii|binary        (default binary)

@@ -3,6 +3,8 @@
 #include <csignal>
 #include <cstring>
 #include <iterator>
+#include <new>
+#include <stdexcept>
 
 #include <pthread.h>
 #include <systemd/sd-daemon.h>
@@ -66,6 +68,8 @@ struct Daemon::Impl final : endpoints::Scheduler {
   void cancel(const Key& key) override { deadlines.cancel(key); }
 
   std::optional<StartFailure> build_device(std::vector<std::unique_ptr<endpoints::HostEndpoint>> extra);
+  protocol::Expected<std::unique_ptr<control::FlashStore>, StartFailure> open_flash();
+  protocol::Expected<control::DeviceConfig, StartFailure> load_flash(const control::FlashStore& flash);
   std::optional<StartFailure> build_faults();
   void fire_due(SimTime at);
   void arm_wall_timer();
@@ -83,26 +87,44 @@ struct Daemon::Impl final : endpoints::Scheduler {
   }
 };
 
+protocol::Expected<std::unique_ptr<control::FlashStore>, StartFailure> Daemon::Impl::open_flash() {
+  if (options.flash_mode == FlashMode::memory) return std::unique_ptr<control::FlashStore>(new control::MemoryFlashStore());
+  return std::unique_ptr<control::FlashStore>(new FileFlashStore(options.flash_path));
+}
+
+// Issue 11: a flash file that exists but cannot be read or parsed stops the start (exit 2): the
+// daemon would otherwise run on the scene's defaults and overwrite the file at the first flash
+// write or at exit, and whatever it held would be lost. --reset-flash asks for exactly that.
+protocol::Expected<control::DeviceConfig, StartFailure> Daemon::Impl::load_flash(const control::FlashStore& flash) {
+  const control::DeviceConfig defaults = plant::device_config_from(scene.scanner.flash);
+  const std::string where = "flash " + options.flash_path.string();
+  const std::string remedy = "; fix or remove the file, or start with --reset-flash to replace it with the scene's defaults (D4)";
+  if (const auto* file = dynamic_cast<const FileFlashStore*>(&flash)) {
+    if (auto image = file->read(); !image) {
+      if (!options.reset_flash) return Unexpected(StartFailure{kExitUsageError, where + ": " + image.error() + remedy});
+      logger.log(endpoints::LogLevel::warn, where + ": " + image.error() + "; --reset-flash: starting from the scene's defaults (D4)");
+      return defaults;
+    }
+  }
+  const control::FlashLoadResult loaded = control::load_flash_or(flash, defaults);
+  if (!loaded.problem || loaded.problem->kind == control::FlashErrorKind::empty) return loaded.config;
+  const std::string problem = where + ":" + std::to_string(loaded.problem->line) + ": " +
+                              std::string(control::describe(loaded.problem->kind));
+  if (!options.reset_flash) return Unexpected(StartFailure{kExitUsageError, problem + remedy});
+  logger.log(endpoints::LogLevel::warn, problem + "; --reset-flash: starting from the scene's defaults (D4)");
+  return defaults;
+}
+
 std::optional<StartFailure> Daemon::Impl::build_device(std::vector<std::unique_ptr<endpoints::HostEndpoint>> extra) {
   if (options.seed) {
     scene.seed = *options.seed;
   }
   world = std::make_unique<plant::SceneWorld>(scene);
-  std::unique_ptr<control::FlashStore> flash;
-  if (options.flash_mode == FlashMode::file) {
-    flash = std::make_unique<FileFlashStore>(options.flash_path);
-  } else {
-    flash = std::make_unique<control::MemoryFlashStore>();
-  }
-  const control::FlashLoadResult loaded =
-      control::load_flash_or(*flash, plant::device_config_from(scene.scanner.flash));
-  if (loaded.problem && loaded.problem->kind != control::FlashErrorKind::empty) {
-    logger.log(endpoints::LogLevel::warn, "flash " + options.flash_path.string() + ":" +
-                                              std::to_string(loaded.problem->line) + ": " +
-                                              std::string(control::describe(loaded.problem->kind)) +
-                                              "; starting from the scene's defaults (D4)");
-  }
-  device = std::make_unique<DeviceInstance>(scene, *world, std::move(flash), loaded.config, *this, logger);
+  auto flash = open_flash();
+  if (!flash) return std::move(flash.error());
+  auto loaded = load_flash(**flash);
+  if (!loaded) return std::move(loaded.error());
+  device = std::make_unique<DeviceInstance>(scene, *world, std::move(*flash), *loaded, *this, logger);
 
   auto created = io::EventLoop::create();
   if (!created) {
@@ -236,14 +258,22 @@ protocol::Expected<std::unique_ptr<Daemon>, StartFailure> Daemon::create(
   if (const int error = ::pthread_sigmask(SIG_BLOCK, &handled, nullptr); error != 0) {
     return Unexpected(StartFailure{kExitRuntimeFailure, std::string("pthread_sigmask: ") + std::strerror(error)});
   }
-  auto impl = std::make_unique<Impl>(std::move(options), std::move(scene), out, log);
-  if (auto failure = impl->build_device(std::move(extra_endpoints))) return Unexpected(std::move(*failure));
-  // Simulated time 0 = power-up (D4) = the moment the endpoints are open.
-  impl->clock = impl->options.virtual_time ? SimClock::virtual_clock()
-                                           : SimClock::scaled(io::EventLoop::now(), impl->options.time_scale);
-  if (auto failure = impl->build_faults()) return Unexpected(std::move(*failure));
-  out << "ready" << std::endl;
-  return std::unique_ptr<Daemon>(new Daemon(std::move(impl)));
+  // Building the world allocates the scene's acceleration structures (Embree, ODE): out of
+  // memory, or an Embree error, is a start failure with a message (exit 1), never an abort.
+  try {
+    auto impl = std::make_unique<Impl>(std::move(options), std::move(scene), out, log);
+    if (auto failure = impl->build_device(std::move(extra_endpoints))) return Unexpected(std::move(*failure));
+    // Simulated time 0 = power-up (D4) = the moment the endpoints are open.
+    impl->clock = impl->options.virtual_time ? SimClock::virtual_clock()
+                                             : SimClock::scaled(io::EventLoop::now(), impl->options.time_scale);
+    if (auto failure = impl->build_faults()) return Unexpected(std::move(*failure));
+    out << "ready" << std::endl;
+    return std::unique_ptr<Daemon>(new Daemon(std::move(impl)));
+  } catch (const std::bad_alloc&) {
+    return Unexpected(StartFailure{kExitRuntimeFailure, "out of memory while building the scene"});
+  } catch (const std::exception& error) {
+    return Unexpected(StartFailure{kExitRuntimeFailure, std::string("cannot build the scene: ") + error.what()});
+  }
 }
 
 namespace {

@@ -7,17 +7,40 @@
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 
 namespace ldoem::daemon {
 
-protocol::Bytes FileFlashStore::load() const {
-  std::ifstream in(path_, std::ios::binary);
-  if (!in) {
-    return {};
+protocol::Expected<protocol::Bytes, std::string> FileFlashStore::read() const {
+  const int fd = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) {
+    if (errno == ENOENT) return protocol::Bytes{};  // never saved: the scene's defaults (D4)
+    return protocol::Unexpected("cannot open: " + std::string(std::strerror(errno)));
   }
-  return protocol::Bytes(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  protocol::Bytes image;
+  std::uint8_t buffer[4096];
+  for (;;) {
+    const ssize_t got = ::read(fd, buffer, sizeof buffer);
+    if (got < 0 && errno == EINTR) continue;
+    if (got < 0) {
+      const std::string why = std::strerror(errno);
+      ::close(fd);
+      return protocol::Unexpected("cannot read: " + why);
+    }
+    if (got == 0) break;
+    // A flash image is a few hundred bytes; a huge file is not one (and must not fill memory).
+    if (image.size() + static_cast<std::size_t>(got) > kMaxImageBytes) {
+      ::close(fd);
+      return protocol::Unexpected("larger than " + std::to_string(kMaxImageBytes) + " bytes: not a flash image");
+    }
+    image.insert(image.end(), buffer, buffer + got);
+  }
+  ::close(fd);
+  return image;
+}
+
+protocol::Bytes FileFlashStore::load() const {
+  auto image = read();
+  return image ? std::move(*image) : protocol::Bytes{};
 }
 
 // mkstemp in the flash file's folder (O_EXCL: a symlink planted at a predictable name is never

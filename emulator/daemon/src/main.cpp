@@ -2,6 +2,8 @@
 // outcome to an exit code (STYLE.md section 1). Everything it decides is in ldoem_daemon.
 #include <iostream>
 #include <memory>
+#include <new>
+#include <stdexcept>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -13,7 +15,9 @@
 #include "ldoem/daemon/options.hpp"
 #include "ldoem/scene/scene_loader.hpp"
 
-int main(int argc, char** argv) {
+namespace {
+
+int run_emud(int argc, char** argv) {
   using namespace ldoem::daemon;
   const std::vector<std::string_view> arguments(argv + 1, argv + argc);
   const auto command = parse_command_line(arguments);
@@ -67,4 +71,19 @@ int main(int argc, char** argv) {
     (*daemon)->device().set_wire_tap(&*tap);
   }
   return (*daemon)->run();
+}
+
+}  // namespace
+
+// Out of memory anywhere (a huge scene, RLIMIT_AS, a cgroup's MemoryMax) ends with a message
+// and exit 1, never with std::terminate's abort (134) and a core dump (issue 11).
+int main(int argc, char** argv) {
+  try {
+    return run_emud(argc, argv);
+  } catch (const std::bad_alloc&) {
+    std::cerr << "ldoem-emud: out of memory\n";
+  } catch (const std::exception& error) {
+    std::cerr << "ldoem-emud: " << error.what() << '\n';
+  }
+  return ldoem::daemon::kExitRuntimeFailure;
 }

@@ -112,7 +112,9 @@ const std::map<std::string_view, ValueHandler>& value_options() {
        }},
       {"--time-scale", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
          const auto scale = parse_double(v);
-         if (!scale || *scale <= 0.0) return error_of(usage_error("--time-scale", "must be a number > 0"));
+         if (!scale || !(*scale >= kMinTimeScale && *scale <= kMaxTimeScale)) {
+           return error_of(usage_error("--time-scale", "must be a number from 1e-6 to 1e6"));
+         }
          o.time_scale = *scale;
          return std::nullopt;
        }},
@@ -136,7 +138,9 @@ const std::map<std::string_view, ValueHandler>& value_options() {
        }},
       {"--timeout", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
          const auto seconds = parse_double(v);
-         if (!seconds || *seconds <= 0.0) return error_of(usage_error("--timeout", "must be a number of seconds > 0"));
+         if (!seconds || !(*seconds > 0.0 && *seconds <= kMaxTimeoutSeconds)) {
+           return error_of(usage_error("--timeout", "must be a number of seconds > 0 and at most 1e9 (31 years)"));
+         }
          o.timeout_s = *seconds;
          return std::nullopt;
        }},
@@ -157,7 +161,9 @@ const std::map<std::string_view, ValueHandler>& value_options() {
        }},
       {"--record-max-mb", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
          const auto megabytes = parse_double(v);
-         if (!megabytes || *megabytes <= 0.0) return error_of(usage_error("--record-max-mb", "must be a number > 0"));
+         if (!megabytes || !(*megabytes > 0.0 && *megabytes <= kMaxRecordMegabytes)) {
+           return error_of(usage_error("--record-max-mb", "must be a number > 0 and at most 1048576 (1 TiB)"));
+         }
          o.record_max_bytes = static_cast<std::uint64_t>(*megabytes * 1024 * 1024);
          return std::nullopt;
        }},
@@ -176,6 +182,7 @@ const std::map<std::string_view, FlagHandler>& flag_options() {
       {"--no-can", [](Options& o, Seen& s) { o.can_interface.reset(); s.no_can = true; }},
       {"--no-flash", [](Options& o, Seen& s) { o.flash_mode = FlashMode::memory; s.no_flash = true; }},
       {"--virtual-time", [](Options& o, Seen&) { o.virtual_time = true; }},
+      {"--reset-flash", [](Options& o, Seen&) { o.reset_flash = true; }},
   };
   return handlers;
 }
@@ -192,6 +199,9 @@ std::optional<UsageError> check_combination(Options& options, const Seen& seen) 
   }
   if (seen.flash && seen.no_flash) {
     return UsageError{"--no-flash: conflicts with --flash"};
+  }
+  if (options.reset_flash && seen.no_flash) {
+    return UsageError{"--reset-flash: conflicts with --no-flash"};
   }
   std::set<std::uint16_t> request_ids;
   std::set<std::uint16_t> response_ids;
@@ -310,16 +320,18 @@ std::string usage_text(std::string_view program_name) {
          "  --lpt gpio:CHIP       tilt stepper on lines DIR, CLK, MODE of a gpio chip [off]\n"
          "  --flash FILE          flash image file [<scene>.flash]\n"
          "  --no-flash            keep the flash in memory only\n"
-         "  --time-scale X        simulated seconds per wall second, X > 0 [1]\n"
+         "  --reset-flash         start from the scene's flash defaults even when FILE cannot be\n"
+         "                        read or parsed, and replace it (without: exit 2) [off]\n"
+         "  --time-scale X        simulated seconds per wall second, 1e-6..1e6 [1]\n"
          "  --virtual-time        run the simulated clock as fast as possible: when nothing is\n"
          "                        ready, jump to the next deadline (tests, benchmarks) [off]\n"
          "  --seed N              noise seed, overrides the scene's [scene's seed]\n"
          "  --log-level LEVEL     error|warn|info|debug; info logs every telegram [warn]\n"
          "  --count-profiles N    stop (exit 0) after N profile telegrams in total [no limit]\n"
-         "  --timeout SECONDS     stop (exit 0) after this many wall seconds [no limit]\n"
+         "  --timeout SECONDS     stop (exit 0) after this many wall seconds, at most 1e9 [no limit]\n"
          "  --record FILE         write every telegram on every transport, with device time, to\n"
          "                        FILE (pcapng for Wireshark/tshark, docs/capture.md) [off]\n"
-         "  --record-max-mb N     rotate FILE at N MiB: FILE.1, FILE.2, ... [no cap]\n"
+         "  --record-max-mb N     rotate FILE at N MiB (at most 1048576): FILE.1, FILE.2, ... [no cap]\n"
          "  --record-files K      files kept when rotating, FILE included [10]\n"
          "  --control PATH        control socket (JSON lines, QMP-shaped, mode 0600) for\n"
          "                        faults and status; docs/faults.md, ldoem-ctl [off]\n"

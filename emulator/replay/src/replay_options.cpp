@@ -75,7 +75,10 @@ protocol::Expected<ReplayOptions, ReplayUsageError> parse_replay_options(std::sp
       }
     } else if (name == "--speed") {
       const auto speed = parse_positive(text);
-      if (!speed) return usage("--speed: must be a number > 0, got `" + text + "`");
+      // The daemon's --time-scale range: recorded delay / speed stays a representable int64 ns.
+      if (!speed || !(*speed >= daemon::kMinTimeScale && *speed <= daemon::kMaxTimeScale)) {
+        return usage("--speed: must be a number from 1e-6 to 1e6, got `" + text + "`");
+      }
       options.speed = *speed;
     } else if (name == "--transport") {
       if (text == "tcp") options.transport = protocol::WireTransport::tcp;
@@ -84,7 +87,9 @@ protocol::Expected<ReplayOptions, ReplayUsageError> parse_replay_options(std::sp
       else return usage("--transport: must be tcp, serial or can, got `" + text + "`");
     } else if (name == "--timeout") {
       const auto seconds = parse_positive(text);
-      if (!seconds) return usage("--timeout: must be seconds > 0, got `" + text + "`");
+      if (!seconds || *seconds > daemon::kMaxTimeoutSeconds) {
+        return usage("--timeout: must be seconds > 0 and at most 1e9, got `" + text + "`");
+      }
       options.endpoints.timeout_s = *seconds;
     } else if (name == "--log-level") {
       if (text == "error") options.endpoints.log_level = daemon::LogLevel::error;
@@ -117,9 +122,9 @@ std::string replay_usage_text() {
          "  --can-ids REQ:RESP    hex 11-bit identifiers [6C0:6C1]\n"
          "  --lpt pty:PATH|gpio:CHIP  accept the tilt stepper's writes (counted, not replayed)\n"
          "Options (default in brackets):\n"
-         "  --speed X             recorded seconds per replayed second [1]\n"
+         "  --speed X             recorded seconds per replayed second, 1e-6..1e6 [1]\n"
          "  --transport T         replay the recorded tcp, serial or can telegrams [the most]\n"
-         "  --timeout S           stop (exit 0) after S wall seconds [none]\n"
+         "  --timeout S           stop (exit 0) after S wall seconds, at most 1e9 [none]\n"
          "  --log-level L         error|warn|info|debug; info logs every request and answer [warn]\n"
          "  --help, -h            this text\n"
          "\n"

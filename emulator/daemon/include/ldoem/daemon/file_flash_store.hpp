@@ -7,14 +7,21 @@
 #include <string>
 
 #include "ldoem/control/flash_image.hpp"
+#include "ldoem/protocol/expected.hpp"
 
 namespace ldoem::daemon {
 
 class FileFlashStore final : public control::FlashStore {
  public:
+  static constexpr std::size_t kMaxImageBytes = 1 << 20;
+
   explicit FileFlashStore(std::filesystem::path path) : path_(std::move(path)) {}
 
-  // Empty when the file does not exist yet (first power-up) or cannot be read.
+  // The image; empty when the file does not exist yet (first power-up). A file that exists but
+  // cannot be read (permissions, a folder, an I/O error) is an error naming the path and errno:
+  // the daemon refuses to start on it rather than overwrite it at exit (issue 11).
+  protocol::Expected<protocol::Bytes, std::string> read() const;
+  // read(), with an unreadable file as empty (the FlashStore interface has no error channel).
   protocol::Bytes load() const override;
   // Failures are remembered in last_error() (the interface has no error channel).
   void save(protocol::ByteView image) override;

@@ -26,6 +26,14 @@ inline constexpr int kExitSignalBase = 128;  // + SIGINT / SIGTERM number
 inline constexpr std::string_view kDefaultCanInterface = "vcan0";
 inline constexpr std::string_view kFlashFileSuffix = ".flash";  // D4: <scene>.flash
 
+// Ranges of the numeric options (issue 11): inside them every conversion to int64 nanoseconds
+// or bytes is exact and far from overflow (a bigger --timeout or a smaller --time-scale was
+// undefined behaviour in that conversion); outside them the option is refused (exit 2).
+inline constexpr double kMaxTimeoutSeconds = 1e9;         // about 31 years (int64 ns: 292)
+inline constexpr double kMinTimeScale = 1e-6;             // a simulated second per 11.6 wall days
+inline constexpr double kMaxTimeScale = 1e6;              // 11.6 simulated days per wall second
+inline constexpr double kMaxRecordMegabytes = 1024.0 * 1024.0;  // 1 TiB per capture file
+
 using endpoints::CanIdPair;
 using endpoints::LogLevel;
 
@@ -55,6 +63,9 @@ struct Options {
   std::optional<LptOption> lpt;
   FlashMode flash_mode = FlashMode::file;
   std::filesystem::path flash_path;  // resolved: --flash FILE or <scene>.flash
+  // --reset-flash: start from the scene's defaults even when the flash file cannot be read or
+  // parsed (it is replaced at the first flash write and at exit). Without it that is exit 2.
+  bool reset_flash = false;
   double time_scale = 1.0;
   bool virtual_time = false;
   std::optional<std::uint64_t> seed;  // overrides the scene's seed
