@@ -29,7 +29,7 @@ Bytes encode_tcp_frame(ByteView payload) {
   return frame;
 }
 
-TcpDeframer::TcpDeframer(std::size_t max_payload) : max_payload_(max_payload) {}
+TcpDeframer::TcpDeframer(std::size_t max_payload, TcpResync resync) : max_payload_(max_payload), resync_(resync) {}
 
 void TcpDeframer::reset() {
   state_ = State::hunting;
@@ -41,8 +41,36 @@ void TcpDeframer::reset() {
 
 std::vector<DeframerEvent> TcpDeframer::feed(ByteView chunk) {
   std::vector<DeframerEvent> events;
-  for (const auto byte : chunk) consume(byte, events);
+  for (const auto byte : chunk) {
+    consume(byte, events);
+    replay(events);
+  }
   return events;
+}
+
+std::vector<DeframerEvent> TcpDeframer::abandon_frame() {
+  std::vector<DeframerEvent> events;
+  if (state_ == State::hunting) {
+    skipped_bytes_ += magic_matched_;  // a partial magic is garbage, not a frame
+    magic_matched_ = 0;
+    return events;
+  }
+  const std::uint16_t code = payload_.size() >= 2 ? read_word_be(payload_, 0) : std::uint16_t{0};
+  const TcpResync kept = resync_;
+  resync_ = TcpResync::rescan_dropped;
+  drop(FramingError{DecodeError::truncated, code}, events, std::nullopt);
+  resync_ = kept;
+  replay(events);
+  return events;
+}
+
+// Bytes of dropped frames go through consume() again, oldest first, before any newer byte.
+void TcpDeframer::replay(std::vector<DeframerEvent>& events) {
+  while (!replay_.empty()) {
+    const std::uint8_t byte = replay_.front();
+    replay_.pop_front();
+    consume(byte, events);
+  }
 }
 
 // Searches for 02 55 53 50. Only the first magic byte (STX) can restart a partial match,
@@ -63,9 +91,21 @@ void TcpDeframer::hunt(std::uint8_t byte) {
   }
 }
 
-void TcpDeframer::drop(FramingError error, std::vector<DeframerEvent>& events) {
+void TcpDeframer::drop(FramingError error, std::vector<DeframerEvent>& events, std::optional<std::uint8_t> last_byte) {
   ++dropped_frames_;
   events.emplace_back(error);
+  if (resync_ == TcpResync::rescan_dropped) {
+    // The frame's bytes after its magic, in order, ahead of any byte still waiting for replay:
+    // the length bytes read so far, the payload, and the byte that showed the error.
+    Bytes again;
+    again.reserve(length_bytes_ + payload_.size() + 1);
+    for (std::size_t i = 0; i < length_bytes_; ++i) {
+      again.push_back(static_cast<std::uint8_t>(length_ >> (8 * (length_bytes_ - 1 - i))));
+    }
+    again.insert(again.end(), payload_.begin(), payload_.end());
+    if (last_byte) again.push_back(*last_byte);
+    replay_.insert(replay_.begin(), again.begin(), again.end());
+  }
   reset();
 }
 
@@ -78,7 +118,7 @@ void TcpDeframer::consume(std::uint8_t byte, std::vector<DeframerEvent>& events)
       length_ = (length_ << 8) | byte;
       if (++length_bytes_ < 4) return;
       if (length_ > max_payload_) {
-        drop(FramingError{DecodeError::too_large, 0}, events);
+        drop(FramingError{DecodeError::too_large, 0}, events, std::nullopt);
         return;
       }
       payload_.clear();
@@ -92,7 +132,7 @@ void TcpDeframer::consume(std::uint8_t byte, std::vector<DeframerEvent>& events)
     case State::checksum: {
       if (byte != xor_checksum(payload_)) {
         const std::uint16_t code = payload_.size() >= 2 ? read_word_be(payload_, 0) : std::uint16_t{0};
-        drop(FramingError{DecodeError::bad_checksum, code}, events);
+        drop(FramingError{DecodeError::bad_checksum, code}, events, byte);
         return;
       }
       events.emplace_back(Telegram{std::move(payload_)});

@@ -9,14 +9,17 @@
 namespace ldoem::driver {
 namespace {
 
-TEST(DriverError, TimeoutBusyInterrupted_AreRetryable) {
+TEST(DriverError, WireOutcomes_AreRetryable) {
   EXPECT_TRUE(is_retryable(ErrorKind::timeout));
   EXPECT_TRUE(is_retryable(ErrorKind::busy));
   EXPECT_TRUE(is_retryable(ErrorKind::interrupted));
+  EXPECT_TRUE(is_retryable(ErrorKind::framing));
+  EXPECT_TRUE(is_retryable(ErrorKind::corrupted_reply));
+  EXPECT_TRUE(is_retryable(ErrorKind::connection_closed));  // after a reconnect
 }
 
-TEST(DriverError, DeviceAndFramingOutcomes_AreFinal) {
-  for (ErrorKind kind : {ErrorKind::framing, ErrorKind::connection_closed, ErrorKind::service_failure,
+TEST(DriverError, DeviceAndCallerOutcomes_AreFinal) {
+  for (ErrorKind kind : {ErrorKind::service_failure, ErrorKind::device_fault,
                          ErrorKind::unexpected_reply, ErrorKind::refused, ErrorKind::system,
                          ErrorKind::unsupported, ErrorKind::invalid_argument, ErrorKind::wrong_state}) {
     EXPECT_FALSE(is_retryable(kind)) << describe(kind);

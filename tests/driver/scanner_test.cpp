@@ -530,12 +530,13 @@ TEST_F(ScannerTest, ServiceFailureForGetProfileWhileAwaitingAnother_IsKeptForNex
   EXPECT_EQ(profile.error().request_code, 0x0301);
 }
 
-TEST_F(ScannerTest, ReplyThatDoesNotDecode_IsUnexpectedReply) {
+TEST_F(ScannerTest, ReplyThatDoesNotDecode_IsRetryableCorruptedReply) {
   connect();
   on(request_payload("GET_SYNC_CLOCK"), {Bytes{0x82, 0x05, 0x12}});
   auto clock = scanner_->get_sync_clock();
   ASSERT_FALSE(clock);
-  EXPECT_EQ(clock.error().kind, ErrorKind::unexpected_reply);
+  EXPECT_EQ(clock.error().kind, ErrorKind::corrupted_reply);
+  EXPECT_TRUE(is_retryable(clock.error()));
   EXPECT_EQ(clock.error().decode_detail, p::DecodeError::bad_length);
 }
 

@@ -75,14 +75,14 @@ TEST(TcpTransport, BadChecksumFrame_IsDroppedSilentlyAndCounted) {
   EXPECT_EQ(transport->counters().dropped_frames, 1u);
 }
 
-TEST(TcpTransport, PeerClose_IsConnectionClosed) {
+TEST(TcpTransport, PeerClose_IsConnectionClosed_RetryableAfterAReconnect) {
   ScriptedTcpServer server({}, /*close_after=*/true);
   auto transport = connect_to(server.port());
   ASSERT_TRUE(transport);
   auto payload = transport->receive(Clock::now() + 5s);
   ASSERT_FALSE(payload);
   EXPECT_EQ(payload.error().kind, ErrorKind::connection_closed);
-  EXPECT_FALSE(is_retryable(payload.error()));
+  EXPECT_EQ(recovery_for(payload.error()), Recovery::reconnect);
 }
 
 TEST(TcpTransport, NothingArrives_IsRetryableTimeout) {

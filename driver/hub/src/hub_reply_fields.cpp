@@ -73,6 +73,8 @@ std::string_view error_kind_token(ErrorKind kind) {
     case ErrorKind::busy: return "busy";
     case ErrorKind::interrupted: return "interrupted";
     case ErrorKind::framing: return "framing";
+    case ErrorKind::corrupted_reply: return "corrupted_reply";
+    case ErrorKind::device_fault: return "device_fault";
     case ErrorKind::connection_closed: return "connection_closed";
     case ErrorKind::service_failure: return "service_failure";
     case ErrorKind::unexpected_reply: return "unexpected_reply";
@@ -91,13 +93,24 @@ ErrorKind error_kind_from_token(std::string_view token) {
                                 ErrorKind::connection_closed, ErrorKind::service_failure,
                                 ErrorKind::unexpected_reply, ErrorKind::refused,
                                 ErrorKind::system,          ErrorKind::unsupported,
-                                ErrorKind::invalid_argument, ErrorKind::wrong_state};
+                                ErrorKind::invalid_argument, ErrorKind::wrong_state,
+                                ErrorKind::corrupted_reply, ErrorKind::device_fault};
   for (ErrorKind kind : kAll) {
     if (error_kind_token(kind) == token) {
       return kind;
     }
   }
   return ErrorKind::invalid_argument;
+}
+
+std::string_view recovery_token(driver::Recovery recovery) {
+  switch (recovery) {
+    case driver::Recovery::retry: return "retry";
+    case driver::Recovery::reconnect: return "reconnect";
+    case driver::Recovery::reset_device: return "reset_device";
+    case driver::Recovery::none: return "none";
+  }
+  return "none";
 }
 
 std::vector<ReplyField> status_fields(const StatusBlock& status) {

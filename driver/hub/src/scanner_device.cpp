@@ -20,7 +20,9 @@ ScannerDevice::ScannerDevice(std::string name, TransportFactory open_transport, 
       open_transport_(std::move(open_transport)),
       open_lpt_(std::move(open_lpt)),
       sleeper_(std::move(sleeper)),
-      options_(std::move(options)) {}
+      options_(std::move(options)) {
+  options_.scanner.reopen = open_transport_;  // Scanner::reconnect() after a lost connection
+}
 
 ScannerDevice::~ScannerDevice() {
   if (scanner_) {
@@ -43,8 +45,7 @@ std::unique_ptr<ScannerDevice> ScannerDevice::from_endpoints(std::string name, c
 template <class T>
 Expected<T, DriverError> ScannerDevice::watch(Expected<T, DriverError> result) {
   if (!result && result.error().kind == ErrorKind::connection_closed && scanner_) {
-    scanner_->close();
-    scanner_.reset();
+    scanner_->close();  // the next INITIALIZE reconnects (bounded attempts, ScannerOptions)
   }
   return result;
 }
@@ -58,12 +59,17 @@ Expected<driver::Scanner*, DriverError> ScannerDevice::connected_scanner(const c
 }
 
 Expected<DeviceInfo, DriverError> ScannerDevice::initialize(const InitializeRequest& request) {
-  if (!scanner_ || scanner_->state() == driver::LifecycleState::closed) {
+  if (!scanner_) {
     auto transport = open_transport_();
     if (!transport) {
       return fail(transport.error());
     }
     scanner_ = std::make_unique<driver::Scanner>(std::move(transport.value()), options_.scanner);
+  } else if (scanner_->state() == driver::LifecycleState::closed) {
+    // The connection was lost (a reset, a power cycle): try again, a bounded number of times.
+    if (auto reconnected = scanner_->reconnect(); !reconnected) {
+      return fail(reconnected.error());
+    }
   }
   return watch(configure(*scanner_, request));
 }

@@ -13,6 +13,8 @@ std::string_view describe(ErrorKind kind) {
     case ErrorKind::busy: return "busy";
     case ErrorKind::interrupted: return "interrupted";
     case ErrorKind::framing: return "framing error";
+    case ErrorKind::corrupted_reply: return "corrupted reply";
+    case ErrorKind::device_fault: return "device fault";
     case ErrorKind::connection_closed: return "connection closed";
     case ErrorKind::service_failure: return "SERVICE_FAILURE from the device";
     case ErrorKind::unexpected_reply: return "unexpected reply";
@@ -30,10 +32,12 @@ bool is_retryable(ErrorKind kind) {
     case ErrorKind::timeout:
     case ErrorKind::busy:
     case ErrorKind::interrupted:
-      return true;
     case ErrorKind::framing:
+    case ErrorKind::corrupted_reply:
     case ErrorKind::connection_closed:
+      return true;
     case ErrorKind::service_failure:
+    case ErrorKind::device_fault:
     case ErrorKind::unexpected_reply:
     case ErrorKind::refused:
     case ErrorKind::system:
@@ -43,6 +47,81 @@ bool is_retryable(ErrorKind kind) {
       return false;
   }
   return false;
+}
+
+Recovery recovery_for(const DriverError& error) {
+  switch (error.kind) {
+    case ErrorKind::timeout:
+    case ErrorKind::busy:
+    case ErrorKind::interrupted:
+    case ErrorKind::framing:
+    case ErrorKind::corrupted_reply:
+      return Recovery::retry;
+    case ErrorKind::connection_closed:
+      return Recovery::reconnect;
+    case ErrorKind::service_failure:
+      // Reason 5: the device saw our frame broken on the way (D2), the request itself is fine.
+      return error.failure_reason == protocol::FailureReason::framing ? Recovery::retry : Recovery::none;
+    case ErrorKind::device_fault:
+      return Recovery::reset_device;
+    case ErrorKind::unexpected_reply:
+    case ErrorKind::refused:
+    case ErrorKind::system:
+    case ErrorKind::unsupported:
+    case ErrorKind::invalid_argument:
+    case ErrorKind::wrong_state:
+      return Recovery::none;
+  }
+  return Recovery::none;
+}
+
+std::string_view describe(Recovery recovery) {
+  switch (recovery) {
+    case Recovery::retry: return "retryable";
+    case Recovery::reconnect: return "retryable after a reconnect";
+    case Recovery::reset_device: return "final until the device is reset";
+    case Recovery::none: return "final";
+  }
+  return "final";
+}
+
+bool is_retryable(const DriverError& error) {
+  const Recovery recovery = recovery_for(error);
+  return recovery == Recovery::retry || recovery == Recovery::reconnect;
+}
+
+namespace {
+
+std::string_view motor_words(protocol::MotorMode motor) {
+  switch (motor) {
+    case protocol::MotorMode::ok: return "ok";
+    case protocol::MotorMode::spin_too_low: return "spin too low";
+    case protocol::MotorMode::spin_too_high: return "spin too high";
+    case protocol::MotorMode::fault: return "motor fault";
+  }
+  return "unlisted motor nibble";
+}
+
+std::string hex_byte(std::uint8_t byte) {
+  static constexpr char kDigits[] = "0123456789ABCDEF";
+  return std::string("0x") + kDigits[byte >> 4] + kDigits[byte & 0xF];
+}
+
+}  // namespace
+
+std::optional<DriverError> device_fault_in(const protocol::StatusBlock& status, std::string operation,
+                                           std::string object) {
+  const protocol::StatusByte byte = status.status;
+  const bool in_error = byte.sensor == protocol::SensorMode::error;
+  if (byte.motor == protocol::MotorMode::ok && !in_error) {
+    return std::nullopt;
+  }
+  std::string detail = "status " + hex_byte(byte.to_byte()) + " (motor nibble " +
+                       hex_byte(static_cast<std::uint8_t>(byte.motor)) + ": " +
+                       std::string(motor_words(byte.motor)) + (in_error ? ", sensor mode ERROR)" : ")");
+  DriverError error = make_error(ErrorKind::device_fault, std::move(operation), std::move(object), std::move(detail));
+  error.device_status = byte.to_byte();
+  return error;
 }
 
 namespace {

@@ -1,6 +1,8 @@
 #include "ldoem/driver/scanner.hpp"
 
+#include <algorithm>
 #include <string>
+#include <thread>
 #include <utility>
 
 #include "ldoem/protocol/service_codes.hpp"
@@ -177,6 +179,49 @@ Expected<p::GetStatusReply, DriverError> Scanner::connect() {
   return status;
 }
 
+void Scanner::sleep_for(std::chrono::milliseconds pause) const {
+  if (options_.sleep) {
+    options_.sleep(pause);
+  } else {
+    std::this_thread::sleep_for(pause);
+  }
+}
+
+Expected<p::GetStatusReply, DriverError> Scanner::reconnect() {
+  const std::uint16_t status_code = p::code_of(p::Service::get_status);
+  if (!options_.reopen) {
+    return fail(error_for(ErrorKind::unsupported, status_code, "reconnect: no way to reopen the transport"));
+  }
+  close();
+  profiles_.clear();
+  stream_failure_.reset();
+  stream_profiles_left_ = 0;
+  const std::uint32_t attempts = std::max<std::uint32_t>(1, options_.reconnect.attempts);
+  DriverError last = error_for(ErrorKind::connection_closed, status_code);
+  for (std::uint32_t attempt = 1; attempt <= attempts; ++attempt) {
+    if (attempt > 1) {
+      sleep_for(options_.reconnect.interval);
+    }
+    auto opened = options_.reopen();
+    if (!opened) {
+      last = opened.error();
+      continue;
+    }
+    transport_ = std::move(opened.value());
+    state_ = LifecycleState::unconfigured;
+    auto status = connect();
+    if (status) {
+      ++counters_.reconnects;
+      return status;
+    }
+    last = status.error();
+    close();
+  }
+  last.detail += (last.detail.empty() ? "" : "; ") + std::string("reconnect gave up after ") +
+                 std::to_string(attempts) + " attempts";
+  return fail(std::move(last));
+}
+
 void Scanner::close() {
   if (transport_ && state_ != LifecycleState::closed) {
     transport_->close();
@@ -251,6 +296,15 @@ Expected<p::StatusBlock, DriverError> Scanner::trans_idle() {
   return reply->status;
 }
 
+Status Scanner::check_device_status(const p::StatusBlock& status, std::uint16_t request_code) const {
+  auto fault = device_fault_in(status, std::string(p::service_name(request_code)), transport_->name());
+  if (!fault) {
+    return ok();
+  }
+  fault->request_code = request_code;
+  return fail(std::move(*fault));
+}
+
 Expected<p::StatusBlock, DriverError> Scanner::trans_rotate(std::uint16_t frequency_hz,
                                                             std::optional<std::chrono::milliseconds> timeout) {
   auto reply = call<p::TransRotateReply>(p::TransRotate{frequency_hz}, timeout.value_or(options_.rotate_timeout));
@@ -258,6 +312,9 @@ Expected<p::StatusBlock, DriverError> Scanner::trans_rotate(std::uint16_t freque
     return fail(reply.error());
   }
   end_stream();
+  if (auto healthy = check_device_status(reply->status, p::code_of(p::Service::trans_rotate)); !healthy) {
+    return fail(healthy.error());  // D11: 84 03 .. B4 while a motor fault lasts
+  }
   return reply->status;
 }
 
@@ -265,6 +322,9 @@ Expected<p::StatusBlock, DriverError> Scanner::trans_measure() {
   auto reply = call<p::TransMeasureReply>(p::TransMeasure{}, options_.request_timeout);
   if (!reply) {
     return fail(reply.error());
+  }
+  if (auto healthy = check_device_status(reply->status, p::code_of(p::Service::trans_measure)); !healthy) {
+    return fail(healthy.error());
   }
   if (reply->return_code != p::measure_return::kOk) {
     DriverError error = error_for(ErrorKind::refused, p::code_of(p::Service::trans_measure));
@@ -308,7 +368,7 @@ Status Scanner::get_profile(std::uint16_t count, std::uint16_t format) {
 Expected<p::Profile, DriverError> Scanner::deliver_profile(const Bytes& payload) {
   auto profile = p::decode_profile(payload);
   if (!profile) {
-    DriverError error = error_for(ErrorKind::unexpected_reply, kGetProfileCode, "profile does not decode");
+    DriverError error = error_for(ErrorKind::corrupted_reply, kGetProfileCode, "profile does not decode");
     error.decode_detail = profile.error();
     return fail(std::move(error));
   }

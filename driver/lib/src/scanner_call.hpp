@@ -20,7 +20,9 @@ Expected<Reply, DriverError> Scanner::call(const protocol::Request& request, std
   }
   auto decoded = protocol::decode_response(*payload);
   if (!decoded) {
-    DriverError error = error_for(ErrorKind::unexpected_reply, code, "reply does not decode");
+    // Our code with a body that does not decode: the telegram was cut short or damaged on the
+    // way (D11 truncate_reply); asking again may well get it whole.
+    DriverError error = error_for(ErrorKind::corrupted_reply, code, "reply does not decode");
     error.decode_detail = decoded.error();
     return fail(std::move(error));
   }

@@ -6,13 +6,17 @@
 
 #include <sys/types.h>
 
+#include <algorithm>
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <deque>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
 #include <variant>
+#include <vector>
 
 #include "ldoem/driver/error.hpp"
 #include "ldoem/driver/transport.hpp"
@@ -51,25 +55,47 @@ Status write_when_ready(int fd, ByteView bytes, Deadline deadline, const StreamK
 
 // Reads until the deframer (protocol::TcpDeframer, protocol::SerialReplyReassembler) has given at
 // least one telegram, queues all it gives, and returns the oldest. Frames the deframer rejects
-// are dropped silently here (spec 4.1, 4.2); the deframer counts them.
+// are dropped silently here (spec 4.1, 4.2); the deframer counts them. With a `frame_gap` (a
+// deframer that can abandon_frame()), a frame that started but got no byte for that long is
+// given up and its bytes searched again for the next frame, so a frame cut short on the wire
+// does not swallow the reply that follows it.
 template <std::size_t kChunkBytes, class Deframer>
 Expected<Bytes, DriverError> receive_telegram(int fd, Deadline deadline, const StreamKind& kind,
                                               const std::string& name, Deframer& deframer,
-                                              std::deque<Bytes>& received, TransportCounters& counters) {
-  while (received.empty()) {
-    if (fd < 0) {
-      return fail(make_error(ErrorKind::connection_closed, "receive", name, "transport closed"));
-    }
-    std::array<std::uint8_t, kChunkBytes> chunk{};
-    const Expected<std::size_t, DriverError> count = read_when_ready(fd, chunk, deadline, kind, name);
-    if (!count) {
-      return fail(count.error());
-    }
-    for (auto& event : deframer.feed(ByteView(chunk.data(), *count))) {
+                                              std::deque<Bytes>& received, TransportCounters& counters,
+                                              std::optional<std::chrono::milliseconds> frame_gap = std::nullopt) {
+  const auto take = [&received](std::vector<protocol::DeframerEvent> events) {
+    for (auto& event : events) {
       if (auto* telegram = std::get_if<protocol::Telegram>(&event)) {
         received.push_back(std::move(telegram->payload));
       }
     }
+  };
+  Deadline last_byte = Clock::now();
+  while (received.empty()) {
+    if (fd < 0) {
+      return fail(make_error(ErrorKind::connection_closed, "receive", name, "transport closed"));
+    }
+    Deadline wait_until = deadline;
+    if constexpr (requires { deframer.abandon_frame(); }) {
+      if (frame_gap && deframer.in_frame()) {
+        wait_until = std::min(deadline, last_byte + *frame_gap);
+      }
+    }
+    std::array<std::uint8_t, kChunkBytes> chunk{};
+    const Expected<std::size_t, DriverError> count = read_when_ready(fd, chunk, wait_until, kind, name);
+    if (!count) {
+      if constexpr (requires { deframer.abandon_frame(); }) {
+        if (count.error().kind == ErrorKind::timeout && wait_until < deadline) {
+          take(deframer.abandon_frame());  // the gap passed inside a frame
+          last_byte = Clock::now();
+          continue;
+        }
+      }
+      return fail(count.error());
+    }
+    last_byte = Clock::now();
+    take(deframer.feed(ByteView(chunk.data(), *count)));
   }
   Bytes payload = std::move(received.front());
   received.pop_front();

@@ -102,7 +102,7 @@ Status TcpTransport::send(ByteView payload, Deadline deadline) {
 
 Expected<Bytes, DriverError> TcpTransport::receive(Deadline deadline) {
   return detail::receive_telegram<kReadChunkBytes>(fd_.get(), deadline, detail::kTcpStream, name_, deframer_, received_,
-                                                   counters_);
+                                                   counters_, kTcpFrameGap);
 }
 
 void TcpTransport::close() { fd_.reset(); }

@@ -4,6 +4,8 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <deque>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -32,19 +34,35 @@ std::uint8_t xor_checksum(ByteView payload);
 Expected<std::size_t, DecodeError> encode_tcp_frame_into(ByteView payload, std::span<std::uint8_t> out);
 Bytes encode_tcp_frame(ByteView payload);
 
+// What the deframer does with the bytes of a frame it drops.
+enum class TcpResync : std::uint8_t {
+  // Hunt on from the byte after the one that showed the error (the emulator's side: a host
+  // frame is answered or refused as a whole, D2).
+  after_error,
+  // Search the dropped frame's own bytes (after its magic) for the next header, so a frame cut
+  // short on the wire costs only itself, not the frames that followed it (the driver's side).
+  rescan_dropped,
+};
+
 // Streaming TCP deframer. Feed bytes in any chunking; each complete frame yields one event, in
 // stream order, independent of how the bytes were split.
 // - Bytes before a `02 55 53 50` header are skipped (counted in skipped_bytes()).
 // - A length above max_payload yields FramingError{too_large} and a bad XOR yields
-//   FramingError{bad_checksum, service WORD}; both count in dropped_frames() and hunt for the
-//   next header from the byte after the one that showed the error (the length's last byte, the
-//   checksum byte). Payload bytes of an oversized frame are therefore searched as garbage.
-// - Memory stays below kTcpHeaderSize + max_payload + 1 bytes.
+//   FramingError{bad_checksum, service WORD}; both count in dropped_frames(). With
+//   TcpResync::after_error the hunt for the next header starts from the byte after the one that
+//   showed the error (payload bytes of an oversized frame are searched as garbage); with
+//   rescan_dropped it starts again at the byte after the dropped frame's magic.
+// - Memory stays below 2 * (kTcpHeaderSize + max_payload + 1) bytes.
 class TcpDeframer {
  public:
-  explicit TcpDeframer(std::size_t max_payload = kMaxTelegramPayload);
+  explicit TcpDeframer(std::size_t max_payload = kMaxTelegramPayload, TcpResync resync = TcpResync::after_error);
 
   std::vector<DeframerEvent> feed(ByteView chunk);
+
+  // Gives up the frame in progress (its sender went quiet, spec 6: S1 aborts a frame after a
+  // gap): FramingError{truncated}, counted in dropped_frames(), and its bytes are searched again
+  // as rescan_dropped does. Nothing when no frame is in progress.
+  std::vector<DeframerEvent> abandon_frame();
 
   std::uint64_t dropped_frames() const { return dropped_frames_; }
   std::uint64_t skipped_bytes() const { return skipped_bytes_; }
@@ -56,14 +74,17 @@ class TcpDeframer {
   enum class State { hunting, length, payload, checksum };
   void consume(std::uint8_t byte, std::vector<DeframerEvent>& events);
   void hunt(std::uint8_t byte);
-  void drop(FramingError error, std::vector<DeframerEvent>& events);
+  void drop(FramingError error, std::vector<DeframerEvent>& events, std::optional<std::uint8_t> last_byte);
+  void replay(std::vector<DeframerEvent>& events);
 
   std::size_t max_payload_;
+  TcpResync resync_;
   State state_ = State::hunting;
   std::size_t magic_matched_ = 0;
   std::size_t length_bytes_ = 0;
   std::uint32_t length_ = 0;
   Bytes payload_;
+  std::deque<std::uint8_t> replay_;  // bytes of dropped frames still to be searched again
   std::uint64_t dropped_frames_ = 0;
   std::uint64_t skipped_bytes_ = 0;
 };

@@ -14,8 +14,10 @@
 //   7 * DEVICES
 // Reply:    ID OK COMMAND [KEY=VALUE ...]      values percent-escaped (%20 for a space)
 //           ID ERR KIND MESSAGE...             KIND one token (error_kind_token), MESSAGE free text
-// Unsolicited lines use the ID `*` (the greeting `* OK HELLO femh=F3 protocol=1`). A line that
-// cannot be parsed far enough to know its ID is answered with the ID `-`.
+// Unsolicited lines use the ID `*` (the greeting `* OK HELLO femh=F3 protocol=1`, and a device's
+// health: `* OK FAULT device=NAME handler=Bn kind=KIND recovery=R [status_byte=N] detail=TEXT`,
+// `* OK RECOVERED device=NAME handler=Bn`). A line that cannot be parsed far enough to know its
+// ID is answered with the ID `-`.
 #pragma once
 
 #include <chrono>
@@ -116,6 +118,8 @@ std::optional<std::string> unescape_value(std::string_view text);
 std::string_view error_kind_token(ErrorKind kind);
 // The hub's own kinds (bad_request, unknown_command, unknown_device) map to invalid_argument.
 ErrorKind error_kind_from_token(std::string_view token);
+// driver::Recovery as one token: retry reconnect reset_device none.
+std::string_view recovery_token(driver::Recovery recovery);
 
 // ------------------------------------------------------------- typed reply fields
 // status=HEX8 (the 4-byte status block) mode=idle|rotate|measure|error|0xN motor=ok|...

@@ -1,6 +1,7 @@
 // A Device made of a scanner reached through libldoem (any Transport) and, optionally, the
 // tilt stepper on an LPT port (D8). Nothing is opened at construction: the transport opens at
-// INITIALIZE (and again at the next INITIALIZE after the connection was lost), the LPT port at
+// INITIALIZE (and at the next INITIALIZE after the connection was lost, through
+// Scanner::reconnect with options.scanner.reconnect's bounded attempts), the LPT port at
 // the first MOVEMOTOR, so a hub starts even when a device is not there yet.
 #pragma once
 
@@ -63,7 +64,7 @@ class ScannerDevice final : public Device {
  private:
   Expected<driver::Scanner*, DriverError> connected_scanner(const char* operation);
   Expected<DeviceInfo, DriverError> configure(driver::Scanner& scanner, const InitializeRequest& request);
-  // Forgets a scanner whose connection is gone, so that the next INITIALIZE reopens it.
+  // Closes a scanner whose connection is gone, so that the next INITIALIZE reconnects it.
   template <class T>
   Expected<T, DriverError> watch(Expected<T, DriverError> result);
 

@@ -34,11 +34,26 @@ namespace ldoem::driver {
 inline constexpr std::chrono::milliseconds kDefaultRequestTimeout{5000};
 inline constexpr std::chrono::milliseconds kDefaultRotateTimeout{10000};
 
+using TransportOpener = std::function<Expected<std::unique_ptr<Transport>, DriverError>()>;
+
+// How reconnect() tries: `attempts` openings plus GET_STATUS, `interval` apart. The default
+// rides out a power cycle of up to about 5 s (D11 power_cycle's off_s; the LD-OEM boots in
+// that time) and then gives up: bounded, never a loop.
+struct ReconnectPolicy {
+  std::uint32_t attempts = 10;
+  std::chrono::milliseconds interval{500};
+};
+
 struct ScannerOptions {
   std::chrono::milliseconds request_timeout = kDefaultRequestTimeout;
   std::chrono::milliseconds rotate_timeout = kDefaultRotateTimeout;
   // The format set_state(LifecycleState::active) streams with (S1's range format).
   std::uint16_t stream_format = protocol::kFormatRange;
+  // Opens the transport again for reconnect(); empty: reconnect() is unsupported.
+  TransportOpener reopen;
+  ReconnectPolicy reconnect;
+  // How reconnect() waits between attempts. Empty: std::this_thread::sleep_for.
+  std::function<void(std::chrono::milliseconds)> sleep;
   // Where "now" comes from when a timeout becomes a deadline. Empty: Clock::now. Tests inject
   // a fixed clock to check the exact deadlines handed to the transport.
   std::function<Deadline()> clock;
@@ -68,6 +83,7 @@ struct ScannerCounters {
   std::uint64_t profiles_queued = 0;    // profiles that arrived while a reply was awaited
   std::uint64_t profiles_delivered = 0;
   std::uint64_t profiles_skipped = 0;   // 0x8301 with another format than the stream's
+  std::uint64_t reconnects = 0;         // successful reconnect() calls
 };
 
 class Scanner {
@@ -86,6 +102,14 @@ class Scanner {
   Expected<protocol::GetStatusReply, DriverError> connect();
   // Closes the transport (without CANCEL_PROFILE; set_state(closed) sends one when Active).
   void close();
+  // After a connection_closed (a TCP reset, a power cycle) or any error the caller wants to
+  // start afresh from: closes the transport, forgets queued profiles and the stream, and tries
+  // options().reconnect.attempts times, interval apart, to open the transport again
+  // (options().reopen) and get a GET_STATUS answered. Success: Connected, the status returned
+  // (after a power cycle the D4 power-up state: IDLE, RAM configuration lost). Failure: the
+  // last attempt's error, with the attempt count in its detail; the handle stays Closed.
+  // unsupported when options().reopen is empty. The one way out of Closed.
+  Expected<protocol::GetStatusReply, DriverError> reconnect();
 
   // ------------------------------------------------------------------- status group 0x01
   Expected<protocol::GetStatusReply, DriverError> get_status();
@@ -128,7 +152,9 @@ class Scanner {
 
   // ------------------------------------------------------------------- working group 0x04
   // Each returns the status block after the transition. In Active, a successful TRANS_* or
-  // DO_RESET ends the stream (D10): the state becomes Connected.
+  // DO_RESET ends the stream (D10): the state becomes Connected. A TRANS_ROTATE or
+  // TRANS_MEASURE reply whose status reports a fault (motor nibble, sensor ERROR: D11) is the
+  // error device_fault carrying the status byte.
   Expected<protocol::StatusBlock, DriverError> trans_idle();
   // `frequency_hz` 0 = the configured speed (spec 3.3); `timeout` default: options'
   // rotate_timeout (10 s, spin-up, spec 6).
@@ -146,7 +172,8 @@ class Scanner {
   Status get_profile(std::uint16_t count, std::uint16_t format);
   // The next profile of the stream, queued ones first. Errors: timeout at `deadline`,
   // service_failure (the device refused GET_PROFILE: state back to Connected),
-  // unexpected_reply (a profile that does not decode), wrong_state (no stream and no queue).
+  // corrupted_reply (a profile that does not decode: cut short on the way; the stream goes on),
+  // wrong_state (no stream and no queue).
   // After the count-th profile of a finite request the state returns to Connected.
   Expected<protocol::Profile, DriverError> next_profile(Deadline deadline);
   // Stops the stream; returns the status block. State back to Connected.
@@ -173,6 +200,8 @@ class Scanner {
   template <class Body>
   Expected<Body, DriverError> get_config_as();
   Expected<protocol::Profile, DriverError> deliver_profile(const Bytes& payload);
+  Status check_device_status(const protocol::StatusBlock& status, std::uint16_t request_code) const;
+  void sleep_for(std::chrono::milliseconds pause) const;
   void end_stream();
 
   std::unique_ptr<Transport> transport_;

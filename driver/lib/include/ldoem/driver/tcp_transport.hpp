@@ -15,6 +15,10 @@ namespace ldoem::driver {
 
 // Spec 6: S1 gives the connect 1 s.
 inline constexpr std::chrono::milliseconds kTcpConnectTimeout{1000};
+// A frame that started but got no byte for this long is given up and its bytes searched again
+// for the next header (a frame cut short on the wire). S1 aborts after 35 ms (spec 6); we allow
+// more, so a busy host or a slow link does not lose frames that are still coming.
+inline constexpr std::chrono::milliseconds kTcpFrameGap{500};
 
 class TcpTransport final : public Transport {
  public:
@@ -29,7 +33,9 @@ class TcpTransport final : public Transport {
 
   // One frame per spec 4.1, handed to the kernel in one write (D10).
   Status send(ByteView payload, Deadline deadline) override;
-  // Frames with a bad checksum are dropped silently as S1 does, and counted.
+  // Frames with a bad checksum are dropped silently as S1 does, and counted; their bytes are
+  // searched again for the next header, and a frame silent for kTcpFrameGap is given up, so
+  // corrupted, truncated or garbage bytes cost only the frame they hit (resynchronisation).
   Expected<Bytes, DriverError> receive(Deadline deadline) override;
   void close() override;
   const std::string& name() const override { return name_; }
@@ -40,7 +46,7 @@ class TcpTransport final : public Transport {
 
   base::UniqueFd fd_;
   std::string name_;
-  protocol::TcpDeframer deframer_;
+  protocol::TcpDeframer deframer_{protocol::kMaxTelegramPayload, protocol::TcpResync::rescan_dropped};
   std::deque<Bytes> received_;
   TransportCounters counters_;
 };
