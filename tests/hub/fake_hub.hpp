@@ -27,6 +27,7 @@ class FakeDevice final : public Device {
   std::atomic<int> overlaps{0};
   std::atomic<int> calls{0};
   std::atomic<bool> fail_status{false};
+  std::atomic<bool> motor_fault{false};  // status 0xB4; ROTATE fails with device_fault (D11)
   std::mutex gate;  // ROTATE waits while a test holds it
   std::atomic<int> rotate_started{0};
   std::atomic<bool> blocking_moves{false};
@@ -48,6 +49,9 @@ class FakeDevice final : public Device {
     ++rotate_started;
     std::lock_guard wait_for_gate(gate);
     Guard guard(*this);
+    if (motor_fault.load()) {
+      return driver::fail(*driver::device_fault_in(faulted(), "TRANS_ROTATE", "fake"));
+    }
     return block(static_cast<std::uint8_t>(hz));
   }
   Expected<StatusBlock, DriverError> measure() override {
@@ -84,7 +88,7 @@ class FakeDevice final : public Device {
     if (fail_status.load()) {
       return driver::fail(driver::make_error(ErrorKind::timeout, "GET_STATUS", "fake", "scripted timeout"));
     }
-    return block(0);
+    return motor_fault.load() ? faulted() : block(0);
   }
 
  private:
@@ -100,6 +104,8 @@ class FakeDevice final : public Device {
     ~Guard() { device_.inside_.store(false); }
     FakeDevice& device_;
   };
+
+  static StatusBlock faulted() { return protocol::make_status_block(protocol::SensorMode::error, protocol::MotorMode::fault); }
 
   StatusBlock block(std::uint8_t detail) const {
     StatusBlock status = protocol::make_status_block(protocol::SensorMode::rotate, protocol::MotorMode::ok);

@@ -60,9 +60,11 @@ void BackEndHandler::run() {
     if (job.client_alive && !job.client_alive->load()) {
       continue;  // nobody would read the reply; do not move hardware for a departed client
     }
+    job_error_.reset();
     HubReply reply = execute(job.request);
     executed_jobs_.fetch_add(1);
-    on_done_(BackendResult{std::move(job.frontend_id), device_name_, std::move(reply)});
+    std::optional<HubReply> notice = health_notice(reply);
+    on_done_(BackendResult{std::move(job.frontend_id), device_name_, std::move(reply), std::move(notice)});
   }
 }
 
@@ -75,7 +77,41 @@ void BackEndHandler::remember_status(const StatusBlock& status) {
   latest_status_ = CachedStatus{status, Clock::now()};
 }
 
-HubReply BackEndHandler::device_error(const HubRequest& request, const DriverError& error) const {
+std::optional<HubReply> BackEndHandler::health_notice(const HubReply& reply) {
+  std::vector<ReplyField> fields{{"device", device_name_}, {"handler", handler_id_}};
+  std::optional<DriverError> fault;
+  if (job_error_ && (job_error_->kind == ErrorKind::device_fault || job_error_->kind == ErrorKind::connection_closed)) {
+    fault = job_error_;
+  } else if (reply.ok) {
+    if (const auto status = status_from(reply)) {
+      fault = driver::device_fault_in(*status, reply.command, device_name_);
+    }
+  }
+  if (fault) {
+    // The same fault seen again (by STATUS after ROTATE failed) is not news.
+    const std::string what = std::string(error_kind_token(fault->kind)) + ":" +
+                             std::to_string(fault->device_status.value_or(0));
+    if (announced_fault_ == what) {
+      return std::nullopt;  // said already; the asker has its own reply
+    }
+    announced_fault_ = what;
+    fields.emplace_back("kind", std::string(error_kind_token(fault->kind)));
+    fields.emplace_back("recovery", std::string(recovery_token(driver::recovery_for(*fault))));
+    if (fault->device_status) {
+      fields.emplace_back("status_byte", std::to_string(*fault->device_status));
+    }
+    fields.emplace_back("detail", describe(*fault));
+    return ok_reply(std::string(kUnsolicitedId), "FAULT", std::move(fields));
+  }
+  if (reply.ok && announced_fault_) {
+    announced_fault_.reset();
+    return ok_reply(std::string(kUnsolicitedId), "RECOVERED", std::move(fields));
+  }
+  return std::nullopt;
+}
+
+HubReply BackEndHandler::device_error(const HubRequest& request, const DriverError& error) {
+  job_error_ = error;
   return error_reply(request.id, std::string(error_kind_token(error.kind)),
                      device_name_ + " (" + handler_id_ + "): " + driver::describe(error));
 }

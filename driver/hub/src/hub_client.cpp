@@ -173,12 +173,29 @@ Expected<HubReply, DriverError> HubClient::call(const std::string& device, const
     if (reply->id == id) {
       return std::move(reply.value());
     }
+    if (reply->id == kUnsolicitedId) {
+      keep_notice(std::move(reply.value()));  // a device's FAULT / RECOVERED, not our answer
+      continue;
+    }
     if (reply->id == kUnknownId) {
       // The hub could not read our id: this is the answer to the line we just sent.
       return std::move(reply.value());
     }
     early_replies_[reply->id] = std::move(reply.value());
   }
+}
+
+void HubClient::keep_notice(HubReply notice) {
+  if (notices_.size() >= kMaxKeptNotices) {
+    notices_.pop_front();  // bounded: the oldest goes
+  }
+  notices_.push_back(std::move(notice));
+}
+
+std::vector<HubReply> HubClient::take_notices() {
+  std::vector<HubReply> taken(std::make_move_iterator(notices_.begin()), std::make_move_iterator(notices_.end()));
+  notices_.clear();
+  return taken;
 }
 
 // ---------------------------------------------------------------------------------- HubDevice

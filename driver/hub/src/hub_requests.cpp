@@ -108,6 +108,18 @@ void Hub::Impl::deliver_completions() {
     ready.swap(completions);
   }
   for (BackendResult& result : ready) {
+    if (result.notice) {
+      // A device's health is news for every client, not only the asker. send_reply may drop a
+      // slow client, so the tags are taken first.
+      std::vector<std::uint64_t> everyone;
+      everyone.reserve(clients.size());
+      for (const auto& entry : clients) {
+        everyone.push_back(entry.first);
+      }
+      for (const std::uint64_t client_tag : everyone) {
+        send_reply(client_tag, *result.notice);
+      }
+    }
     const auto tag = tag_by_frontend.find(result.frontend_id);
     if (tag == tag_by_frontend.end()) {
       continue;  // the client left; its reply has nobody to go to

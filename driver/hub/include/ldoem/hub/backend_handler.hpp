@@ -46,6 +46,9 @@ struct BackendResult {
   std::string frontend_id;
   std::string device;
   HubReply reply;
+  // An unsolicited line for every client (`* OK FAULT ...`, `* OK RECOVERED ...`), when this job
+  // changed what the hub knows of the device's health.
+  std::optional<HubReply> notice;
 };
 
 struct BackendSettings {
@@ -79,9 +82,13 @@ class BackEndHandler {
   void run();
   HubReply execute(const HubRequest& request);
   HubReply reply_from_status(const HubRequest& request, const Expected<StatusBlock, DriverError>& result);
-  HubReply device_error(const HubRequest& request, const DriverError& error) const;
+  HubReply device_error(const HubRequest& request, const DriverError& error);
   std::vector<ReplyField> source_fields() const;
   void remember_status(const StatusBlock& status);
+  // The notice the outcome of a job calls for: FAULT when the device shows a fault it did not
+  // show before (a faulted status, a device_fault error, a lost connection), RECOVERED when a
+  // later job succeeds with a healthy status.
+  std::optional<HubReply> health_notice(const HubReply& reply);
 
   const std::string handler_id_;
   const std::string device_name_;
@@ -96,6 +103,9 @@ class BackEndHandler {
   std::optional<CachedStatus> latest_status_;
   std::optional<CachedProfile> latest_profile_;
   std::atomic<std::uint64_t> executed_jobs_{0};
+  // Worker thread only: the error of the job being executed, and the fault last announced.
+  std::optional<DriverError> job_error_;
+  std::optional<std::string> announced_fault_;
 
   std::thread worker_;  // last: starts after every other member exists
 };

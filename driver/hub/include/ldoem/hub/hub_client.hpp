@@ -5,9 +5,11 @@
 
 #include <chrono>
 #include <cstdint>
+#include <deque>
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "ldoem/driver/transport.hpp"
 #include "ldoem/hub/device_vocabulary.hpp"
@@ -32,8 +34,12 @@ class HubClient {
   // The next reply line from the hub, whatever its id.
   Expected<HubReply, DriverError> receive(Deadline deadline);
   // Sends the request with a fresh id ("c1", "c2", ...) and returns the reply carrying that
-  // id; replies to other ids that arrive meanwhile are kept for their own call.
+  // id; replies to other ids that arrive meanwhile are kept for their own call, unsolicited
+  // notices (`* OK FAULT ...`, `* OK RECOVERED ...`) for take_notices().
   Expected<HubReply, DriverError> call(const std::string& device, const HubCommand& command, Deadline deadline);
+  // The notices call() has kept (at most kMaxKeptNotices, the newest), oldest first; clears them.
+  std::vector<HubReply> take_notices();
+  static constexpr std::size_t kMaxKeptNotices = 64;
 
   // The FEMH id the hub gave this connection.
   const std::string& frontend_id() const { return frontend_id_; }
@@ -42,6 +48,7 @@ class HubClient {
  private:
   HubClient(int fd, std::string name) : fd_(fd), name_(std::move(name)) {}
   Expected<std::string, DriverError> read_line(Deadline deadline);
+  void keep_notice(HubReply notice);
 
   int fd_;
   std::string name_;
@@ -49,6 +56,7 @@ class HubClient {
   std::string input_;
   std::uint64_t next_id_ = 1;
   std::map<std::string, HubReply> early_replies_;
+  std::deque<HubReply> notices_;
 };
 
 struct HubDeviceOptions {
