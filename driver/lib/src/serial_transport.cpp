@@ -95,6 +95,7 @@ void SerialTransport::close() { fd_.reset(); }
 TransportCounters SerialTransport::counters() const {
   TransportCounters counters = counters_;
   counters.dropped_frames = reassembler_.dropped_frames();
+  counters.skipped_bytes = reassembler_.skipped_bytes();
   return counters;
 }
 

@@ -12,34 +12,19 @@ using protocol::SimTime;
 
 namespace {
 
-faults::Transport transport_of(control::TransportKind kind) {
-  switch (kind) {
-    case control::TransportKind::tcp: return faults::Transport::tcp;
-    case control::TransportKind::serial: return faults::Transport::serial;
-    case control::TransportKind::can: return faults::Transport::can;
-  }
-  return faults::Transport::tcp;
-}
-
-// The request a telegram to the host answers: its code without the response bit, the request
-// code inside a SERVICE_FAILURE, GET_PROFILE for a profile.
-std::uint16_t answered_request(protocol::ByteView payload) {
-  if (payload.size() < 2) return 0;
-  const auto code = static_cast<std::uint16_t>((payload[0] << 8) | payload[1]);
-  if (code == protocol::code_of(protocol::Service::service_failure)) {
-    return payload.size() >= 4 ? static_cast<std::uint16_t>((payload[2] << 8) | payload[3]) : 0;
-  }
-  return static_cast<std::uint16_t>(code & ~protocol::kResponseBit);
-}
-
 // The wire faults the tap itself produces (telegram level). The others act inside an endpoint
 // (framing, ISO-TP frames, TCP pacing) or on the LPT.
 constexpr FaultKind kTapKinds[] = {FaultKind::drop_reply, FaultKind::delay_reply, FaultKind::duplicate_reply,
                                    FaultKind::truncate_reply, FaultKind::tcp_reset};
 
+// The wire faults the endpoints produce through the fault hook (endpoint_faults.hpp).
+constexpr FaultKind kEndpointKinds[] = {FaultKind::corrupt_checksum, FaultKind::garbage, FaultKind::tcp_stall,
+                                        FaultKind::bandwidth};
+
 bool produced_here(FaultKind kind) {
   if (faults::info(kind).fault_class == faults::FaultClass::device) return true;
   if (kind == FaultKind::can_silence) return true;
+  if (std::find(std::begin(kEndpointKinds), std::end(kEndpointKinds), kind) != std::end(kEndpointKinds)) return true;
   return std::find(std::begin(kTapKinds), std::end(kTapKinds), kind) != std::end(kTapKinds);
 }
 
@@ -51,6 +36,7 @@ FaultWiring::FaultWiring(DeviceInstance& device, endpoints::Scheduler& scheduler
 
 FaultWiring::~FaultWiring() {
   if (deadline_) scheduler_.cancel(*deadline_);
+  device_.set_fault_hook(nullptr);
 }
 
 protocol::Expected<std::unique_ptr<FaultWiring>, std::string> FaultWiring::create(
@@ -65,12 +51,19 @@ protocol::Expected<std::unique_ptr<FaultWiring>, std::string> FaultWiring::creat
   }
   wiring->injector_ = std::make_unique<fault_injection::FaultInjector>(
       scene.faults, scene.seed, scene.effects.has(scene::Effect::head_dynamics), device.unit_for_faults());
+  FaultWiring* self = wiring.get();
+  wiring->endpoint_faults_ = std::make_unique<EndpointFaults>(
+      *wiring->injector_, [self](const std::vector<faults::FaultEvent>& used) {
+        fault_injection::InjectorOutput output;
+        self->injector_->events_from(used, output);
+        for (const auto& event : output.events) self->publish(event);
+      });
+  device.set_fault_hook(wiring->endpoint_faults_.get());
   if (setup.event_log_path) {
     wiring->event_log_.open(*setup.event_log_path, std::ios::out | std::ios::trunc);
     if (!wiring->event_log_) return protocol::Unexpected("--event-log " + *setup.event_log_path + ": cannot open");
   }
   if (setup.control_path) {
-    FaultWiring* self = wiring.get();
     auto server = control_socket::ControlServer::open(
         loop, *setup.control_path, control_socket::greeting_line(setup.version),
         [self](std::string_view line) { return control_socket::handle_line(line, *self); });

@@ -3,6 +3,7 @@
 #include <variant>
 
 #include "ldoem/endpoints/read_budget.hpp"
+#include "ldoem/protocol/wire_corruption.hpp"
 
 namespace ldoem::endpoints {
 
@@ -36,15 +37,27 @@ void SerialEndpoint::on_ready(io::Readiness readiness) {
   }
 }
 
-void SerialEndpoint::send(ConnectionId, protocol::ByteView payload) {
+void SerialEndpoint::send(ConnectionId to, protocol::ByteView payload) {
   // All packages of the reply in one write (D10).
-  if (!output_.push(protocol::encode_serial_reply(payload))) {
+  const bool pushed = fault_hook_ == nullptr ? output_.push(protocol::encode_serial_reply(payload))
+                                             : output_.push(faulty_reply(to, payload));
+  if (!pushed) {
     // Nobody reads the line: a real LD would lose the bytes on the wire as well.
     ++context_->counters.serial_overflows;
     output_.clear();
     return;
   }
   flush();
+}
+
+// D11 corrupt_checksum (the first package's CRC) and garbage (before the first package).
+protocol::Bytes SerialEndpoint::faulty_reply(ConnectionId to, protocol::ByteView payload) {
+  TelegramFaults faults = fault_hook_->on_outgoing_telegram(to, payload, context_->scheduler.now());
+  std::vector<protocol::Bytes> packages = protocol::encode_serial_reply_packages(payload);
+  if (faults.corrupt_checksum && !packages.empty()) protocol::corrupt_serial_crc(packages.front());
+  protocol::Bytes reply = std::move(faults.garbage_before);
+  for (const protocol::Bytes& package : packages) reply.insert(reply.end(), package.begin(), package.end());
+  return reply;
 }
 
 void SerialEndpoint::flush() {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "ldoem/endpoints/read_budget.hpp"
+#include "ldoem/protocol/wire_corruption.hpp"
 
 namespace ldoem::endpoints {
 
@@ -54,7 +55,7 @@ void TcpEndpoint::on_listener_ready() {
     const std::uint32_t index = next_index_++;
     const int fd = (*accepted)->fd();
     context_->logger.log(LogLevel::info, "tcp#" + std::to_string(index) + " connected from " + (*accepted)->peer());
-    clients_.emplace(index, Client{std::move(**accepted), protocol::TcpDeframer(), OutputQueue()});
+    clients_.emplace(index, Client{std::move(**accepted), protocol::TcpDeframer(), OutputQueue(), {}, false, {}});
     ++context_->counters.tcp_connections;
     if (auto watched = context_->loop.watch(fd, io::Interest::readable,
                                             [this, index](io::Readiness r) { on_client_ready(index, r); });
@@ -100,6 +101,10 @@ void TcpEndpoint::resume_listener() {
 void TcpEndpoint::on_client_ready(std::uint32_t index, io::Readiness readiness) {
   ++context_->activity;
   const ConnectionId connection{TransportKind::tcp, index};
+  if (fault_hook_ != nullptr) {
+    const auto client = clients_.find(index);
+    if (client != clients_.end() && stalled(index, client->second)) return;  // D11 tcp_stall: nothing is read
+  }
   if (readiness.writable) {
     flush(index);
   }
@@ -144,7 +149,17 @@ void TcpEndpoint::send(ConnectionId to, protocol::ByteView payload) {
   if (client == clients_.end()) {
     return;  // the connection closed before its reply was ready
   }
-  if (!client->second.output.push(protocol::encode_tcp_frame(payload))) {
+  protocol::Bytes frame = protocol::encode_tcp_frame(payload);
+  if (fault_hook_ != nullptr) {
+    // D11 corrupt_checksum, garbage: the frame as a faulty wire delivers it.
+    TelegramFaults faults = fault_hook_->on_outgoing_telegram(to, payload, context_->scheduler.now());
+    if (faults.corrupt_checksum) protocol::corrupt_tcp_checksum(frame);
+    if (!faults.garbage_before.empty()) {
+      faults.garbage_before.insert(faults.garbage_before.end(), frame.begin(), frame.end());
+      frame = std::move(faults.garbage_before);
+    }
+  }
+  if (!client->second.output.push(frame)) {
     ++context_->counters.tcp_dropped_slow;
     drop(to.index, "output queue over " + std::to_string(client->second.output.max_bytes()) +
                        " bytes (host does not read)");
@@ -157,6 +172,7 @@ void TcpEndpoint::flush(std::uint32_t index) {
   const auto client = clients_.find(index);
   if (client == clients_.end()) return;
   OutputQueue& output = client->second.output;
+  if (fault_hook_ != nullptr && (stalled(index, client->second) || paced(index, client->second))) return;
   while (!output.empty()) {
     // One send per telegram while the kernel has room (D10, spec 6: no gap inside a frame).
     auto sent = client->second.connection.send(output.front());
@@ -176,6 +192,7 @@ void TcpEndpoint::drop(std::uint32_t index, std::string_view why) {
   if (client == clients_.end()) return;
   context_->logger.log(LogLevel::info, "tcp#" + std::to_string(index) + " closed: " + std::string(why));
   context_->loop.unwatch(client->second.connection.fd());
+  if (client->second.fault_resume) context_->scheduler.cancel(*client->second.fault_resume);
   clients_.erase(client);
   resume_listener();  // a descriptor is free again
   context_->sink.on_connection_closed(ConnectionId{TransportKind::tcp, index});

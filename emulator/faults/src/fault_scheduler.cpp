@@ -30,6 +30,19 @@ double fault_draw(std::uint64_t seed, std::uint64_t entry_index, std::uint64_t r
   return static_cast<double>(bits >> 11) * 0x1.0p-53;
 }
 
+std::vector<std::uint8_t> fault_garbage(std::uint64_t seed, std::uint64_t id, std::size_t count) {
+  constexpr std::uint64_t kGarbageStreamTag = 0x6A5BA6E0'0000'0011ULL;
+  constexpr std::uint8_t kFrameStart = 0x02;  // TCP magic's first byte, serial STX
+  std::vector<std::uint8_t> bytes(count);
+  const std::uint64_t key = mix64(mix64(seed ^ kGarbageStreamTag) + id);
+  for (std::size_t i = 0; i < count; ++i) {
+    auto byte = static_cast<std::uint8_t>(mix64(key + i) & 0xFF);
+    if (byte == kFrameStart) byte = static_cast<std::uint8_t>(~kFrameStart);
+    bytes[i] = byte;
+  }
+  return bytes;
+}
+
 FaultScheduler::FaultScheduler(std::vector<FaultSpec> scene_faults, std::uint64_t seed) : seed_(seed) {
   for (std::size_t i = 0; i < scene_faults.size(); ++i) {
     entries_.push_back(Entry{std::move(scene_faults[i]), i, false, 0});
@@ -48,7 +61,8 @@ void FaultScheduler::activate(SimTime now, FaultSpec spec, std::string origin, s
   // Wire faults with neither act on one telegram (lpt_jam: until cleared, it has no telegrams).
   if (!spec.duration && !spec.count && info(spec.kind).fault_class == FaultClass::wire &&
       spec.kind != FaultKind::lpt_jam && spec.kind != FaultKind::can_silence &&
-      spec.kind != FaultKind::tcp_stall && spec.kind != FaultKind::bandwidth) {
+      spec.kind != FaultKind::tcp_stall && spec.kind != FaultKind::bandwidth &&
+      spec.kind != FaultKind::isotp_fc_wait) {
     fault.remaining = 1;
   }
   fault.spec = std::move(spec);
@@ -135,15 +149,16 @@ void FaultScheduler::clear_all(SimTime now, std::string_view reason, std::vector
   while (!active_.empty()) remove_at(0, now, std::string(reason), events);
 }
 
-bool FaultScheduler::matches(const ActiveFault& fault, Transport transport, std::uint16_t service) const {
+bool FaultScheduler::matches(const ActiveFault& fault, Transport transport, std::optional<std::uint16_t> service) const {
   if (!applies_to(fault.spec.kind, transport)) return false;
   if (fault.spec.transport && *fault.spec.transport != transport) return false;
-  if (fault.spec.service && *fault.spec.service != service) return false;
+  if (service && fault.spec.service && *fault.spec.service != *service) return false;
   return true;
 }
 
 std::optional<ActiveFault> FaultScheduler::take_wire_fault(SimTime now, FaultKind kind, Transport transport,
-                                                           std::uint16_t service, std::vector<FaultEvent>& events) {
+                                                           std::optional<std::uint16_t> service,
+                                                           std::vector<FaultEvent>& events) {
   for (std::size_t i = 0; i < active_.size(); ++i) {
     ActiveFault& fault = active_[i];
     if (fault.spec.kind != kind || !matches(fault, transport, service)) continue;
@@ -179,6 +194,15 @@ bool FaultScheduler::is_active(FaultKind kind) const { return find_active(kind) 
 const ActiveFault* FaultScheduler::find_active(FaultKind kind) const {
   for (const ActiveFault& fault : active_) {
     if (fault.spec.kind == kind) return &fault;
+  }
+  return nullptr;
+}
+
+const ActiveFault* FaultScheduler::find_active_on(SimTime now, FaultKind kind, Transport transport) const {
+  for (const ActiveFault& fault : active_) {
+    if (fault.spec.kind != kind || !matches(fault, transport, std::nullopt)) continue;
+    if (fault.until && *fault.until <= now) continue;
+    return &fault;
   }
   return nullptr;
 }

@@ -120,6 +120,7 @@ class SerialReplyReassembler {
   explicit SerialReplyReassembler(std::size_t max_payload = kMaxTelegramPayload);
   std::vector<DeframerEvent> feed(ByteView chunk);
   std::uint64_t dropped_frames() const { return dropped_frames_; }
+  std::uint64_t skipped_bytes() const { return scanner_.skipped_bytes(); }
   bool in_reply() const { return remaining_packages_ > 0; }
   void reset();
 

@@ -54,6 +54,11 @@ class DeviceInstance final : public endpoints::EndpointSink, public endpoints::L
 
   // Every telegram in and out passes `tap` (null: none). The tap must outlive the instance.
   void set_wire_tap(endpoints::WireTap* tap) { tap_ = tap; }
+  // D11 faults below the telegram: `hook` goes to every endpoint (null: none). It must outlive them
+  // or be unset first.
+  void set_fault_hook(endpoints::WireFaultHook* hook) {
+    for (const auto& endpoint : endpoints_) endpoint->set_fault_hook(hook);
+  }
   endpoints::WireTap* wire_tap() const { return tap_; }
   // For a tap that delays or resets: these do not pass the tap again.
   void deliver_from_host(control::ConnectionId from, protocol::Bytes payload);

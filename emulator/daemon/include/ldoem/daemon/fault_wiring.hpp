@@ -1,7 +1,8 @@
 // ldoem-emud's fault machinery (D11), built only when the scene names faults or --control is
 // given (D9: a scene without faults pays nothing). It is the device's WireTap: it counts
-// requests for the triggers, applies the wire faults to telegrams, and keeps the device silent
-// while powered off. It drives the FaultInjector from the daemon's simulated clock, serves the
+// requests for the triggers, applies the telegram-level wire faults, and keeps the device silent
+// while powered off; and it gives the endpoints their fault hook (endpoint_faults.hpp) for the
+// faults below the telegram. It drives the FaultInjector from the daemon's simulated clock, serves the
 // control socket and writes the event log.
 #pragma once
 
@@ -15,6 +16,7 @@
 #include "ldoem/control_socket/control_protocol.hpp"
 #include "ldoem/control_socket/control_server.hpp"
 #include "ldoem/daemon/device_instance.hpp"
+#include "ldoem/daemon/endpoint_faults.hpp"
 #include "ldoem/endpoints/scheduler.hpp"
 #include "ldoem/endpoints/wire_tap.hpp"
 #include "ldoem/fault_injection/fault_injector.hpp"
@@ -59,6 +61,7 @@ class FaultWiring final : public endpoints::WireTap, public control_socket::Cont
   const endpoints::Logger& logger_;
   std::function<void()> stop_;
   std::unique_ptr<fault_injection::FaultInjector> injector_;
+  std::unique_ptr<EndpointFaults> endpoint_faults_;  // the endpoints' fault hook
   std::unique_ptr<control_socket::ControlServer> server_;
   std::ofstream event_log_;
   std::optional<endpoints::Scheduler::Key> deadline_;

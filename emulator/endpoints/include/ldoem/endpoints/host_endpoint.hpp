@@ -23,6 +23,7 @@
 #include "ldoem/endpoints/counters.hpp"
 #include "ldoem/endpoints/logger.hpp"
 #include "ldoem/endpoints/scheduler.hpp"
+#include "ldoem/endpoints/wire_fault_hook.hpp"
 #include "ldoem/io/event_loop.hpp"
 #include "ldoem/protocol/bytes.hpp"
 #include "ldoem/protocol/config.hpp"
@@ -106,6 +107,13 @@ class HostEndpoint {
   virtual void take_pending_input() {}
   // Counts kept inside the endpoint (the ISO-TP channels'), added to `counters` on demand.
   virtual void add_counters(Counters& /*counters*/) const {}
+
+  // D11 wire faults below the telegram (wire_fault_hook.hpp); null (the default): none, at no cost.
+  // The hook must outlive the endpoint's use of it.
+  void set_fault_hook(WireFaultHook* hook) { fault_hook_ = hook; }
+
+ protected:
+  WireFaultHook* fault_hook_ = nullptr;
 };
 
 }  // namespace ldoem::endpoints

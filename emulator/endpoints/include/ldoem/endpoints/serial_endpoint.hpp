@@ -26,6 +26,7 @@ class SerialEndpoint final : public HostEndpoint {
  private:
   void on_ready(io::Readiness readiness);
   void flush();
+  protocol::Bytes faulty_reply(ConnectionId to, protocol::ByteView payload);
 
   std::filesystem::path link_path_;
   EndpointContext* context_ = nullptr;

@@ -36,6 +36,11 @@ class TcpEndpoint final : public HostEndpoint {
     io::TcpConnection connection;
     protocol::TcpDeframer deframer;
     OutputQueue output;
+    // D11 tcp_stall and bandwidth (only with a fault hook): the deadline that resumes reading and
+    // writing, or writes the next paced piece; whether the descriptor is unwatched (stalled).
+    std::optional<Scheduler::Key> fault_resume;
+    bool stalled = false;
+    SimTime wire_free_at{};  // bandwidth: when the last paced piece was on the wire
   };
 
   void on_listener_ready();
@@ -44,6 +49,11 @@ class TcpEndpoint final : public HostEndpoint {
   void on_client_ready(std::uint32_t index, io::Readiness readiness);
   void flush(std::uint32_t index);
   void drop(std::uint32_t index, std::string_view why);
+  // D11 (tcp_endpoint_faults.cpp): true when the fault hook holds the connection's reading or
+  // writing back; the deadline that lets it go on is then queued.
+  bool stalled(std::uint32_t index, Client& client);
+  bool paced(std::uint32_t index, Client& client);
+  void resume_after_fault(std::uint32_t index);
 
   std::string address_;
   std::uint16_t port_;

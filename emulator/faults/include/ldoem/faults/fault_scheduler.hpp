@@ -46,6 +46,11 @@ struct FaultEvent {
 // The counter-based draw of probability triggers: uniform in [0, 1), a pure function.
 double fault_draw(std::uint64_t seed, std::uint64_t entry_index, std::uint64_t request_number);
 
+// D11 garbage: the `count` bytes fault `id` inserts, a pure function of (seed, id). No byte is
+// 0x02, the first byte of a TCP header and the serial STX: garbage never starts a frame, so a
+// host that resynchronises skips exactly these bytes.
+std::vector<std::uint8_t> fault_garbage(std::uint64_t seed, std::uint64_t id, std::size_t count);
+
 class FaultScheduler {
  public:
   FaultScheduler() = default;
@@ -70,8 +75,10 @@ class FaultScheduler {
 
   // The first active wire fault of `kind` matching the telegram (transport, request code of the
   // reply), or nothing. Using it counts one telegram against its count.
+  // `service` empty: a fault of the connection (tcp_stall, ISO-TP flow control, the LPT), whatever
+  // service the entry names.
   std::optional<ActiveFault> take_wire_fault(SimTime now, FaultKind kind, Transport transport,
-                                             std::uint16_t service, std::vector<FaultEvent>& events);
+                                             std::optional<std::uint16_t> service, std::vector<FaultEvent>& events);
   // Like take_wire_fault for any of the wire kinds of `transport`, first in activation order.
   std::optional<ActiveFault> take_any_wire_fault(SimTime now, Transport transport, std::uint16_t service,
                                                  std::vector<FaultEvent>& events);
@@ -81,6 +88,10 @@ class FaultScheduler {
   const std::vector<ActiveFault>& active() const { return active_; }
   bool is_active(FaultKind kind) const;
   const ActiveFault* find_active(FaultKind kind) const;
+  // The first active fault of `kind` on `transport` at `now` (not expired), whatever its service;
+  // nothing is counted (tcp_stall, bandwidth, isotp_fc_wait, lpt_jam last as long as they are active).
+  const ActiveFault* find_active_on(SimTime now, FaultKind kind, Transport transport) const;
+  std::uint64_t seed() const { return seed_; }
   // The earliest time at which advance() has something to do, if any.
   std::optional<SimTime> next_deadline() const;
 
@@ -93,7 +104,7 @@ class FaultScheduler {
   };
   void activate(SimTime now, FaultSpec spec, std::string origin, std::vector<FaultEvent>& events);
   void remove_at(std::size_t position, SimTime now, std::string reason, std::vector<FaultEvent>& events);
-  bool matches(const ActiveFault& fault, Transport transport, std::uint16_t service) const;
+  bool matches(const ActiveFault& fault, Transport transport, std::optional<std::uint16_t> service) const;
 
   std::vector<Entry> entries_;
   std::vector<ActiveFault> active_;

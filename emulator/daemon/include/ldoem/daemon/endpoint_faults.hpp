@@ -1,0 +1,46 @@
+// The daemon's WireFaultHook (endpoints/wire_fault_hook.hpp): the D11 wire faults that act inside
+// the endpoints, read from the fault scheduler. FaultWiring owns it and hands it to every
+// endpoint of the device; it exists only when FaultWiring does (D9: no faults, no hook).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "ldoem/control/ports.hpp"
+#include "ldoem/endpoints/wire_fault_hook.hpp"
+#include "ldoem/fault_injection/fault_injector.hpp"
+
+namespace ldoem::daemon {
+
+faults::Transport transport_of(control::TransportKind kind);
+
+// The request a telegram to the host answers: its code without the response bit, the request
+// code inside a SERVICE_FAILURE, GET_PROFILE for a profile.
+std::uint16_t answered_request(protocol::ByteView payload);
+
+class EndpointFaults final : public endpoints::WireFaultHook {
+ public:
+  // `publish` turns the scheduler's events (a count used up) into event lines.
+  EndpointFaults(fault_injection::FaultInjector& injector,
+                 std::function<void(const std::vector<faults::FaultEvent>&)> publish)
+      : injector_(injector), publish_(std::move(publish)) {}
+
+  endpoints::TelegramFaults on_outgoing_telegram(control::ConnectionId to, protocol::ByteView payload,
+                                                 protocol::SimTime now) override;
+  std::optional<protocol::SimTime> stalled_until(control::ConnectionId connection, protocol::SimTime now) override;
+  std::optional<std::uint32_t> bytes_per_second(control::ConnectionId connection, protocol::SimTime now) override;
+  endpoints::FirstFrameFault on_host_first_frame(control::ConnectionId from, protocol::SimTime now) override;
+  bool keeps_host_waiting(control::ConnectionId from, protocol::SimTime now) override;
+  bool loses_step(protocol::SimTime at) override;
+
+ private:
+  // Takes one telegram's worth of `kind` (its count) and publishes what that used up.
+  std::optional<faults::ActiveFault> take(protocol::SimTime now, faults::FaultKind kind, faults::Transport transport,
+                                          std::optional<std::uint16_t> service);
+
+  fault_injection::FaultInjector& injector_;
+  std::function<void(const std::vector<faults::FaultEvent>&)> publish_;
+};
+
+}  // namespace ldoem::daemon

@@ -1,0 +1,102 @@
+#include "ldoem/daemon/endpoint_faults.hpp"
+
+#include "ldoem/protocol/isotp.hpp"
+#include "ldoem/protocol/service_codes.hpp"
+
+namespace ldoem::daemon {
+
+using endpoints::ConsecutiveFrameFault;
+using endpoints::FirstFrameFault;
+using faults::FaultKind;
+using faults::Transport;
+using protocol::SimTime;
+
+namespace {
+
+// An open-ended tcp_stall (no duration) is asked about again this often: it ends when cleared.
+constexpr SimTime kOpenStallRecheck = std::chrono::milliseconds(100);
+
+}  // namespace
+
+faults::Transport transport_of(control::TransportKind kind) {
+  switch (kind) {
+    case control::TransportKind::tcp: return Transport::tcp;
+    case control::TransportKind::serial: return Transport::serial;
+    case control::TransportKind::can: return Transport::can;
+  }
+  return Transport::tcp;
+}
+
+std::uint16_t answered_request(protocol::ByteView payload) {
+  if (payload.size() < 2) return 0;
+  const auto code = static_cast<std::uint16_t>((payload[0] << 8) | payload[1]);
+  if (code == protocol::code_of(protocol::Service::service_failure)) {
+    return payload.size() >= 4 ? static_cast<std::uint16_t>((payload[2] << 8) | payload[3]) : 0;
+  }
+  return static_cast<std::uint16_t>(code & ~protocol::kResponseBit);
+}
+
+std::optional<faults::ActiveFault> EndpointFaults::take(SimTime now, FaultKind kind, Transport transport,
+                                                        std::optional<std::uint16_t> service) {
+  if (!faults::applies_to(kind, transport)) return std::nullopt;
+  std::vector<faults::FaultEvent> used;
+  auto fault = injector_.scheduler().take_wire_fault(now, kind, transport, service, used);
+  if (!used.empty()) publish_(used);
+  return fault;
+}
+
+endpoints::TelegramFaults EndpointFaults::on_outgoing_telegram(control::ConnectionId to, protocol::ByteView payload,
+                                                               SimTime now) {
+  endpoints::TelegramFaults out;
+  if (injector_.scheduler().active().empty()) return out;
+  const Transport transport = transport_of(to.kind);
+  const std::uint16_t service = answered_request(payload);
+  if (take(now, FaultKind::corrupt_checksum, transport, service)) out.corrupt_checksum = true;
+  if (const auto garbage = take(now, FaultKind::garbage, transport, service)) {
+    out.garbage_before = faults::fault_garbage(injector_.scheduler().seed(), garbage->id, garbage->spec.garbage_bytes);
+  }
+  // Only a message with consecutive frames can lose one: single frames leave the fault waiting.
+  if (transport == Transport::can && payload.size() > protocol::kIsoTpMaxSingleFrameBytes) {
+    constexpr std::pair<FaultKind, ConsecutiveFrameFault> kFrameFaults[] = {
+        {FaultKind::isotp_drop_cf, ConsecutiveFrameFault::drop},
+        {FaultKind::isotp_repeat_cf, ConsecutiveFrameFault::repeat},
+        {FaultKind::isotp_bad_sn, ConsecutiveFrameFault::bad_sequence}};
+    for (const auto& [kind, effect] : kFrameFaults) {
+      if (take(now, kind, transport, service)) {
+        out.first_consecutive_frame = effect;
+        break;
+      }
+    }
+  }
+  return out;
+}
+
+std::optional<SimTime> EndpointFaults::stalled_until(control::ConnectionId connection, SimTime now) {
+  const faults::ActiveFault* stall = injector_.scheduler().find_active_on(now, FaultKind::tcp_stall, transport_of(connection.kind));
+  if (stall == nullptr) return std::nullopt;
+  return stall->until ? *stall->until : now + kOpenStallRecheck;
+}
+
+std::optional<std::uint32_t> EndpointFaults::bytes_per_second(control::ConnectionId connection, SimTime now) {
+  const faults::ActiveFault* limit = injector_.scheduler().find_active_on(now, FaultKind::bandwidth, transport_of(connection.kind));
+  if (limit == nullptr) return std::nullopt;
+  return limit->spec.bytes_per_s;
+}
+
+FirstFrameFault EndpointFaults::on_host_first_frame(control::ConnectionId from, SimTime now) {
+  const Transport transport = transport_of(from.kind);
+  if (take(now, FaultKind::isotp_fc_overflow, transport, std::nullopt)) return FirstFrameFault::overflow;
+  if (take(now, FaultKind::isotp_fc_wait, transport, std::nullopt)) return FirstFrameFault::wait;
+  return FirstFrameFault::none;
+}
+
+bool EndpointFaults::keeps_host_waiting(control::ConnectionId from, SimTime now) {
+  return injector_.scheduler().find_active_on(now, FaultKind::isotp_fc_wait, transport_of(from.kind)) != nullptr;
+}
+
+bool EndpointFaults::loses_step(SimTime at) {
+  if (injector_.scheduler().find_active_on(at, FaultKind::lpt_jam, Transport::lpt) != nullptr) return true;
+  return take(at, FaultKind::lpt_lose_steps, Transport::lpt, std::nullopt).has_value();
+}
+
+}  // namespace ldoem::daemon

@@ -1,0 +1,206 @@
+// D11 wire faults on the stream transports (TCP spec 4.1, serial spec 4.2), produced inside the
+// endpoints: corrupt_checksum and garbage on both, tcp_stall and bandwidth on TCP. Each test
+// asserts the bytes on the wire or the time they arrive, and, where it is simple, what libldoem
+// makes of them.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include "ldoem/driver/transport.hpp"
+#include "ldoem/faults/fault_scheduler.hpp"
+#include "ldoem/protocol/wire_corruption.hpp"
+#include "wire_fault_support.hpp"
+
+namespace ldoem::wire_faults::test {
+namespace {
+
+using namespace std::chrono_literals;
+using daemon::test::hex;
+using daemon::test::minimal_scene_text;
+using daemon::test::TcpHost;
+using daemon::test::telegram;
+using daemon::test::to_hex;
+using protocol::SimTime;
+
+// spec 7.3: GET_STATUS and its reply in IDLE, framed for TCP.
+const std::string kGoodStatusFrame = "02 55 53 50 00 00 00 06 81 02 00 00 00 01 82";
+// The same frame with the XOR byte inverted (0x82 ^ 0xFF).
+const std::string kCorruptStatusFrame = "02 55 53 50 00 00 00 06 81 02 00 00 00 01 7D";
+// spec 7.4: the serial GET_STATUS request, and our one-package reply: its CRC is 0xab0e, the
+// corrupted one 0xab0e ^ 0xFFFF = 0x54f1 (computed apart from the code, from spec 4.2's register form).
+const std::string kSerialGetStatus = "\x02" "00100003000001026d36" "\x03";
+const std::string kSerialStatusReply = "\x02" "1000000600000001810200000001" "ab0e" "\x03";
+const std::string kSerialCorruptReply = "\x02" "1000000600000001810200000001" "54f1" "\x03";
+
+std::string scene_with(const std::string& faults) { return minimal_scene_text() + "seed: 7\nfaults:\n" + faults; }
+
+Bytes as_bytes(const std::string& text) { return Bytes(text.begin(), text.end()); }
+
+driver::Deadline in(std::chrono::milliseconds limit) { return driver::Clock::now() + limit; }
+
+std::unique_ptr<driver::Transport> open(const std::string& endpoint_text) {
+  auto endpoint = driver::parse_endpoint(endpoint_text);
+  EXPECT_TRUE(endpoint) << endpoint_text;
+  if (!endpoint) return nullptr;
+  auto transport = driver::open_transport(*endpoint);
+  EXPECT_TRUE(transport) << (transport ? "" : driver::describe(transport.error()));
+  return transport ? std::move(*transport) : nullptr;
+}
+
+// ------------------------------------------------------------------------------ corrupt_checksum
+
+TEST(WireFaultsTcp, CorruptChecksum_InvertsTheXorByteOfTheNamedReply) {
+  FaultyDaemon d(scene_with("  - kind: corrupt_checksum\n    on: {service: GET_STATUS, nth: 2}\n"));
+  ASSERT_TRUE(d.ready()) << d.diagnostics();
+  auto host = TcpHost::connect(d.process->tcp_port());
+  ASSERT_TRUE(host);
+  for (const std::string& expected : {kGoodStatusFrame, kCorruptStatusFrame, kGoodStatusFrame}) {
+    host->send(telegram("GET_STATUS"));
+    EXPECT_EQ(to_hex(read_bytes(host->fd(), 15)), expected);
+  }
+  Bytes computed = hex(kGoodStatusFrame);
+  ASSERT_TRUE(protocol::corrupt_tcp_checksum(computed));
+  EXPECT_EQ(to_hex(computed), kCorruptStatusFrame);
+  EXPECT_NE(d.events().find("\"kind\":\"corrupt_checksum\""), std::string::npos) << d.events();
+}
+
+TEST(WireFaultsTcp, CorruptChecksum_LibldoemDropsTheFrameCountsItAndTimesOutRetryably) {
+  FaultyDaemon d(scene_with("  - kind: corrupt_checksum\n    on: {service: GET_STATUS, nth: 1}\n"));
+  ASSERT_TRUE(d.ready()) << d.diagnostics();
+  auto transport = open("tcp:127.0.0.1:" + std::to_string(d.process->tcp_port()));
+  ASSERT_TRUE(transport);
+  ASSERT_TRUE(transport->send(telegram("GET_STATUS"), in(2s)));
+  const auto lost = transport->receive(in(500ms));
+  ASSERT_FALSE(lost);
+  EXPECT_EQ(lost.error().kind, driver::ErrorKind::timeout);
+  EXPECT_TRUE(driver::is_retryable(lost.error()));
+  EXPECT_EQ(transport->counters().dropped_frames, 1u);
+  ASSERT_TRUE(transport->send(telegram("GET_STATUS"), in(2s)));  // the retry gets its reply
+  const auto again = transport->receive(in(5s));
+  ASSERT_TRUE(again);
+  EXPECT_EQ(protocol::format_telegram(*again), "GET_STATUS reply 0000 0001");
+}
+
+TEST(WireFaultsSerial, CorruptChecksum_InvertsTheCrcOfTheReply) {
+  TempDir pty_dir;
+  FaultyDaemon d(scene_with("  - kind: corrupt_checksum\n    on: {service: GET_STATUS, nth: 2}\n"),
+                 {"--serial", "pty:" + pty_dir.path("serial")});
+  ASSERT_TRUE(d.ready()) << d.diagnostics();
+  const int fd = open_raw(pty_dir.path("serial"));
+  ASSERT_GE(fd, 0);
+  for (const std::string& expected : {kSerialStatusReply, kSerialCorruptReply, kSerialStatusReply}) {
+    ASSERT_EQ(::write(fd, kSerialGetStatus.data(), kSerialGetStatus.size()), static_cast<ssize_t>(kSerialGetStatus.size()));
+    EXPECT_EQ(to_hex(read_bytes(fd, expected.size())), to_hex(as_bytes(expected)));
+  }
+  ::close(fd);
+}
+
+TEST(WireFaultsSerial, CorruptChecksum_LibldoemDropsThePackageAndTimesOut) {
+  TempDir pty_dir;
+  FaultyDaemon d(scene_with("  - kind: corrupt_checksum\n    on: {service: GET_STATUS, nth: 1}\n"),
+                 {"--serial", "pty:" + pty_dir.path("serial")});
+  ASSERT_TRUE(d.ready()) << d.diagnostics();
+  auto transport = open("serial:pty:" + pty_dir.path("serial"));
+  ASSERT_TRUE(transport);
+  ASSERT_TRUE(transport->send(telegram("GET_STATUS"), in(2s)));
+  const auto lost = transport->receive(in(500ms));
+  ASSERT_FALSE(lost);
+  EXPECT_EQ(lost.error().kind, driver::ErrorKind::timeout);
+  EXPECT_EQ(transport->counters().dropped_frames, 1u);
+  ASSERT_TRUE(transport->send(telegram("GET_STATUS"), in(2s)));
+  const auto again = transport->receive(in(5s));
+  ASSERT_TRUE(again);
+  EXPECT_EQ(protocol::format_telegram(*again), "GET_STATUS reply 0000 0001");
+}
+
+// ------------------------------------------------------------------------------------ garbage
+
+// Fault 1 of a scene with seed 7: the bytes are fault_garbage(7, 1, n), and none is 0x02.
+TEST(WireFaultsTcp, Garbage_PutsTheSeededBytesBeforeTheFrame) {
+  FaultyDaemon d(scene_with("  - kind: garbage\n    bytes: 12\n    on: {service: GET_STATUS, nth: 1}\n"));
+  ASSERT_TRUE(d.ready()) << d.diagnostics();
+  auto host = TcpHost::connect(d.process->tcp_port());
+  ASSERT_TRUE(host);
+  host->send(telegram("GET_STATUS"));
+  const std::vector<std::uint8_t> garbage = faults::fault_garbage(7, 1, 12);
+  ASSERT_EQ(garbage.size(), 12u);
+  for (const std::uint8_t byte : garbage) EXPECT_NE(byte, 0x02);
+  EXPECT_EQ(to_hex(read_bytes(host->fd(), 12 + 15)), to_hex(garbage) + " " + kGoodStatusFrame);
+  host->send(telegram("GET_STATUS"));  // one telegram only
+  EXPECT_EQ(to_hex(read_bytes(host->fd(), 15)), kGoodStatusFrame);
+}
+
+TEST(WireFaultsTcp, Garbage_LibldoemSkipsItAndReadsTheTelegram) {
+  FaultyDaemon d(scene_with("  - kind: garbage\n    bytes: 40\n    on: {service: GET_STATUS, nth: 1}\n"));
+  ASSERT_TRUE(d.ready()) << d.diagnostics();
+  auto transport = open("tcp:127.0.0.1:" + std::to_string(d.process->tcp_port()));
+  ASSERT_TRUE(transport);
+  ASSERT_TRUE(transport->send(telegram("GET_STATUS"), in(2s)));
+  const auto reply = transport->receive(in(5s));
+  ASSERT_TRUE(reply);
+  EXPECT_EQ(protocol::format_telegram(*reply), "GET_STATUS reply 0000 0001");
+  EXPECT_EQ(transport->counters().skipped_bytes, 40u);
+  EXPECT_EQ(transport->counters().dropped_frames, 0u);
+}
+
+TEST(WireFaultsSerial, Garbage_PutsTheSeededBytesBeforeTheReply_LibldoemSkipsThem) {
+  TempDir pty_dir;
+  FaultyDaemon d(scene_with("  - kind: garbage\n    bytes: 9\n    every: {service: GET_STATUS, count: 1}\n"),
+                 {"--serial", "pty:" + pty_dir.path("serial")});
+  ASSERT_TRUE(d.ready()) << d.diagnostics();
+  {
+    const int fd = open_raw(pty_dir.path("serial"));
+    ASSERT_GE(fd, 0);
+    ASSERT_EQ(::write(fd, kSerialGetStatus.data(), kSerialGetStatus.size()), static_cast<ssize_t>(kSerialGetStatus.size()));
+    const Bytes expected_reply = as_bytes(kSerialStatusReply);
+    EXPECT_EQ(to_hex(read_bytes(fd, 9 + expected_reply.size())),
+              to_hex(faults::fault_garbage(7, 1, 9)) + " " + to_hex(expected_reply));
+    ::close(fd);
+  }
+  auto transport = open("serial:pty:" + pty_dir.path("serial"));
+  ASSERT_TRUE(transport);
+  ASSERT_TRUE(transport->send(telegram("GET_STATUS"), in(2s)));
+  const auto reply = transport->receive(in(5s));
+  ASSERT_TRUE(reply);
+  EXPECT_EQ(protocol::format_telegram(*reply), "GET_STATUS reply 0000 0001");
+  EXPECT_EQ(transport->counters().skipped_bytes, 9u);
+}
+
+// ---------------------------------------------------------------------------- tcp_stall, bandwidth
+
+TEST(WireFaultsTcp, TcpStall_NeitherReadsNorWritesForItsDuration) {
+  InProcessTcp d(scene_with("  - kind: tcp_stall\n    duration_s: 2\n    on: {service: GET_STATUS, nth: 1}\n"));
+  ASSERT_TRUE(d.daemon) << d.failure;
+  auto host = TcpHost::connect(*d.daemon->tcp_port());
+  ASSERT_TRUE(host);
+  const SimTime asked = d.daemon->now();
+  host->send(telegram("GET_STATUS"));
+  // The request is read (it triggers the stall); then the connection stops.
+  ASSERT_TRUE(d.run_until([&] { return d.daemon->counters().telegrams_received == 1; }));
+  host->send(telegram("GET_SIGNAL"));  // sent during the stall: not read before it ends
+  const auto first = d.receive(host->fd(), 15);
+  EXPECT_EQ(to_hex(first.bytes), kGoodStatusFrame);
+  EXPECT_GE(first.at - asked, SimTime(2s));
+  EXPECT_LT(first.at - asked, SimTime(2100ms));
+  const auto second = d.receive(host->fd(), 8 + 4 + 1);
+  EXPECT_EQ(to_hex(second.bytes), "02 55 53 50 00 00 00 04 81 04 00 00 85");  // GET_SIGNAL reply 0000
+  EXPECT_EQ(d.daemon->counters().telegrams_received, 2u);
+  EXPECT_GE(second.at, first.at);
+}
+
+TEST(WireFaultsTcp, Bandwidth_TenBytesPerSecondDeliverAFifteenByteFrameInOnePointFiveSeconds) {
+  InProcessTcp d(scene_with("  - kind: bandwidth\n    bytes_per_s: 10\n"));
+  ASSERT_TRUE(d.daemon) << d.failure;
+  auto host = TcpHost::connect(*d.daemon->tcp_port());
+  ASSERT_TRUE(host);
+  const SimTime asked = d.daemon->now();
+  host->send(telegram("GET_STATUS"));
+  const auto first_byte = d.receive(host->fd(), 1);
+  EXPECT_EQ(to_hex(first_byte.bytes), "02");
+  EXPECT_EQ(first_byte.at - asked, SimTime(100ms));  // one byte per 1/10 s
+  const auto rest = d.receive(host->fd(), 14);
+  EXPECT_EQ("02 " + to_hex(rest.bytes), kGoodStatusFrame);  // the bytes are untouched
+  EXPECT_EQ(rest.at - asked, SimTime(1500ms));
+}
+
+}  // namespace
+}  // namespace ldoem::wire_faults::test

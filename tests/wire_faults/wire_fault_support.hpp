@@ -1,0 +1,73 @@
+// What the wire-fault tests share: ldoem-emud with a fault scene as a child process or in-process
+// with a real TCP listener (so that a test reads simulated time when bytes arrive), and raw reads
+// with bounded waits.
+#pragma once
+
+#include <chrono>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "daemon_process.hpp"
+#include "host_link.hpp"
+#include "ldoem/daemon/daemon.hpp"
+
+namespace ldoem::wire_faults::test {
+
+using daemon::test::DaemonProcess;
+using daemon::test::TempDir;
+using protocol::Bytes;
+
+// ldoem-emud on `scene_text` with TCP on a free port (and no CAN unless `extra` says --can),
+// `extra` options and its event log in the temporary folder; --virtual-time unless told otherwise.
+struct FaultyDaemon {
+  TempDir dir;
+  std::string event_log = dir.path("events.log");
+  std::optional<DaemonProcess> process;
+
+  FaultyDaemon(const std::string& scene_text, const std::vector<std::string>& extra = {}, bool virtual_time = true);
+  bool ready() { return process && process->wait_ready(); }
+  std::string diagnostics() const { return process ? process->stderr_text() : "(not started)"; }
+  std::string events() const;
+
+ private:
+  std::vector<std::string> arguments(const std::string& scene_text, const std::vector<std::string>& extra,
+                                     bool virtual_time) const;
+};
+
+// One request on a fresh connection to the control socket at `path`: its "return" or "error"
+// object, or nothing within `limit`.
+std::optional<nlohmann::json> control_request(const std::string& path, const nlohmann::json& request,
+                                              std::chrono::milliseconds limit = std::chrono::seconds(5));
+
+// Reads until `count` bytes came or `limit` passed; what came.
+Bytes read_bytes(int fd, std::size_t count, std::chrono::milliseconds limit = std::chrono::seconds(5));
+// A pty peer (or any tty) in raw mode; -1 on failure.
+int open_raw(const std::string& path);
+
+// The daemon in this process, TCP on a free port, virtual time: the test runs the loop and reads
+// simulated time when its bytes arrive.
+struct InProcessTcp {
+  std::ostringstream out;
+  std::ostringstream log;
+  std::unique_ptr<daemon::Daemon> daemon;
+  std::string failure;
+
+  explicit InProcessTcp(const std::string& scene_text);
+  // Runs the loop until `count` bytes came on `fd`; the bytes, and the simulated time of the last.
+  struct Arrival {
+    Bytes bytes;
+    protocol::SimTime at{};
+  };
+  Arrival receive(int fd, std::size_t count, std::chrono::milliseconds wall_limit = std::chrono::seconds(20));
+  // Runs the loop until `done` or `wall_limit`.
+  bool run_until(const std::function<bool()>& done, std::chrono::milliseconds wall_limit = std::chrono::seconds(20)) {
+    return daemon->run_until(done, wall_limit);
+  }
+};
+
+}  // namespace ldoem::wire_faults::test
