@@ -19,7 +19,7 @@ constexpr FaultKind kTapKinds[] = {FaultKind::drop_reply, FaultKind::delay_reply
 
 // The wire faults the endpoints produce through the fault hook (endpoint_faults.hpp).
 constexpr FaultKind kEndpointKinds[] = {FaultKind::corrupt_checksum, FaultKind::garbage, FaultKind::tcp_stall,
-                                        FaultKind::bandwidth};
+                                        FaultKind::bandwidth, FaultKind::lpt_lose_steps, FaultKind::lpt_jam};
 
 bool produced_here(FaultKind kind) {
   if (faults::info(kind).fault_class == faults::FaultClass::device) return true;

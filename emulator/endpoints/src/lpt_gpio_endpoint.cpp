@@ -1,6 +1,7 @@
 #include "ldoem/endpoints/lpt_gpio_endpoint.hpp"
 
 #include <iterator>
+#include <utility>
 #include <vector>
 
 #include "ldoem/protocol/lpt.hpp"
@@ -50,8 +51,21 @@ void LptGpioEndpoint::on_ready() {
     if (edge.line_index >= std::size(kLptLineBits)) continue;
     // Kernel timestamps are CLOCK_MONOTONIC, the wall clock the simulated one runs on (D7).
     const SimTime at = context_->scheduler.at_wall_time(WallTime(std::chrono::duration_cast<WallTime::duration>(edge.timestamp)));
-    context_->lpt.on_line_change(at, kLptLineBits[edge.line_index], edge.edge == io::Edge::rising);
+    const std::uint8_t bit = kLptLineBits[edge.line_index];
+    const bool level = edge.edge == io::Edge::rising;
+    if (fault_hook_ != nullptr && bit == protocol::kLptClockBit && step_lost(at, level)) continue;
+    context_->lpt.on_line_change(at, bit, level);
   }
+}
+
+// D11 lpt_lose_steps, lpt_jam: the rising clock edge of a lost step and its falling edge never
+// reach the plate, which keeps seeing the clock low.
+bool LptGpioEndpoint::step_lost(SimTime at, bool level) {
+  if (level) {
+    clock_edge_lost_ = fault_hook_->loses_step(at);
+    return clock_edge_lost_;
+  }
+  return std::exchange(clock_edge_lost_, false);
 }
 
 }  // namespace ldoem::endpoints

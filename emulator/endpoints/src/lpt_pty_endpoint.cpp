@@ -1,6 +1,7 @@
 #include "ldoem/endpoints/lpt_pty_endpoint.hpp"
 
 #include "ldoem/endpoints/read_budget.hpp"
+#include "ldoem/protocol/lpt.hpp"
 
 namespace ldoem::endpoints {
 
@@ -30,8 +31,17 @@ void LptPtyEndpoint::take_pending_input() {
   }
   const SimTime at = context_->scheduler.now();  // D8: time-stamped on arrival
   for (const std::uint8_t value : received->bytes) {
-    context_->lpt.on_register_write(at, value);
+    context_->lpt.on_register_write(at, fault_hook_ == nullptr ? value : as_the_plate_sees(at, value));
   }
+}
+
+// D11 lpt_lose_steps, lpt_jam: a rising clock edge the plate does not follow reaches it with the
+// clock still low, and the next low byte is then no edge either: that step is lost, nothing else.
+std::uint8_t LptPtyEndpoint::as_the_plate_sees(SimTime at, std::uint8_t value) {
+  const bool rising = (value & protocol::kLptClockBit) != 0 && (seen_by_plate_ & protocol::kLptClockBit) == 0;
+  if (rising && fault_hook_->loses_step(at)) value = static_cast<std::uint8_t>(value & ~protocol::kLptClockBit);
+  seen_by_plate_ = value;
+  return value;
 }
 
 }  // namespace ldoem::endpoints

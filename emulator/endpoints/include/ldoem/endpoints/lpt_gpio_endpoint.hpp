@@ -24,10 +24,12 @@ class LptGpioEndpoint final : public HostEndpoint {
 
  private:
   void on_ready();
+  bool step_lost(SimTime at, bool level);
 
   std::string chip_;  // chip path, name or label
   EndpointContext* context_ = nullptr;
   std::optional<io::GpioLineReader> reader_;
+  bool clock_edge_lost_ = false;  // D11 (fault hook only): the plate missed the last rising edge
 };
 
 }  // namespace ldoem::endpoints

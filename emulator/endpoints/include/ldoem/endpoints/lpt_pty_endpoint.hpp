@@ -30,10 +30,12 @@ class LptPtyEndpoint final : public HostEndpoint {
 
  private:
   void on_ready();
+  std::uint8_t as_the_plate_sees(SimTime at, std::uint8_t value);
 
   std::filesystem::path link_path_;
   EndpointContext* context_ = nullptr;
   std::optional<io::PseudoTerminal> pty_;
+  std::uint8_t seen_by_plate_ = 0;  // D11 (fault hook only): the last register value passed on
 };
 
 }  // namespace ldoem::endpoints
