@@ -8,6 +8,7 @@
 
 #include <array>
 #include <deque>
+#include <map>
 #include <functional>
 #include <mutex>
 #include <string>
@@ -77,6 +78,13 @@ class ScriptedLd {
   // When set, GET_PROFILE is refused with SERVICE_FAILURE reason wrong_state after this many.
   std::optional<std::size_t> refuse_profiles_after;
 
+  // D11 faults, each at the n-th GET_PROFILE request (1-based):
+  enum class Fault { drop_reply, truncate_reply, connection_lost, reset_spontaneous, motor_stall };
+  std::map<std::size_t, Fault> faults_at_profile_request;
+  // Set by connection_lost; the transport reports the reset once and the device is powered up
+  // again (IDLE, RAM configuration lost).
+  bool connection_lost = false;
+
   std::vector<Bytes> handle(protocol::ByteView payload) {
     auto request = protocol::decode_request(payload);
     if (!request) {
@@ -93,7 +101,7 @@ class ScriptedLd {
  private:
   using Sector = std::pair<std::uint16_t, std::uint16_t>;  // function, stop
 
-  protocol::StatusBlock status() const { return protocol::make_status_block(mode_, protocol::MotorMode::ok); }
+  protocol::StatusBlock status() const { return protocol::make_status_block(mode_, motor_); }
 
   static std::vector<Bytes> one(const protocol::Response& response) { return {protocol::encode_response(response)}; }
 
@@ -131,6 +139,12 @@ class ScriptedLd {
     return one(protocol::GetFunctionReply{get.sector, sectors_[get.sector].first, sectors_[get.sector].second});
   }
   std::vector<Bytes> answer(const protocol::TransRotate&) {
+    if (mode_ == protocol::SensorMode::error) {
+      return failure(0x0403, protocol::FailureReason::wrong_state);
+    }
+    if (motor_ != protocol::MotorMode::ok) {
+      return one(protocol::TransRotateReply{protocol::make_status_block(protocol::SensorMode::error, motor_)});
+    }
     mode_ = protocol::SensorMode::rotate;
     return one(protocol::TransRotateReply{status()});
   }
@@ -154,6 +168,29 @@ class ScriptedLd {
   }
   std::vector<Bytes> answer(const protocol::CancelProfile&) { return one(protocol::CancelProfileReply{status()}); }
   std::vector<Bytes> answer(const protocol::GetProfile& get) {
+    if (const auto fault = faults_at_profile_request.find(++profile_requests_); fault != faults_at_profile_request.end()) {
+      switch (fault->second) {
+        case Fault::drop_reply:
+          return {};
+        case Fault::truncate_reply: {
+          Bytes cut = protocol::encode_response(make_profile(get.format, 1));
+          cut.resize(10);
+          return {cut};
+        }
+        case Fault::connection_lost:
+          connection_lost = true;
+          mode_ = protocol::SensorMode::idle;
+          global_ = protocol::GlobalConfig{};
+          return {};
+        case Fault::reset_spontaneous:
+          mode_ = protocol::SensorMode::idle;
+          return {};
+        case Fault::motor_stall:
+          mode_ = protocol::SensorMode::error;
+          motor_ = protocol::MotorMode::fault;
+          return {};
+      }
+    }
     if (mode_ != protocol::SensorMode::measure ||
         (refuse_profiles_after && profiles_sent_ >= *refuse_profiles_after)) {
       return failure(0x0301, protocol::FailureReason::wrong_state);
@@ -213,6 +250,8 @@ class ScriptedLd {
   RangeFunction range_;
   std::function<std::int64_t()> tilt_;
   protocol::SensorMode mode_ = protocol::SensorMode::idle;
+  protocol::MotorMode motor_ = protocol::MotorMode::ok;
+  std::size_t profile_requests_ = 0;
   protocol::GlobalConfig global_;
   std::array<Sector, 8> sectors_{};
   std::size_t profiles_sent_ = 0;
@@ -229,6 +268,14 @@ class ScriptedTransport final : public driver::Transport {
     return driver::ok();
   }
   driver::Expected<Bytes, driver::DriverError> receive(driver::Deadline) override {
+    if (device_.connection_lost) {
+      device_.connection_lost = false;
+      closed_ = true;
+      return driver::fail(driver::make_error(driver::ErrorKind::connection_closed, "receive", name_, "reset"));
+    }
+    if (closed_) {
+      return driver::fail(driver::make_error(driver::ErrorKind::connection_closed, "receive", name_, "closed"));
+    }
     if (inbox_.empty()) {
       return driver::fail(driver::make_error(driver::ErrorKind::timeout, "receive", name_, "nothing scripted"));
     }
@@ -242,6 +289,7 @@ class ScriptedTransport final : public driver::Transport {
 
  private:
   ScriptedLd& device_;
+  bool closed_ = false;
   std::deque<Bytes> inbox_;
   std::string name_ = "scripted:ld";
 };

@@ -37,7 +37,11 @@ int write_outputs(const scan::ScanOptions& options, const scan::Scan& result) {
     return kExitFailure;
   }
   std::cerr << "ldoem-scan: " << result.cloud.size() << " points in " << result.layers_done << " layers written to "
-            << options.out_path << "\n";
+            << options.out_path;
+  if (result.retries_used > 0) {
+    std::cerr << " (" << result.retries_used << " retries, " << result.restarts << " restarts after faults)";
+  }
+  std::cerr << "\n";
   if (options.preview_path) {
     auto preview = cloud::write_range_image_png(*options.preview_path, result.cloud);
     if (!preview) {
@@ -104,6 +108,11 @@ int main(int argc, char** argv) {
   scan::AcquisitionHooks hooks;
   hooks.on_layer = [&progress](std::uint32_t done, std::uint32_t total) {
     progress.update(done, total, driver::Clock::now().time_since_epoch());
+  };
+  hooks.on_retry = [](const std::string& stage, const driver::DriverError& error, std::uint32_t attempt,
+                      std::uint32_t retries) {
+    std::cerr << "ldoem-scan: " << stage << ": " << driver::describe(error) << " (" << driver::describe(driver::recovery_for(error))
+              << "); retry " << attempt << " of " << retries << "\n";
   };
   hooks.should_stop = [&signal_seen, &stop_signals] {
     if (signal_seen == 0) {

@@ -1,5 +1,6 @@
 #include "ldoem/scan/acquisition.hpp"
 
+#include <thread>
 #include <utility>
 
 namespace ldoem::scan {
@@ -24,17 +25,16 @@ class Run {
       : device_(device), plan_(plan), hooks_(hooks) {}
 
   protocol::Expected<Scan, AcquisitionError> execute() {
-    driver::InitializeRequest init;
-    init.motor_speed_hz = plan_.motor_speed_hz;
-    init.angle_step_ticks = plan_.sectors.angle_step_ticks;
-    init.sectors = plan_.sectors.sectors;
-    auto info = device_.initialize(init);
+    init_.motor_speed_hz = plan_.motor_speed_hz;
+    init_.angle_step_ticks = plan_.sectors.angle_step_ticks;
+    init_.sectors = plan_.sectors.sectors;
+    auto info = with_retries("INITIALIZE", false, [this] { return device_.initialize(init_); });
     if (!info) {
       return Unexpected<AcquisitionError>({AcquisitionFailure::device_error, "INITIALIZE", info.error(), {}});
     }
     scan_.device = std::move(info.value());
     if (auto failed = measure_layers()) {
-      failed->cleanup_error = clean_up();
+      failed->cleanup_error = clean_up(failed->error);
       return Unexpected<AcquisitionError>(std::move(*failed));
     }
     if (auto idle = device_.idle(); !idle) {
@@ -57,6 +57,92 @@ class Run {
     return AcquisitionError{AcquisitionFailure::stopped, std::move(stage), {}, {}};
   }
 
+  // What a failed step calls for, once the device has been asked for its status.
+  struct Diagnosis {
+    bool retry = false;
+    bool restart = false;  // INITIALIZE, ROTATE, MEASURE before trying again
+    driver::DriverError error;
+  };
+
+  Diagnosis diagnose(driver::DriverError error, bool measuring) {
+    if (error.kind == driver::ErrorKind::device_fault) {
+      return {false, false, std::move(error)};
+    }
+    if (error.kind == driver::ErrorKind::connection_closed) {
+      return {true, true, std::move(error)};  // a reset or a power cycle: reconnect, configure again
+    }
+    // The status names a motor fault behind a timeout (a stalled head stops the stream, D11),
+    // and shows a device that left MEASURE by itself (a spontaneous reset).
+    auto status = device_.status();
+    if (!status) {
+      const auto kind = status.error().kind;
+      const bool lost = kind == driver::ErrorKind::connection_closed || kind == driver::ErrorKind::wrong_state;
+      return {lost || driver::is_retryable(error), lost, std::move(error)};
+    }
+    if (auto fault = driver::device_fault_in(*status, "GET_STATUS", error.object)) {
+      fault->detail += " after " + driver::describe(error);
+      return {false, false, std::move(*fault)};
+    }
+    if (measuring && status->status.sensor != protocol::SensorMode::measure) {
+      return {true, true, std::move(error)};
+    }
+    return {driver::is_retryable(error), false, std::move(error)};
+  }
+
+  driver::Status restart_measuring() {
+    ++scan_.restarts;
+    if (auto info = device_.initialize(init_); !info) {
+      return driver::fail(info.error());
+    }
+    if (auto rotating = device_.rotate(plan_.motor_speed_hz); !rotating) {
+      return driver::fail(rotating.error());
+    }
+    if (auto measuring = device_.measure(); !measuring) {
+      return driver::fail(measuring.error());
+    }
+    return driver::ok();
+  }
+
+  void pause(std::uint32_t attempt) const {
+    const auto wait = plan_.retry_pause * attempt;
+    if (hooks_.sleep) {
+      hooks_.sleep(wait);
+    } else {
+      std::this_thread::sleep_for(wait);
+    }
+  }
+
+  // Runs `step` until it succeeds, fails finally, or has been retried plan_.retries times.
+  // `measuring`: the step needs the device in MEASURE (ROTATE and MEASURE were done).
+  template <class Step>
+  auto with_retries(const std::string& stage, bool measuring, Step step) -> decltype(step()) {
+    bool restart = false;
+    for (std::uint32_t attempt = 0;; ++attempt) {
+      auto result = [&]() -> decltype(step()) {
+        if (restart) {
+          if (auto restarted = restart_measuring(); !restarted) {
+            return driver::fail(restarted.error());
+          }
+          restart = false;
+        }
+        return step();
+      }();
+      if (result) {
+        return result;
+      }
+      Diagnosis diagnosis = diagnose(result.error(), measuring);
+      if (!diagnosis.retry || attempt >= plan_.retries || stop_requested()) {
+        return driver::fail(std::move(diagnosis.error));
+      }
+      restart = restart || diagnosis.restart;
+      ++scan_.retries_used;
+      if (hooks_.on_retry) {
+        hooks_.on_retry(stage, diagnosis.error, attempt + 1, plan_.retries);
+      }
+      pause(attempt + 1);
+    }
+  }
+
   std::optional<AcquisitionError> measure_layers() {
     if (auto moved = move_to(plan_.layers.layer_half_steps(0)); !moved) {
       return device_failure("MOVEMOTOR to the low apex", moved.error());
@@ -64,10 +150,11 @@ class Run {
     if (stop_requested()) {
       return stopped("before ROTATE");
     }
-    if (auto rotating = device_.rotate(plan_.motor_speed_hz); !rotating) {
+    if (auto rotating = with_retries("ROTATE", false, [this] { return device_.rotate(plan_.motor_speed_hz); });
+        !rotating) {
       return device_failure("ROTATE", rotating.error());
     }
-    if (auto measuring = device_.measure(); !measuring) {
+    if (auto measuring = with_retries("MEASURE", false, [this] { return device_.measure(); }); !measuring) {
       return device_failure("MEASURE", measuring.error());
     }
     const std::uint32_t count = plan_.layers.layer_count;
@@ -75,9 +162,10 @@ class Run {
       if (stop_requested()) {
         return stopped("layer " + std::to_string(layer));
       }
-      auto sample = device_.get_profile(plan_.profile_timeout);
+      const std::string stage = "GET2DPROFILE layer " + std::to_string(layer);
+      auto sample = with_retries(stage, true, [this] { return device_.get_profile(plan_.profile_timeout); });
       if (!sample) {
-        return device_failure("GET2DPROFILE layer " + std::to_string(layer), sample.error());
+        return device_failure(stage, sample.error());
       }
       add_layer(sample->profile, layer);
       scan_.layers_done = layer + 1;
@@ -118,10 +206,15 @@ class Run {
 
   protocol::Expected<driver::TiltPosition, driver::DriverError> go_home() { return move_to(0); }
 
-  std::optional<driver::DriverError> clean_up() {
+  std::optional<driver::DriverError> clean_up(const std::optional<driver::DriverError>& cause = std::nullopt) {
     std::optional<driver::DriverError> first;
-    if (auto idle = device_.idle(); !idle) {
-      first = idle.error();
+    // A faulted device refuses TRANS_IDLE (reason 3, D11) and stays in ERROR until a DO_RESET
+    // level 2 (the next INITIALIZE) once the cause is gone: only the tilt goes home.
+    const bool faulted = cause && cause->kind == driver::ErrorKind::device_fault;
+    if (!faulted) {
+      if (auto idle = device_.idle(); !idle) {
+        first = idle.error();
+      }
     }
     if (auto home = go_home(); !home && !first) {
       first = home.error();
@@ -130,6 +223,7 @@ class Run {
   }
 
   driver::Device& device_;
+  driver::InitializeRequest init_;
   const AcquisitionPlan& plan_;
   const AcquisitionHooks& hooks_;
   Scan scan_;

@@ -14,6 +14,8 @@ namespace {
 
 using protocol::Unexpected;
 constexpr double kMaxTimeoutSeconds = 7.0 * 24 * 3600;  // a week
+// Enough for any flaky link; a bound so a typo cannot make a dead device hold a scan for hours.
+constexpr std::uint32_t kMaxRetries = 100;
 using OptionsResult = protocol::Expected<ScanOptions, std::string>;
 
 Unexpected<std::string> usage_error(std::string text) { return Unexpected<std::string>(std::move(text)); }
@@ -147,6 +149,15 @@ const std::map<std::string_view, Setter>& setters() {
          o.timeout = std::chrono::milliseconds(static_cast<long long>(std::ceil(*seconds * 1000.0)));
          return std::nullopt;
        }},
+      {"--retries",
+       [](ScanOptions& o, std::string_view v) -> std::optional<std::string> {
+         const auto value = base::parse_integer<std::uint32_t>(v);
+         if (!value || *value > kMaxRetries) {
+           return "`" + std::string(v) + "` is not a number of retries in 0.." + std::to_string(kMaxRetries);
+         }
+         o.retries = *value;
+         return std::nullopt;
+       }},
       {"--optical-offset",
        [](ScanOptions& o, std::string_view v) -> std::optional<std::string> {
          const auto offset = parse_vector(v);
@@ -247,6 +258,7 @@ protocol::Expected<AcquisitionPlan, std::string> make_plan(const ScanOptions& op
   plan.step_rate_hz = options.step_rate_hz;
   plan.optical_offset_m = options.optical_offset_m;
   plan.profile_timeout = options.timeout;
+  plan.retries = options.retries;
   return plan;
 }
 
@@ -284,9 +296,17 @@ Output:
   --fit                        fit the wall plane and a cylinder; print diameter, length and
                                wall distance
   --timeout SECONDS            wait for each profile (default 5)
+  --retries N                  after a retryable fault (a timeout, a corrupted reply, a lost
+                               connection) try the step again up to N times (default 3, 0..100);
+                               a lost connection or a device reset is reconnected and configured
+                               again first; a device fault (motor nibble, ERROR) is final
   --help                       this text
 
-Exit codes: 0 scan written, 1 device or file failure, 2 usage error or impossible plan,
+The cloud is written to a temporary file beside FILE and renamed only when complete: a failed
+scan leaves no partial cloud under FILE.
+
+Exit codes: 0 scan written, 1 device or file failure (a final fault, or retries used up; the
+message names it), 2 usage error or impossible plan,
 128+N after signal N (SIGINT, SIGTERM; the scanner is sent to IDLE and the tilt home first).
 
 Examples:

@@ -43,6 +43,7 @@ struct ScanOptions {
   cloud::RenderColour render_colour = cloud::RenderColour::height;
   bool fit = false;
   std::chrono::milliseconds timeout{5000};
+  std::uint32_t retries = kDefaultRetries;  // further attempts per step after a retryable fault
   Vector3 optical_offset_m;
   std::optional<std::string> completion_script;  // --completion bash: print it and exit 0
 };
