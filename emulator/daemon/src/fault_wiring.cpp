@@ -13,20 +13,9 @@ using protocol::SimTime;
 namespace {
 
 // The wire faults the tap itself produces (telegram level). The others act inside an endpoint
-// (framing, ISO-TP frames, TCP pacing) or on the LPT.
+// through their fault hook (endpoint_faults.hpp): framing, ISO-TP frames, TCP pacing, LPT steps.
 constexpr FaultKind kTapKinds[] = {FaultKind::drop_reply, FaultKind::delay_reply, FaultKind::duplicate_reply,
                                    FaultKind::truncate_reply, FaultKind::tcp_reset};
-
-// The wire faults the endpoints produce through the fault hook (endpoint_faults.hpp).
-constexpr FaultKind kEndpointKinds[] = {FaultKind::corrupt_checksum, FaultKind::garbage, FaultKind::tcp_stall,
-                                        FaultKind::bandwidth, FaultKind::lpt_lose_steps, FaultKind::lpt_jam};
-
-bool produced_here(FaultKind kind) {
-  if (faults::info(kind).fault_class == faults::FaultClass::device) return true;
-  if (kind == FaultKind::can_silence) return true;
-  if (std::find(std::begin(kEndpointKinds), std::end(kEndpointKinds), kind) != std::end(kEndpointKinds)) return true;
-  return std::find(std::begin(kTapKinds), std::end(kTapKinds), kind) != std::end(kTapKinds);
-}
 
 }  // namespace
 
@@ -43,12 +32,6 @@ protocol::Expected<std::unique_ptr<FaultWiring>, std::string> FaultWiring::creat
     const scene::Scene& scene, DeviceInstance& device, endpoints::Scheduler& scheduler, io::EventLoop& loop,
     const endpoints::Logger& logger, Setup setup, std::function<void()> stop) {
   std::unique_ptr<FaultWiring> wiring(new FaultWiring(device, scheduler, logger, std::move(stop)));
-  for (std::size_t i = 0; i < scene.faults.size(); ++i) {
-    if (!produced_here(scene.faults[i].kind)) {
-      logger.log(LogLevel::warn, "faults[" + std::to_string(i) + "]: " + std::string(faults::fault_name(scene.faults[i].kind)) +
-                                     " is not produced by this daemon yet (docs/faults.md); it has no effect");
-    }
-  }
   wiring->injector_ = std::make_unique<fault_injection::FaultInjector>(
       scene.faults, scene.seed, scene.effects.has(scene::Effect::head_dynamics), device.unit_for_faults());
   FaultWiring* self = wiring.get();
@@ -173,11 +156,6 @@ WireVerdict FaultWiring::to_host(endpoints::WireTelegram& telegram) {
 }
 
 control_socket::CommandResult FaultWiring::inject_fault(const faults::FaultSpec& spec) {
-  if (!produced_here(spec.kind)) {
-    return control_socket::CommandError{std::string(control_socket::kGenericError),
-                                        std::string(faults::fault_name(spec.kind)) +
-                                            " is not produced by this daemon yet (docs/faults.md)"};
-  }
   faults::FaultId id = 0;
   take(injector_->inject(scheduler_.now(), spec, id));
   return nlohmann::json{{"id", id}};

@@ -47,6 +47,7 @@ std::optional<OpenFailure> CanEndpoint::open(EndpointContext& context) {
   for (const CanIdPair& pair : pairs) {
     channels_.emplace_back(channel_config(pair, setup_.config));
     scheduled_polls_.emplace_back();
+    held_.emplace_back();
   }
   set_filters();
   if (auto failure = watch_readable(context, socket_->fd(), [this](io::Readiness r) { on_ready(r); })) return failure;
@@ -65,6 +66,9 @@ bool CanEndpoint::busy(ConnectionId connection) const {
 }
 
 bool CanEndpoint::waiting_for_host() const {
+  for (const auto& held : held_) {
+    if (held) return true;  // D11 isotp_fc_wait: the host waits on our WAITs, alive
+  }
   for (const IsoTpChannel& channel : channels_) {
     // A host cannot answer a frame the paced bus has not delivered yet: jump to its release.
     const bool frames_on_the_way = pacer_ && pacer_->pending_for(channel.config().ids.response_id);
@@ -87,6 +91,7 @@ void CanEndpoint::on_ready(io::Readiness readiness) {
     if (!frame->has_value()) return;
     for (std::size_t channel = 0; channel < channels_.size(); ++channel) {
       if (channels_[channel].accepts(**frame)) {
+        if (fault_hook_ != nullptr && first_frame_faulted(channel, **frame)) break;
         handle_input(channel, channels_[channel].on_frame(context_->scheduler.now(), **frame));
         break;
       }
@@ -104,7 +109,10 @@ void CanEndpoint::handle_input(std::size_t channel, IsoTpChannelOutput output) {
 void CanEndpoint::send(ConnectionId to, protocol::ByteView payload) {
   const std::size_t channel = to.index - 1;
   if (to.index < 1 || channel >= channels_.size()) return;
-  IsoTpChannelOutput output = channels_[channel].send(context_->scheduler.now(), payload);
+  const SimTime now = context_->scheduler.now();
+  IsoTpChannelOutput output = fault_hook_ == nullptr
+                                  ? channels_[channel].send(now, payload)
+                                  : channels_[channel].send(now, payload, fault_hook_->on_outgoing_telegram(to, payload, now));
   transmit(channel, output.frames);
   // The output path never delivers: a telegram completed on the way is handed in at once, but
   // from the scheduler, after this send has returned.
@@ -198,6 +206,7 @@ void CanEndpoint::apply_can_config(const protocol::CanConfig& config) {
     retired_.send_failures += old.send_failures;
     retired_.queue_overflows += old.queue_overflows;
     channels_[channel] = IsoTpChannel(channel_config(ids, config));
+    if (held_[channel]) release_held_first_frame(channel, false);
     if (scheduled_polls_[channel]) context_->scheduler.cancel(*scheduled_polls_[channel]);
     scheduled_polls_[channel].reset();
   }

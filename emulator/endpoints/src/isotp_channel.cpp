@@ -1,6 +1,7 @@
 #include "ldoem/endpoints/isotp_channel.hpp"
 
 #include <algorithm>
+#include <utility>
 
 namespace ldoem::endpoints {
 namespace {
@@ -46,10 +47,66 @@ IsoTpChannelOutput IsoTpChannel::send(SimTime now, protocol::ByteView telegram) 
   if (queue_.size() >= config_.max_queued_telegrams) {
     ++counters_.queue_overflows;
   } else {
-    queue_.emplace_back(telegram.begin(), telegram.end());
+    queue_.push_back(Queued{protocol::Bytes(telegram.begin(), telegram.end()), {}, ConsecutiveFrameFault::none});
   }
   pump(now, out);
   return out;
+}
+
+IsoTpChannelOutput IsoTpChannel::send(SimTime now, protocol::ByteView telegram, TelegramFaults faults) {
+  IsoTpChannelOutput out;
+  if (queue_.size() >= config_.max_queued_telegrams) {
+    ++counters_.queue_overflows;
+  } else {
+    queue_.push_back(Queued{protocol::Bytes(telegram.begin(), telegram.end()),
+                            garbage_frames(config_.ids.response_id, faults.garbage_before),
+                            faults.first_consecutive_frame});
+  }
+  pump(now, out);
+  return out;
+}
+
+std::vector<protocol::CanFrame> garbage_frames(std::uint32_t id, protocol::ByteView bytes) {
+  std::vector<protocol::CanFrame> frames;
+  for (std::size_t offset = 0; offset < bytes.size(); offset += protocol::kCanMaxDataBytes) {
+    protocol::CanFrame frame;
+    frame.id = id;
+    frame.length = static_cast<std::uint8_t>(std::min(protocol::kCanMaxDataBytes, bytes.size() - offset));
+    std::copy_n(bytes.begin() + static_cast<std::ptrdiff_t>(offset), frame.length, frame.data.begin());
+    frame.data[0] = static_cast<std::uint8_t>(0x20 | (frame.data[0] & 0x0F));
+    frames.push_back(frame);
+  }
+  return frames;
+}
+
+// The sender's frames, with the running message's D11 consecutive-frame fault applied to its
+// first consecutive frame.
+void IsoTpChannel::put_out(const std::vector<protocol::CanFrame>& frames, IsoTpChannelOutput& out) {
+  for (const protocol::CanFrame& frame : frames) {
+    if (pending_frame_fault_ == ConsecutiveFrameFault::none ||
+        protocol::isotp_frame_type(frame) != protocol::IsoTpFrameType::consecutive_frame) {
+      out.frames.push_back(frame);
+      continue;
+    }
+    const ConsecutiveFrameFault fault = std::exchange(pending_frame_fault_, ConsecutiveFrameFault::none);
+    switch (fault) {
+      case ConsecutiveFrameFault::drop:
+        break;
+      case ConsecutiveFrameFault::repeat:
+        out.frames.push_back(frame);
+        out.frames.push_back(frame);
+        break;
+      case ConsecutiveFrameFault::bad_sequence: {
+        protocol::CanFrame wrong = frame;
+        wrong.data[0] = static_cast<std::uint8_t>(0x20 | ((frame.data[0] + 1) & 0x0F));
+        out.frames.push_back(wrong);
+        break;
+      }
+      case ConsecutiveFrameFault::none:
+        out.frames.push_back(frame);
+        break;
+    }
+  }
 }
 
 IsoTpChannelOutput IsoTpChannel::poll(SimTime now) {
@@ -73,7 +130,7 @@ void IsoTpChannel::pump(SimTime now, IsoTpChannelOutput& out) {
   for (;;) {
     if (sender_.busy()) {
       auto polled = sender_.poll(now);
-      out.frames.insert(out.frames.end(), polled.frames.begin(), polled.frames.end());
+      put_out(polled.frames, out);
     }
     if (sender_.busy()) {
       return;  // waiting for flow control or STmin
@@ -89,12 +146,14 @@ void IsoTpChannel::pump(SimTime now, IsoTpChannelOutput& out) {
     if (queue_.empty()) {
       return;
     }
-    const protocol::Bytes next = std::move(queue_.front());
+    Queued next = std::move(queue_.front());
     queue_.pop_front();
-    if (auto started = sender_.start(now, next); !started) {
+    if (auto started = sender_.start(now, next.telegram); !started) {
       ++counters_.send_failures;  // empty or over 4 GiB: nothing the control unit sends
       continue;
     }
+    out.frames.insert(out.frames.end(), next.prelude.begin(), next.prelude.end());
+    pending_frame_fault_ = next.first_consecutive_frame;
     sender_counted_ = false;
   }
 }

@@ -47,6 +47,17 @@ class CanEndpoint final : public HostEndpoint {
   void release_paced_frames(SimTime at);
   void flush_backlog();
   void set_filters();
+  // D11 (can_endpoint_faults.cpp): a host's first frame answered with FC overflow or held with
+  // FC WAIT; false when the frame goes to the channel as usual.
+  bool first_frame_faulted(std::size_t channel, const protocol::CanFrame& frame);
+  void keep_host_waiting(std::size_t channel);
+  void release_held_first_frame(std::size_t channel, bool deliver);
+  protocol::CanFrame flow_control(std::size_t channel, protocol::IsoTpFlowStatus status) const;
+
+  struct HeldFirstFrame {
+    protocol::CanFrame frame;
+    std::optional<Scheduler::Key> next_wait;  // the next FC WAIT
+  };
 
   CanEndpointSetup setup_;
   EndpointContext* context_ = nullptr;
@@ -57,6 +68,7 @@ class CanEndpoint final : public HostEndpoint {
   std::optional<CanBusPacer> pacer_;        // D9 bus_timing only: frames leave at the bit rate
   std::optional<SimTime> pacer_scheduled_;  // the pacer's release deadline already queued
   IsoTpChannelCounters retired_;            // counts of channels replaced by a new CAN configuration
+  std::vector<std::optional<HeldFirstFrame>> held_;  // D11 isotp_fc_wait, per channel (fault hook only)
 };
 
 }  // namespace ldoem::endpoints

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "ldoem/endpoints/can_id_pair.hpp"
+#include "ldoem/endpoints/wire_fault_hook.hpp"
 #include "ldoem/protocol/bytes.hpp"
 #include "ldoem/protocol/can_frame.hpp"
 #include "ldoem/protocol/isotp.hpp"
@@ -45,6 +46,11 @@ struct IsoTpChannelCounters {
   std::uint64_t telegrams_sent = 0;
 };
 
+// D11 garbage on CAN: `bytes` as frames of up to 8 data bytes on `id`, each one's first byte with
+// the high nibble 2 (a consecutive-frame PCI: a receiver with no reception running ignores it,
+// ISO 15765-2), so stray bytes never start or end a message.
+std::vector<protocol::CanFrame> garbage_frames(std::uint32_t id, protocol::ByteView bytes);
+
 class IsoTpChannel {
  public:
   explicit IsoTpChannel(IsoTpChannelConfig config);
@@ -56,6 +62,10 @@ class IsoTpChannel {
   IsoTpChannelOutput on_frame(SimTime now, const protocol::CanFrame& frame);
   // Queues one telegram (service WORD first) as one ISO-TP message; starts it when idle.
   IsoTpChannelOutput send(SimTime now, protocol::ByteView telegram);
+  // The same with D11 wire faults: `faults.garbage_before` goes out as stray frames right before
+  // the message (garbage_frames), and its first consecutive frame is dropped, sent twice or sent
+  // with the next sequence number.
+  IsoTpChannelOutput send(SimTime now, protocol::ByteView telegram, TelegramFaults faults);
   // Call at or after deadline(): N_Cr/N_Bs timeouts and frames held back by STmin.
   IsoTpChannelOutput poll(SimTime now);
   std::optional<SimTime> deadline() const;
@@ -72,13 +82,20 @@ class IsoTpChannel {
   const IsoTpChannelCounters& counters() const { return counters_; }
 
  private:
+  struct Queued {
+    protocol::Bytes telegram;
+    std::vector<protocol::CanFrame> prelude;  // D11 garbage: stray frames before the message
+    ConsecutiveFrameFault first_consecutive_frame = ConsecutiveFrameFault::none;
+  };
   void pump(SimTime now, IsoTpChannelOutput& out);
+  void put_out(const std::vector<protocol::CanFrame>& frames, IsoTpChannelOutput& out);
   void note_receive(protocol::IsoTpReceiveResult result, IsoTpChannelOutput& out);
 
   IsoTpChannelConfig config_;
   protocol::IsoTpReceiver receiver_;
   protocol::IsoTpSender sender_;
-  std::deque<protocol::Bytes> queue_;
+  std::deque<Queued> queue_;
+  ConsecutiveFrameFault pending_frame_fault_ = ConsecutiveFrameFault::none;  // for the running message
   bool sender_counted_ = true;  // the sender's last message is already counted
   IsoTpChannelCounters counters_;
 };

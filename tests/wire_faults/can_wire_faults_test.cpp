@@ -1,0 +1,243 @@
+// D11 wire faults on CAN (D1: ISO-TP over CAN 2.0A), produced inside the CAN endpoint, on a real
+// vcan0 inside User-Mode Linux (label vcan; they FAIL, never skip, without vcan0):
+//   scripts/uml/run.sh -- ctest --test-dir build/default -L vcan -R wire_faults --output-on-failure
+// The test is the host on CAN_RAW and sees every frame: the first consecutive frame dropped,
+// repeated or mis-numbered, garbage as stray frames, FC overflow and FC WAIT on its first frame;
+// and libldoem's reaction (FC overflow is the typed error `refused`, WAIT is waited out).
+#include <gtest/gtest.h>
+
+#include "ldoem/driver/transport.hpp"
+#include "ldoem/endpoints/isotp_channel.hpp"
+#include "ldoem/faults/fault_scheduler.hpp"
+#include "ldoem/io/can_interface.hpp"
+#include "ldoem/io/can_socket.hpp"
+#include "ldoem/protocol/isotp.hpp"
+#include "wire_fault_support.hpp"
+
+namespace ldoem::wire_faults::test {
+namespace {
+
+using namespace std::chrono_literals;
+using daemon::test::minimal_scene_text;
+using daemon::test::telegram;
+using protocol::CanFrame;
+
+#define LDOEM_REQUIRE_VCAN0()                                                                  \
+  do {                                                                                         \
+    auto vcan = io::check_can_interface("vcan0");                                              \
+    ASSERT_TRUE(vcan) << vcan.error().message()                                                \
+                      << " (vcan tests run inside UML: scripts/uml/run.sh -- ctest -L vcan)";  \
+  } while (false)
+
+CanFrame frame(std::uint32_t id, protocol::Bytes bytes) { return *protocol::make_can_frame(id, bytes); }
+
+std::string text(const std::vector<CanFrame>& frames) {
+  std::string out;
+  for (const CanFrame& f : frames) out += daemon::test::to_hex(f.payload()) + "\n";
+  return out;
+}
+
+// The host on CAN_RAW: sends frames on 0x6C0, sees every frame on 0x6C1.
+class RawHost {
+ public:
+  RawHost() {
+    auto opened = io::CanRawSocket::open("vcan0", std::vector<io::CanIdFilter>{io::exact_standard_id(0x6C1)});
+    EXPECT_TRUE(opened) << opened.error().message();
+    if (opened) socket_.emplace(std::move(*opened));
+  }
+  void send(protocol::Bytes bytes) {
+    ASSERT_TRUE(socket_);
+    ASSERT_TRUE(socket_->send(frame(0x6C0, std::move(bytes))));
+  }
+  // Frames until none came for `quiet` (or `limit` passed).
+  std::vector<CanFrame> collect(std::chrono::milliseconds quiet = 400ms, std::chrono::milliseconds limit = 10s) {
+    std::vector<CanFrame> frames;
+    const auto give_up = std::chrono::steady_clock::now() + limit;
+    while (std::chrono::steady_clock::now() < give_up && socket_ && daemon::test::wait_readable(socket_->fd(), quiet)) {
+      while (auto received = socket_->receive()) {
+        if (!received->has_value()) break;
+        frames.push_back(**received);
+      }
+    }
+    return frames;
+  }
+  // The next frame within `limit`.
+  std::optional<CanFrame> next(std::chrono::milliseconds limit = 5s) {
+    if (!socket_ || !daemon::test::wait_readable(socket_->fd(), limit)) return std::nullopt;
+    auto received = socket_->receive();
+    if (!received || !received->has_value()) return std::nullopt;
+    return **received;
+  }
+
+ private:
+  std::optional<io::CanRawSocket> socket_;
+};
+
+std::vector<std::string> can_daemon_arguments() { return {"--can", "vcan0"}; }
+
+// CAN daemons run on the wall clock: FC WAIT every 0.5 s of real time, as a host sees it.
+struct CanFaultyDaemon : FaultyDaemon {
+  explicit CanFaultyDaemon(const std::string& scene_text) : FaultyDaemon(scene_text, can_daemon_arguments(), false) {}
+};
+
+std::string scene_with(const std::string& faults) { return minimal_scene_text() + "seed: 7\nfaults:\n" + faults; }
+
+// GET_IDENTIFICATION 0x00 is answered in two frames, `10 09 81 01 ...` and, after our FC, one
+// consecutive frame `21 ...` (messages with more are in tests/endpoints/isotp_channel_faults_test.cpp).
+std::vector<CanFrame> ask_identification(RawHost& host) {
+  host.send({0x04, 0x01, 0x01, 0x00, 0x00});
+  const auto first = host.next();
+  if (!first) return {};
+  std::vector<CanFrame> frames{*first};
+  if (protocol::isotp_frame_type(*first) == protocol::IsoTpFrameType::first_frame) {
+    host.send({0x30, 0x00, 0x00});
+    const auto rest = host.collect();
+    frames.insert(frames.end(), rest.begin(), rest.end());
+  }
+  return frames;
+}
+
+// Runs `kind` on the first GET_IDENTIFICATION; returns (faulted reply, the healthy one after it).
+std::pair<std::vector<CanFrame>, std::vector<CanFrame>> identification_with(const std::string& fault_entry) {
+  CanFaultyDaemon d(scene_with(fault_entry));
+  EXPECT_TRUE(d.ready()) << d.diagnostics();
+  RawHost host;
+  auto faulted = ask_identification(host);
+  auto healthy = ask_identification(host);
+  return {faulted, healthy};
+}
+
+TEST(WireFaultsCan, IsotpDropCf_TheFirstConsecutiveFrameIsNotSent) {
+  LDOEM_REQUIRE_VCAN0();
+  auto [faulted, healthy] = identification_with("  - {kind: isotp_drop_cf, on: {service: GET_IDENTIFICATION, nth: 1}}\n");
+  ASSERT_GE(healthy.size(), 2u) << text(healthy);
+  EXPECT_EQ(healthy[1].data[0], 0x21);
+  std::vector<CanFrame> expected = healthy;
+  expected.erase(expected.begin() + 1);
+  EXPECT_EQ(text(faulted), text(expected));
+}
+
+TEST(WireFaultsCan, IsotpRepeatCf_TheFirstConsecutiveFrameIsSentTwice) {
+  LDOEM_REQUIRE_VCAN0();
+  auto [faulted, healthy] = identification_with("  - {kind: isotp_repeat_cf, on: {service: GET_IDENTIFICATION, nth: 1}}\n");
+  ASSERT_GE(healthy.size(), 2u) << text(healthy);
+  std::vector<CanFrame> expected = healthy;
+  expected.insert(expected.begin() + 1, healthy[1]);
+  EXPECT_EQ(text(faulted), text(expected));
+}
+
+TEST(WireFaultsCan, IsotpBadSn_TheFirstConsecutiveFrameCarriesSequenceTwo) {
+  LDOEM_REQUIRE_VCAN0();
+  auto [faulted, healthy] = identification_with("  - {kind: isotp_bad_sn, on: {service: GET_IDENTIFICATION, nth: 1}}\n");
+  ASSERT_GE(healthy.size(), 2u) << text(healthy);
+  std::vector<CanFrame> expected = healthy;
+  expected[1].data[0] = 0x22;
+  EXPECT_EQ(text(faulted), text(expected));
+}
+
+TEST(WireFaultsCan, IsotpBadSn_LibldoemDropsTheMessageCountsItAndTheRetryIsAnswered) {
+  LDOEM_REQUIRE_VCAN0();
+  CanFaultyDaemon d(scene_with("  - {kind: isotp_bad_sn, on: {service: GET_IDENTIFICATION, nth: 1}}\n"));
+  ASSERT_TRUE(d.ready()) << d.diagnostics();
+  auto transport = driver::open_transport(*driver::parse_endpoint("can:vcan0"));
+  ASSERT_TRUE(transport);
+  ASSERT_TRUE((*transport)->send(telegram("GET_IDENTIFICATION 0001"), driver::Clock::now() + 2s));
+  const auto lost = (*transport)->receive(driver::Clock::now() + 1500ms);
+  ASSERT_FALSE(lost);
+  EXPECT_EQ(lost.error().kind, driver::ErrorKind::timeout);
+  EXPECT_TRUE(driver::is_retryable(lost.error()));
+  EXPECT_GE((*transport)->counters().dropped_frames, 1u);
+  ASSERT_TRUE((*transport)->send(telegram("GET_IDENTIFICATION 0001"), driver::Clock::now() + 2s));
+  const auto reply = (*transport)->receive(driver::Clock::now() + 5s);
+  ASSERT_TRUE(reply);
+  EXPECT_EQ(protocol::format_telegram(*reply), "GET_IDENTIFICATION reply 4c44 2d4f 454d 3130 3030");
+}
+
+TEST(WireFaultsCan, Garbage_StrayConsecutiveFramesBeforeTheReply) {
+  LDOEM_REQUIRE_VCAN0();
+  CanFaultyDaemon d(scene_with("  - {kind: garbage, bytes: 10, on: {service: GET_STATUS, nth: 1}}\n"));
+  ASSERT_TRUE(d.ready()) << d.diagnostics();
+  RawHost host;
+  host.send({0x02, 0x01, 0x02});
+  std::vector<CanFrame> expected = endpoints::garbage_frames(0x6C1, faults::fault_garbage(7, 1, 10));
+  ASSERT_EQ(expected.size(), 2u);
+  expected.push_back(frame(0x6C1, {0x06, 0x81, 0x02, 0x00, 0x00, 0x00, 0x01}));
+  EXPECT_EQ(text(host.collect()), text(expected));
+}
+
+TEST(WireFaultsCan, Garbage_LibldoemSkipsStrayFramesAndReadsTheTelegram) {
+  LDOEM_REQUIRE_VCAN0();
+  CanFaultyDaemon d(scene_with("  - {kind: garbage, bytes: 16, on: {service: GET_STATUS, nth: 1}}\n"));
+  ASSERT_TRUE(d.ready()) << d.diagnostics();
+  auto transport = driver::open_transport(*driver::parse_endpoint("can:vcan0"));
+  ASSERT_TRUE(transport);
+  ASSERT_TRUE((*transport)->send(telegram("GET_STATUS"), driver::Clock::now() + 2s));
+  const auto reply = (*transport)->receive(driver::Clock::now() + 5s);
+  ASSERT_TRUE(reply);
+  EXPECT_EQ(protocol::format_telegram(*reply), "GET_STATUS reply 0000 0001");
+}
+
+// SET_FUNCTION with its three parameters is 8 bytes: a first frame and one consecutive frame.
+const protocol::Bytes kLongRequestFirstFrame{0x10, 0x08, 0x02, 0x0A, 0x00, 0x01, 0x00, 0x01};
+
+TEST(WireFaultsCan, IsotpFcOverflow_TheHostsFirstFrameIsAnswered3200_LibldoemSaysRefused) {
+  LDOEM_REQUIRE_VCAN0();
+  CanFaultyDaemon d(scene_with("  - {kind: isotp_fc_overflow, count: 2}\n"));
+  ASSERT_TRUE(d.ready()) << d.diagnostics();
+  {
+    RawHost host;
+    host.send(kLongRequestFirstFrame);
+    EXPECT_EQ(text(host.collect()), "32 00 00\n");
+  }
+  auto transport = driver::open_transport(*driver::parse_endpoint("can:vcan0"));
+  ASSERT_TRUE(transport);
+  const auto refused = (*transport)->send(telegram("SET_FUNCTION 0001 0001 0e10"), driver::Clock::now() + 5s);
+  ASSERT_FALSE(refused);
+  EXPECT_EQ(refused.error().kind, driver::ErrorKind::refused);
+  EXPECT_FALSE(driver::is_retryable(refused.error()));
+  // The count is used up: the same request goes through.
+  ASSERT_TRUE((*transport)->send(telegram("SET_FUNCTION 0001 0001 0e10"), driver::Clock::now() + 5s));
+  EXPECT_TRUE((*transport)->receive(driver::Clock::now() + 5s));
+}
+
+TEST(WireFaultsCan, IsotpFcWait_WaitEveryHalfSecondWhileActiveThenContinueToSend) {
+  LDOEM_REQUIRE_VCAN0();
+  CanFaultyDaemon d(scene_with("  - {kind: isotp_fc_wait, duration_s: 1.2, on: {service: GET_STATUS, nth: 1}}\n"));
+  ASSERT_TRUE(d.ready()) << d.diagnostics();
+  RawHost host;
+  host.send({0x02, 0x01, 0x02});  // starts the fault (0 .. 1.2 s)
+  host.send(kLongRequestFirstFrame);
+  // Held with WAIT at once, 0.5 and 1.0 s later; at 1.5 s the fault is over: continue to send.
+  EXPECT_EQ(text(host.collect(1500ms)), "06 81 02 00 00 00 01\n31 00 00\n31 00 00\n31 00 00\n30 00 00\n");
+}
+
+TEST(WireFaultsCan, IsotpFcWait_LibldoemWaitsItOutAndGetsTheReply) {
+  LDOEM_REQUIRE_VCAN0();
+  CanFaultyDaemon d(scene_with("  - {kind: isotp_fc_wait, duration_s: 1.2, on: {service: GET_STATUS, nth: 1}}\n"));
+  ASSERT_TRUE(d.ready()) << d.diagnostics();
+  auto transport = driver::open_transport(*driver::parse_endpoint("can:vcan0"));
+  ASSERT_TRUE(transport);
+  ASSERT_TRUE((*transport)->send(telegram("GET_STATUS"), driver::Clock::now() + 2s));  // starts the fault
+  ASSERT_TRUE((*transport)->receive(driver::Clock::now() + 5s));
+  ASSERT_TRUE((*transport)->send(telegram("SET_FUNCTION 0001 0001 0e10"), driver::Clock::now() + 10s));
+  EXPECT_TRUE((*transport)->receive(driver::Clock::now() + 5s));
+}
+
+TEST(WireFaultsCan, IsotpFcWait_EndlessUntilTheHostGivesUp_LibldoemTimesOut) {
+  LDOEM_REQUIRE_VCAN0();
+  CanFaultyDaemon d(scene_with("  - {kind: isotp_fc_wait}\n"));
+  ASSERT_TRUE(d.ready()) << d.diagnostics();
+  auto transport = driver::open_transport(*driver::parse_endpoint("can:vcan0"));
+  ASSERT_TRUE(transport);
+  const auto waited = (*transport)->send(telegram("SET_FUNCTION 0001 0001 0e10"), driver::Clock::now() + 2s);
+  ASSERT_FALSE(waited);
+  EXPECT_EQ(waited.error().kind, driver::ErrorKind::timeout);
+  // A single-frame request is not held: the device still answers.
+  ASSERT_TRUE((*transport)->send(telegram("GET_STATUS"), driver::Clock::now() + 2s));
+  const auto reply = (*transport)->receive(driver::Clock::now() + 5s);
+  ASSERT_TRUE(reply);
+  EXPECT_EQ(protocol::format_telegram(*reply), "GET_STATUS reply 0000 0001");
+}
+
+}  // namespace
+}  // namespace ldoem::wire_faults::test
