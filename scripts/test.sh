@@ -9,7 +9,8 @@
 #   4. the installed package: cmake --install, the systemd units (verify, security <= 2.0), the
 #      examples/consumer program built against find_package(ldoem) and pkg-config and run
 #      against the installed daemon, the .deb (scripts/check-install.sh);
-#   5. every libFuzzer target for a short, fixed number of runs under ASan+UBSan.
+#   5. every libFuzzer target for a short, fixed number of runs under ASan+UBSan;
+#   6. a 60 s soak test (scripts/soak.sh) inside the vcan UML boot of step 2, so CAN is in it.
 # Each step prints its wall time (docs/ci.md).
 # The whole suite under ASan+UBSan is scripts/test-asan.sh; slow benchmarks are scripts/bench-*.sh.
 # Exit status: 0 only if all passed.
@@ -42,8 +43,12 @@ ctest --preset default -LE 'vcan|gpio|slow|fuzz' -j2
 step "installed package, systemd units, libldoem consumer"
 scripts/check-install.sh build/default
 
-step "vcan tests inside User-Mode Linux"
-scripts/uml/run.sh -- ctest --test-dir build/default -L vcan --output-on-failure
+step "vcan tests and a 60 s soak test inside User-Mode Linux"
+# One boot for both: the soak's third daemon then serves the hub over vcan0. Both always run.
+scripts/uml/run.sh 'status=0
+ctest --test-dir build/default -L vcan --output-on-failure || status=$?
+scripts/soak.sh --duration 60 --out build/default/soak || status=1
+exit $status'
 
 step "gpio tests inside the gpio-sim UML kernel"
 gpio_kernel=$(scripts/uml/build-gpio-kernel.sh)
