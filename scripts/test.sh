@@ -10,7 +10,8 @@
 #      examples/consumer program built against find_package(ldoem) and pkg-config and run
 #      against the installed daemon, the .deb (scripts/check-install.sh);
 #   5. every libFuzzer target for a short, fixed number of runs under ASan+UBSan;
-#   6. a 60 s soak test (scripts/soak.sh) inside the vcan UML boot of step 2, so CAN is in it.
+#   6. the hub, ray caster and sensor model tests under ThreadSanitizer (the tsan preset);
+#   7. a 60 s soak test (scripts/soak.sh) inside the vcan UML boot of step 2, so CAN is in it.
 # Each step prints its wall time (docs/ci.md).
 # The whole suite under ASan+UBSan is scripts/test-asan.sh; slow benchmarks are scripts/bench-*.sh.
 # Exit status: 0 only if all passed.
@@ -58,3 +59,8 @@ step "fuzz targets (short runs, ASan+UBSan)"
 cmake --preset fuzz >/dev/null
 cmake --build --preset fuzz
 ctest --test-dir build/fuzz -L fuzz --output-on-failure
+
+step "hub, ray caster and sensor model tests under TSan (tsan preset)"
+cmake --preset tsan >/dev/null
+cmake --build --preset tsan
+ctest --preset tsan -j2
