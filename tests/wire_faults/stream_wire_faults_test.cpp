@@ -3,7 +3,10 @@
 // asserts the bytes on the wire or the time they arrive, and, where it is simple, what libldoem
 // makes of them.
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <unistd.h>
+
+#include <algorithm>
 
 #include "ldoem/driver/transport.hpp"
 #include "ldoem/faults/fault_scheduler.hpp"
@@ -200,6 +203,91 @@ TEST(WireFaultsTcp, Bandwidth_TenBytesPerSecondDeliverAFifteenByteFrameInOnePoin
   const auto rest = d.receive(host->fd(), 14);
   EXPECT_EQ("02 " + to_hex(rest.bytes), kGoodStatusFrame);  // the bytes are untouched
   EXPECT_EQ(rest.at - asked, SimTime(1500ms));
+}
+
+// ----------------------------------------------------------------------------------- determinism
+
+// Same scene, seed and conversation: the same bytes on the wire and the same event log, twice,
+// with probability-triggered endpoint faults (D11: counter-based draws from the seed).
+TEST(WireFaultsTcp, SameSeedAndConversationGiveTheSameBytesAndEventsTwice) {
+  const std::string scene = minimal_scene_text() + "seed: 99\nfaults:\n"
+                            "  - {kind: garbage, bytes: 5, probability: 0.3, service: GET_STATUS}\n"
+                            "  - {kind: corrupt_checksum, probability: 0.25, service: GET_STATUS}\n"
+                            "  - {kind: corrupt_checksum, every: {service: GET_CONFIG, count: 2}}\n";
+  auto run = [&scene] {
+    FaultyDaemon d(scene);
+    EXPECT_TRUE(d.ready()) << d.diagnostics();
+    std::string transcript;
+    auto host = TcpHost::connect(d.process->tcp_port());
+    if (!host) return std::pair<std::string, std::string>{};
+    auto ask = [&](std::string_view request) {
+      host->send(telegram(request));
+      // Every reply is one frame, maybe after garbage: read until the frame's last byte.
+      Bytes bytes = read_bytes(host->fd(), 15, 2s);
+      while (!bytes.empty() && bytes.size() < 64) {
+        const auto header = std::search(bytes.begin(), bytes.end(), protocol::kTcpMagic.begin(), protocol::kTcpMagic.end());
+        const auto offset = static_cast<std::size_t>(header - bytes.begin());
+        if (header != bytes.end() && bytes.size() >= offset + protocol::kTcpHeaderSize &&
+            bytes.size() >= offset + protocol::tcp_frame_size(protocol::read_u32_be(bytes, offset + 4))) {
+          break;
+        }
+        const Bytes more = read_bytes(host->fd(), 1, 2s);
+        if (more.empty()) break;
+        bytes.insert(bytes.end(), more.begin(), more.end());
+      }
+      transcript += std::string(request) + " -> " + to_hex(bytes) + "\n";
+    };
+    for (int i = 0; i < 16; ++i) ask("GET_STATUS");
+    for (int i = 0; i < 4; ++i) ask("GET_CONFIG 0010");
+    d.process->signal(SIGTERM);
+    d.process->wait();
+    return std::pair{transcript, d.events()};
+  };
+  const auto first = run();
+  const auto second = run();
+  EXPECT_EQ(first.first, second.first);
+  EXPECT_EQ(first.second, second.second);
+  EXPECT_NE(first.first.find("GET_STATUS -> " + kCorruptStatusFrame), std::string::npos) << first.first;
+  EXPECT_NE(first.first.find("GET_STATUS -> " + kGoodStatusFrame), std::string::npos) << first.first;
+  std::size_t garbled = 0;  // replies with bytes before their header
+  for (std::size_t at = first.first.find("GET_STATUS -> "); at != std::string::npos; at = first.first.find("GET_STATUS -> ", at + 1)) {
+    if (first.first.compare(at + 14, 11, "02 55 53 50") != 0) ++garbled;
+  }
+  EXPECT_GT(garbled, 0u) << first.first;
+  EXPECT_LT(garbled, 16u) << first.first;
+  EXPECT_NE(first.second.find("\"kind\":\"garbage\""), std::string::npos) << first.second;
+}
+
+// D9's rule for the endpoint hook: a scene whose faults never act gives the bytes of a scene
+// without faults: a conversation with profiles, byte for byte, at the same simulated times.
+TEST(WireFaultsTcp, AHookWithNoActiveFaultChangesNoByte) {
+  auto conversation = [](const std::string& scene_text) {
+    InProcessTcp d(scene_text);
+    EXPECT_TRUE(d.daemon) << d.failure;
+    std::string transcript;
+    if (!d.daemon) return transcript;
+    auto host = TcpHost::connect(*d.daemon->tcp_port());
+    if (!host) return transcript;
+    auto frame = [&] {
+      const auto header = d.receive(host->fd(), protocol::kTcpHeaderSize);
+      if (header.bytes.size() < protocol::kTcpHeaderSize) return std::string("(nothing)");
+      const auto rest = d.receive(host->fd(), protocol::read_u32_be(header.bytes, 4) + protocol::kTcpTrailerSize);
+      return std::to_string(rest.at.count()) + " " + to_hex(header.bytes) + " " + to_hex(rest.bytes);
+    };
+    for (const std::string_view request : {"GET_STATUS", "TRANS_ROTATE 0000", "TRANS_MEASURE", "GET_PROFILE 0005 39ff"}) {
+      host->send(telegram(request));
+      transcript += frame() + "\n";
+    }
+    for (int profile = 1; profile < 5; ++profile) transcript += frame() + "\n";
+    return transcript;
+  };
+  const std::string plain = conversation(minimal_scene_text());
+  const std::string dormant = conversation(scene_with(
+      "  - {kind: garbage, at_s: 100000}\n  - {kind: corrupt_checksum, on: {service: GET_CONFIG, nth: 1}}\n"
+      "  - {kind: bandwidth, at_s: 100000}\n  - {kind: tcp_stall, on: {service: GET_CONFIG, nth: 1}}\n"));
+  EXPECT_EQ(std::count(plain.begin(), plain.end(), '\n'), 8);
+  EXPECT_EQ(plain.find("(nothing)"), std::string::npos) << plain;
+  EXPECT_EQ(plain, dormant);
 }
 
 }  // namespace
