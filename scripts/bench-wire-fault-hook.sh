@@ -100,7 +100,8 @@ for variant in without with; do
   echo "| $label | $(median_of $variant median_us) | $(median_of $variant p99_us) | $(median_of $variant profiles_per_s) | $(median_of $variant bytes_per_s) |"
 done
 echo
-echo "Ratios with/without: GET_STATUS median $(ratio "$(median_of with median_us)" "$(median_of without median_us)"),"\
-" p99 $(ratio "$(median_of with p99_us)" "$(median_of without p99_us)"),"\
-" profiles/s $(ratio "$(median_of with profiles_per_s)" "$(median_of without profiles_per_s)")"
+ratios="GET_STATUS median $(ratio "$(median_of with median_us)" "$(median_of without median_us)")"
+ratios+=", p99 $(ratio "$(median_of with p99_us)" "$(median_of without p99_us)")"
+ratios+=", profiles/s $(ratio "$(median_of with profiles_per_s)" "$(median_of without profiles_per_s)")"
+echo "Ratios with/without: $ratios"
 echo "(TCP, --virtual-time; $rounds rounds of $requests GET_STATUS and $seconds s of GET_PROFILE 0000 39ff at 20 Hz, 0.5 deg; $(nproc) CPUs, load $(cut -d' ' -f1 /proc/loadavg))"
