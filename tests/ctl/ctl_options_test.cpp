@@ -55,6 +55,24 @@ TEST(CtlOptions, OtherCommands) {
   EXPECT_EQ(*plan_of({"--control", "p", "send", R"({"execute": "quit"})"}).request, json::parse(R"({"execute": "quit"})"));
 }
 
+TEST(CtlOptions, ObjectCommands) {
+  EXPECT_EQ(*plan_of({"--control", "p", "move-object", "door", "--position", "2,0.5,0", "--rpy", "0,0,90", "--at", "3",
+                      "--keep-velocity"})
+                 .request,
+            json::parse(R"({"execute": "move-object", "arguments": {"name": "door", "position_m": [2.0, 0.5, 0.0],
+                            "rpy_deg": [0.0, 0.0, 90.0], "at_s": 3.0, "keep_velocity": true}})"));
+  EXPECT_EQ(*plan_of({"--control", "p", "move-object", "door", "--position", "1,2,3"}).request,
+            json::parse(R"({"execute": "move-object", "arguments": {"name": "door", "position_m": [1.0, 2.0, 3.0]}})"));
+  EXPECT_EQ(exit_of({"--control", "p", "move-object", "door", "--position", "1,2"}).code, kExitUsage);
+  EXPECT_EQ(exit_of({"--control", "p", "move-object", "door"}).code, kExitUsage);
+  EXPECT_EQ(*plan_of({"--control", "p", "add-object", R"({"name": "c", "sphere": {"radius_m": 1}})", "--at", "2"}).request,
+            json::parse(R"({"execute": "add-object", "arguments": {"object": {"name": "c", "sphere": {"radius_m": 1}},
+                            "at_s": 2.0}})"));
+  EXPECT_EQ(exit_of({"--control", "p", "add-object", "[1, 2]"}).code, kExitUsage);
+  EXPECT_EQ(*plan_of({"--control", "p", "remove-object", "c"}).request,
+            json::parse(R"({"execute": "remove-object", "arguments": {"name": "c"}})"));
+}
+
 TEST(CtlOptions, HelpIsExitZeroWithExamples) {
   const CtlExit help = exit_of({"--help"});
   EXPECT_EQ(help.code, kExitOk);

@@ -233,5 +233,60 @@ TEST(DaemonFaults, SameSeedAndConversationGiveTheSameBytesAndEvents) {
   EXPECT_NE(first.second.find("FAULT_INJECTED"), std::string::npos) << first.second;
 }
 
+// Issue 10 item 2: connections opened and closed are events, with the transport and the peer.
+// The event log leaves the peer out (its port differs from run to run).
+TEST(DaemonFaults, TcpConnectionsOpenedAndClosedAreEvents) {
+  FaultDaemon fd(minimal_scene_text());
+  ASSERT_TRUE(fd.ready()) << fd.daemon->stderr_text();
+  auto control = ControlClient::connect(fd.control_path);
+  ASSERT_TRUE(control && control->next());
+  {
+    auto host = TcpHost::connect(fd.daemon->tcp_port());
+    ASSERT_TRUE(host);
+    const auto opened = control->wait_event("CONNECTION_OPENED", 5s);
+    ASSERT_TRUE(opened);
+    EXPECT_EQ((*opened)["data"]["transport"], "tcp");
+    EXPECT_EQ((*opened)["data"]["peer"].get<std::string>().rfind("127.0.0.1:", 0), 0u) << opened->dump();
+    EXPECT_EQ(reply_text(*host, "GET_STATUS"), "GET_STATUS reply 0000 0001");
+  }
+  const auto closed = control->wait_event("CONNECTION_CLOSED", 5s);
+  ASSERT_TRUE(closed);
+  EXPECT_EQ((*closed)["data"]["transport"], "tcp");
+  EXPECT_TRUE((*closed)["data"].contains("peer"));
+  ASSERT_TRUE(control->execute({{"execute", "quit"}}));
+  EXPECT_EQ(fd.daemon->wait(), 0);
+  std::ifstream log(fd.event_log);
+  std::stringstream events;
+  events << log.rdbuf();
+  EXPECT_NE(events.str().find(R"("event":"CONNECTION_OPENED")"), std::string::npos) << events.str();
+  EXPECT_NE(events.str().find(R"("event":"CONNECTION_CLOSED")"), std::string::npos) << events.str();
+  EXPECT_EQ(events.str().find("peer"), std::string::npos) << events.str();
+}
+
+// The object commands over the real socket: a move is answered, garbage gets error objects.
+TEST(DaemonFaults, ObjectCommandsOverTheSocket) {
+  FaultDaemon fd(minimal_scene_text() +
+                 "  - name: post\n    box: {size_m: [0.4, 0.4, 6]}\n    pose: {position_m: [20, 0, 0]}\n"
+                 "    motion: {linear_velocity_mps: [0, 0, 0]}\n");
+  ASSERT_TRUE(fd.ready()) << fd.daemon->stderr_text();
+  auto control = ControlClient::connect(fd.control_path);
+  ASSERT_TRUE(control && control->next());
+  const auto moved = control->execute(
+      {{"execute", "move-object"}, {"arguments", {{"name", "post"}, {"position_m", {3, 0, 0}}, {"at_s", 100}}}, {"id", 7}});
+  ASSERT_TRUE(moved);
+  EXPECT_EQ((*moved)["return"]["at_s"], 100.0) << moved->dump();
+  EXPECT_TRUE(control->wait_event("OBJECT_MOVED", 5s, "name", "post"));
+  for (const json& garbage : {json{{"execute", "move-object"}, {"arguments", {{"name", "post"}}}},
+                              json{{"execute", "move-object"}, {"arguments", "post"}},
+                              json{{"execute", "move-object"}, {"arguments", {{"name", "post"}, {"position_m", {1, 2, 3}}, {"at_s", "soon"}}}}}) {
+    const auto reply = control->execute(garbage);
+    ASSERT_TRUE(reply) << garbage.dump();
+    EXPECT_TRUE(reply->contains("error")) << garbage.dump() << " -> " << reply->dump();
+  }
+  auto host = TcpHost::connect(fd.daemon->tcp_port());
+  ASSERT_TRUE(host);
+  EXPECT_EQ(reply_text(*host, "GET_STATUS"), "GET_STATUS reply 0000 0001");
+}
+
 }  // namespace
 }  // namespace ldoem::daemon::test

@@ -175,5 +175,38 @@ TEST(WorldMotion, MoveObjectAtADeviceTime) {
   EXPECT_EQ(hit->object_index, 1u);
 }
 
+// move-object on a body is a teleport: by default it restarts from rest at the new pose; with
+// keep_velocity it carries on with the velocity it had at that step. Both fall under gravity.
+TEST(RigidBodies, PlaceTeleportsAtRestOrKeepingTheVelocity) {
+  const std::string text = "world: {world_step_s: 0.001}\n"
+                           "objects:\n"
+                           "  - name: ball\n"
+                           "    sphere: {radius_m: 0.1}\n"
+                           "    pose: {position_m: [0, 0, 500]}\n"
+                           "    dynamics: {mass_kg: 1, initial_velocity_mps: [2, 0, 0]}\n";
+  scene::Pose up;
+  up.position_m = Eigen::Vector3d(0, 0, 1000);
+  for (const bool keep : {false, true}) {
+    RigidBodies bodies(scene_from(text));
+    bodies.advance(0.0, 0.5);  // steps up to 0.5 s are taken: a move at 0.2 s waits for the next step
+    const double late = bodies.place(0, up, 0.2, keep);
+    EXPECT_NEAR(late, 0.501, 1e-12) << "the first step not yet computed";
+    const double on_time = bodies.place(0, up, 0.75, keep);
+    EXPECT_NEAR(on_time, 0.75, 1e-12);
+    bodies.advance(0.0, 1.0);
+    const scene::Pose at = bodies.pose_at(0, 1.0);
+    const double dt = 1.0 - 0.75;
+    if (keep) {
+      // It keeps the 2 m/s sideways and the downward speed gathered since t = 0 (both moves kept
+      // it: g * 0.75 s at the second one).
+      EXPECT_NEAR(at.position_m.x(), 2.0 * dt, 0.01);
+      EXPECT_NEAR(1000.0 - at.position_m.z(), kG * 0.75 * dt + 0.5 * kG * dt * dt, 0.02);
+    } else {
+      EXPECT_NEAR(at.position_m.x(), 0.0, 1e-12);
+      EXPECT_NEAR(1000.0 - at.position_m.z(), 0.5 * kG * dt * dt, 0.01);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace ldoem::world

@@ -35,7 +35,8 @@ std::string field_error_text(const faults::FieldError& error) {
 
 const std::vector<std::string>& command_names() {
   static const std::vector<std::string> names{"qmp_capabilities", "inject-fault", "clear-fault", "query-faults",
-                                              "query-status", "power-cycle", "move-object", "quit"};
+                                              "query-status", "power-cycle", "move-object", "add-object",
+                                              "remove-object", "quit"};
   return names;
 }
 
@@ -136,6 +137,8 @@ std::string handle_line(std::string_view line, ControlTarget& target) {
       return reply(json{{"return", json::object()}}, id);
     }
     if (command == "move-object") return result_line(target.move_object(arguments), id);
+    if (command == "add-object") return result_line(target.add_object(arguments), id);
+    if (command == "remove-object") return result_line(target.remove_object(arguments), id);
   } catch (const json::exception& failure) {
     return error_line(kGenericError, failure.what(), id);
   }

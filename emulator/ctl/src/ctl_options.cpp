@@ -32,6 +32,7 @@ std::variant<CtlPlan, CtlExit> parse_ctl_options(const std::vector<std::string>&
              "  ldoem-ctl --control /tmp/ldoem.ctl inject-fault drop_reply --on GET_STATUS:3 --transport tcp\n"
              "  ldoem-ctl --control /tmp/ldoem.ctl query-faults\n"
              "  ldoem-ctl --control /tmp/ldoem.ctl events --count 5 --timeout 10\n"
+             "  ldoem-ctl --control /tmp/ldoem.ctl move-object door --position 2,0.5,0 --rpy 0,0,90 --at 3\n"
              "Fault kinds and their bytes: docs/faults.md");
   app.require_subcommand(1);
   CtlPlan plan;
@@ -85,6 +86,28 @@ std::variant<CtlPlan, CtlExit> parse_ctl_options(const std::vector<std::string>&
   auto* events = app.add_subcommand("events", "print event lines as they come");
   std::optional<std::uint64_t> event_count;
   events->add_option("--count", event_count, "stop after this many events");
+  // D12 runtime changes (docs/dynamic-scenes.md "Runtime changes").
+  auto* move = app.add_subcommand("move-object", "put a scene object at a new pose (now or at --at)");
+  std::string move_name;
+  std::vector<double> position, rpy;
+  std::optional<double> move_at;
+  bool keep_velocity = false;
+  move->add_option("name", move_name, "the object's name: in the scene")->required();
+  move->add_option("--position", position, "x,y,z in metres")->required()->delimiter(',')->expected(3);
+  move->add_option("--rpy", rpy, "roll,pitch,yaw in degrees (default 0,0,0)")->delimiter(',')->expected(3);
+  move->add_option("--at", move_at, "device time in seconds (default: now)");
+  move->add_flag("--keep-velocity", keep_velocity, "a dynamics body keeps its velocity (default: at rest)");
+  auto* add = app.add_subcommand("add-object", "add an object, given as one entry of a scene's objects list");
+  std::string object_text;
+  std::optional<double> add_at;
+  add->add_option("object", object_text, "JSON, e.g. '{\"name\": \"crate\", \"box\": {\"size_m\": [1, 1, 1]}}'")
+      ->required();
+  add->add_option("--at", add_at, "device time in seconds (default: now)");
+  auto* remove = app.add_subcommand("remove-object", "remove an object (scene or added)");
+  std::string remove_name;
+  std::optional<double> remove_at;
+  remove->add_option("name", remove_name, "the object's name")->required();
+  remove->add_option("--at", remove_at, "device time in seconds (default: now)");
   auto* send = app.add_subcommand("send", "send one raw JSON request line");
   std::string raw;
   send->add_option("request", raw, "a JSON object")->required();
@@ -129,6 +152,22 @@ std::variant<CtlPlan, CtlExit> parse_ctl_options(const std::vector<std::string>&
     plan.request = request("clear-fault", clear_id ? json{{"id", *clear_id}} : json::object());
   } else if (power->parsed()) {
     plan.request = request("power-cycle", off_s ? json{{"off_s", *off_s}} : json::object());
+  } else if (move->parsed()) {
+    json args{{"name", move_name}, {"position_m", position}};
+    if (!rpy.empty()) args["rpy_deg"] = rpy;
+    if (move_at) args["at_s"] = *move_at;
+    if (keep_velocity) args["keep_velocity"] = true;
+    plan.request = request("move-object", args);
+  } else if (add->parsed()) {
+    json object = json::parse(object_text, nullptr, false);
+    if (object.is_discarded() || !object.is_object()) return usage("add-object wants one JSON object");
+    json args{{"object", object}};
+    if (add_at) args["at_s"] = *add_at;
+    plan.request = request("add-object", args);
+  } else if (remove->parsed()) {
+    json args{{"name", remove_name}};
+    if (remove_at) args["at_s"] = *remove_at;
+    plan.request = request("remove-object", args);
   } else if (events->parsed()) {
     plan.follow_events = true;
     plan.event_count = event_count;

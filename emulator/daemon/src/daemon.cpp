@@ -153,6 +153,7 @@ std::optional<StartFailure> Daemon::Impl::build_faults() {
   if (options.control_path) setup.control_path = options.control_path->string();
   if (options.event_log_path) setup.event_log_path = options.event_log_path->string();
   setup.version = LDOEM_VERSION;
+  setup.world = world.get();
   auto wiring = FaultWiring::create(scene, *device, *this, *loop, logger, std::move(setup), [this] { loop->stop(); });
   if (!wiring) return StartFailure{kExitUsageError, wiring.error()};
   faults = std::move(*wiring);
@@ -324,5 +325,7 @@ std::optional<std::uint16_t> Daemon::tcp_port() const {
 DeviceInstance& Daemon::device() { return *impl_->device; }
 
 SimTime Daemon::now() const { return impl_->now(); }
+
+control_socket::ControlTarget* Daemon::control_target() { return impl_->faults.get(); }
 
 }  // namespace ldoem::daemon

@@ -100,7 +100,12 @@ void DeviceInstance::on_framing_error(ConnectionId from, const protocol::Framing
   });
 }
 
+void DeviceInstance::on_connection_opened(ConnectionId connection, std::string_view peer) {
+  if (connection_observer_) connection_observer_(true, connection, peer);
+}
+
 void DeviceInstance::on_connection_closed(ConnectionId connection) {
+  if (connection_observer_) connection_observer_(false, connection, {});
   accept_input([this, connection] {
     const SimTime at = scheduler_.now();
     perform(at, unit_->on_connection_closed(at, connection));

@@ -26,12 +26,14 @@ FaultWiring::FaultWiring(DeviceInstance& device, endpoints::Scheduler& scheduler
 FaultWiring::~FaultWiring() {
   if (deadline_) scheduler_.cancel(*deadline_);
   device_.set_fault_hook(nullptr);
+  device_.set_connection_observer(nullptr);
 }
 
 protocol::Expected<std::unique_ptr<FaultWiring>, std::string> FaultWiring::create(
     const scene::Scene& scene, DeviceInstance& device, endpoints::Scheduler& scheduler, io::EventLoop& loop,
     const endpoints::Logger& logger, Setup setup, std::function<void()> stop) {
   std::unique_ptr<FaultWiring> wiring(new FaultWiring(device, scheduler, logger, std::move(stop)));
+  wiring->world_ = setup.world;
   wiring->injector_ = std::make_unique<fault_injection::FaultInjector>(
       scene.faults, scene.seed, scene.effects.has(scene::Effect::head_dynamics), device.unit_for_faults());
   FaultWiring* self = wiring.get();
@@ -53,6 +55,10 @@ protocol::Expected<std::unique_ptr<FaultWiring>, std::string> FaultWiring::creat
     if (!server) return protocol::Unexpected("--control: " + server.error().message());
     wiring->server_ = std::move(*server);
   }
+  FaultWiring* observer = wiring.get();
+  device.set_connection_observer([observer](bool opened, control::ConnectionId connection, std::string_view peer) {
+    observer->on_connection(opened, connection, peer);
+  });
   wiring->take(wiring->injector_->advance(scheduler.now()));
   return wiring;
 }
@@ -60,7 +66,17 @@ protocol::Expected<std::unique_ptr<FaultWiring>, std::string> FaultWiring::creat
 void FaultWiring::publish(const fault_injection::InjectorEvent& event) {
   const std::string line = control_socket::event_line(event.name, event.data, event.at);
   if (event.name == "FAULT_INJECTED") logger_.log(LogLevel::info, "fault: " + line);  // D11: info level
-  if (event_log_.is_open()) event_log_ << line << '\n' << std::flush;
+  if (event_log_.is_open()) {
+    // A peer's address (its ephemeral port) differs from run to run: the log leaves it out, so
+    // that the same scene, seed and conversation give the same log (D11).
+    if (event.data.is_object() && event.data.contains("peer")) {
+      nlohmann::json data = event.data;
+      data.erase("peer");
+      event_log_ << control_socket::event_line(event.name, data, event.at) << '\n' << std::flush;
+    } else {
+      event_log_ << line << '\n' << std::flush;
+    }
+  }
   if (server_) server_->broadcast(line);
 }
 

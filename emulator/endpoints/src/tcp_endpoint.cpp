@@ -57,6 +57,7 @@ void TcpEndpoint::on_listener_ready() {
     context_->logger.log(LogLevel::info, "tcp#" + std::to_string(index) + " connected from " + (*accepted)->peer());
     clients_.emplace(index, Client{std::move(**accepted), protocol::TcpDeframer(), OutputQueue(), {}, false, {}});
     ++context_->counters.tcp_connections;
+    context_->sink.on_connection_opened(ConnectionId{TransportKind::tcp, index}, clients_.at(index).connection.peer());
     if (auto watched = context_->loop.watch(fd, io::Interest::readable,
                                             [this, index](io::Readiness r) { on_client_ready(index, r); });
         !watched) {

@@ -2,6 +2,7 @@
 
 #include "ldoem/motor/tilt_motor.hpp"
 #include "ldoem/world/scene_caster.hpp"
+#include "ldoem/world/world_motion.hpp"
 
 namespace ldoem::plant {
 
@@ -28,6 +29,15 @@ std::optional<WorldTiming> SceneWorld::timing() {
 }
 
 world::WorldMotion* SceneWorld::motion() { return moving_caster_ ? &moving_caster_->motion() : nullptr; }
+
+std::variant<double, std::string> SceneWorld::move_object(std::string_view name, const scene::Pose& pose, double at_s,
+                                                          bool keep_velocity) {
+  if (!moving_caster_) {
+    return "move-object: nothing in this scene moves, so no object can be moved ('" + std::string(name) +
+           "'); give it motion: {linear_velocity_mps: [0, 0, 0]} in the scene";
+  }
+  return moving_caster_->motion().move(name, pose, at_s, keep_velocity);
+}
 
 ScenePlant::ScenePlant(const scene::Scene& scene, SceneWorld& world)
     : sensor_(scene, world.caster()),

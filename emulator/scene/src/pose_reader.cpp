@@ -54,3 +54,9 @@ Pose read_pose(const std::string& file, const YAML::Node& node, const std::strin
 }
 
 }  // namespace ldoem::scene::detail
+
+namespace ldoem::scene {
+
+Eigen::Quaterniond rotation_from_rpy_deg(const Eigen::Vector3d& rpy_deg) { return detail::rotation_from_rpy_deg(rpy_deg); }
+
+}  // namespace ldoem::scene

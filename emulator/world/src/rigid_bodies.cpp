@@ -83,6 +83,7 @@ struct RigidBodies::Impl {
     std::size_t body;
     scene::Pose pose;
     double at_s;
+    bool keep_velocity;
   };
   std::vector<Placement> placements;  // pending control-socket moves
   // frames[i] holds every body's pose at step first_step + i (time = step * step_s).
@@ -147,8 +148,10 @@ struct RigidBodies::Impl {
       }
       dBodyID body = bodies[it->body];
       set_body_pose(body, it->pose);
-      dBodySetLinearVel(body, 0, 0, 0);
-      dBodySetAngularVel(body, 0, 0, 0);
+      if (!it->keep_velocity || left[it->body]) {  // a body that left the world has no velocity to keep
+        dBodySetLinearVel(body, 0, 0, 0);
+        dBodySetAngularVel(body, 0, 0, 0);
+      }
       dBodyEnable(body);
       left[it->body] = false;
       dGeomEnable(geoms[it->body]);
@@ -300,9 +303,14 @@ scene::PathBounds RigidBodies::origin_bounds(std::size_t body, double t0_s, doub
   return bounds;
 }
 
-void RigidBodies::place(std::size_t body, const scene::Pose& pose, double at_s) {
+double RigidBodies::place(std::size_t body, const scene::Pose& pose, double at_s, bool keep_velocity) {
   (void)impl_->left.at(body);  // range check
-  impl_->placements.push_back({body, pose, at_s});
+  impl_->placements.push_back({body, pose, at_s, keep_velocity});
+  // apply_placements runs after step n is taken, at time n * step_s, for every at_s <= that time.
+  const double h = impl_->step_s;
+  double step = std::max(std::floor(at_s / h), static_cast<double>(impl_->steps + 1));
+  for (int i = 0; i < 3 && step * h < at_s; ++i) step += 1.0;  // floor's rounding, at most twice
+  return step * h;
 }
 
 }  // namespace ldoem::world

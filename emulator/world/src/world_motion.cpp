@@ -30,25 +30,36 @@ std::vector<scene::SceneObject> WorldMotion::moving_objects() const {
 
 void WorldMotion::advance(double t0_s, double t1_s) { bodies_.advance(t0_s, t1_s); }
 
-std::optional<std::string> WorldMotion::move_object(std::string_view name, const scene::Pose& pose,
-                                                               double at_s) {
+std::optional<std::string> WorldMotion::move_object(std::string_view name, const scene::Pose& pose, double at_s) {
+  auto moved = move(name, pose, at_s);
+  if (auto* refused = std::get_if<std::string>(&moved)) return std::move(*refused);
+  return std::nullopt;
+}
+
+bool WorldMotion::has(std::string_view name) const {
+  return std::any_of(movers_.begin(), movers_.end(), [&](const Mover& m) { return m.name == name; });
+}
+
+std::variant<double, std::string> WorldMotion::move(std::string_view name, const scene::Pose& pose, double at_s,
+                                                    bool keep_velocity) {
   if (!std::isfinite(at_s) || !pose.position_m.allFinite() || !pose.orientation.coeffs().allFinite()) {
     return std::string("move-object: time and pose must be finite");
   }
   if (pose.position_m.cwiseAbs().maxCoeff() > kWorldLimit_m) {
     return std::string("move-object: position beyond 1e4 m");
   }
+  if (pose.orientation.norm() < 1e-9) return std::string("move-object: orientation must not be zero");
   const auto it = std::find_if(movers_.begin(), movers_.end(), [&](const Mover& m) { return m.name == name; });
   if (it == movers_.end()) {
     return "move-object: no moving object named '" + std::string(name) +
-                                "' (only objects with motion or dynamics can be moved)";
+           "' (only objects with motion or dynamics can be moved)";
   }
   scene::Pose unit = pose;
   unit.orientation.normalize();
   if (it->body >= 0) {
-    bodies_.place(static_cast<std::size_t>(it->body), unit, at_s);
+    const double effective_s = bodies_.place(static_cast<std::size_t>(it->body), unit, at_s, keep_velocity);
     ++moves_accepted_;
-    return std::nullopt;
+    return effective_s;
   }
   if (it->moves.size() >= kMaxMovesPerObject) {
     return "move-object: '" + std::string(name) + "' already has 1024 moves";
@@ -59,7 +70,7 @@ std::optional<std::string> WorldMotion::move_object(std::string_view name, const
   // A move to another orientation turns the object: its boxes must hold any orientation now.
   it->keeps_orientation = it->keeps_orientation && unit.orientation.coeffs() == it->object.pose.orientation.coeffs();
   ++moves_accepted_;
-  return std::nullopt;
+  return at_s;
 }
 
 scene::Pose WorldMotion::pose_at(std::size_t k, double t_s) const {

@@ -45,13 +45,18 @@ class ControlTarget {
   virtual CommandResult clear_fault(std::optional<std::uint64_t> id) = 0;
   virtual nlohmann::json query_faults() = 0;
   virtual nlohmann::json query_status() = 0;
-  // move-object (D12): CommandNotFound until the daemon has a moving world.
-  virtual CommandResult move_object(const nlohmann::json& arguments) {
-    (void)arguments;
-    return CommandError{std::string(kCommandNotFound), "move-object needs the moving world (D12)"};
-  }
+  // move-object, add-object, remove-object (D12 runtime changes; their arguments are checked by
+  // the target: emulator/daemon/object_commands.hpp). CommandNotFound for a target without a world.
+  virtual CommandResult move_object(const nlohmann::json& arguments) { return no_world("move-object", arguments); }
+  virtual CommandResult add_object(const nlohmann::json& arguments) { return no_world("add-object", arguments); }
+  virtual CommandResult remove_object(const nlohmann::json& arguments) { return no_world("remove-object", arguments); }
   // quit: the daemon stops after this reply.
   virtual void quit() = 0;
+
+ private:
+  static CommandResult no_world(std::string_view command, const nlohmann::json& /*arguments*/) {
+    return CommandError{std::string(kCommandNotFound), std::string(command) + " needs a scene world (D12)"};
+  }
 };
 
 // The command names this protocol knows (greeting capabilities and help).

@@ -5,6 +5,9 @@
 //   ldoem-ctl --control PATH clear-fault [ID]
 //   ldoem-ctl --control PATH query-faults | query-status | quit
 //   ldoem-ctl --control PATH power-cycle [--off 2]
+//   ldoem-ctl --control PATH move-object NAME --position x,y,z [--rpy r,p,y] [--at S] [--keep-velocity]
+//   ldoem-ctl --control PATH add-object '{"name": "crate", "box": {"size_m": [1, 1, 1]}, ...}' [--at S]
+//   ldoem-ctl --control PATH remove-object NAME [--at S]
 //   ldoem-ctl --control PATH events [--count N] [--timeout S]
 //   ldoem-ctl --control PATH send '{"execute": "query-status"}'
 //

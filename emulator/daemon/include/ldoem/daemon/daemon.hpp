@@ -20,6 +20,10 @@
 #include "ldoem/protocol/expected.hpp"
 #include "ldoem/scene/scene.hpp"
 
+namespace ldoem::control_socket {
+class ControlTarget;
+}
+
 namespace ldoem::daemon {
 
 class DeviceInstance;
@@ -56,6 +60,9 @@ class Daemon {
   DeviceInstance& device();
   // Simulated time now (D7).
   protocol::SimTime now() const;
+  // What the control socket's commands act on (--control, --event-log or scene faults); null
+  // otherwise. Tests call control_socket::handle_line on it between loop rounds.
+  control_socket::ControlTarget* control_target();
 
   struct Impl;
 

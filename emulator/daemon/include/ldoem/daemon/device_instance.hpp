@@ -79,6 +79,10 @@ class DeviceInstance final : public endpoints::EndpointSink, public endpoints::L
   void on_telegram(control::ConnectionId from, protocol::Bytes payload) override;
   void on_framing_error(control::ConnectionId from, const protocol::FramingError& error) override;
   void on_connection_closed(control::ConnectionId connection) override;
+  void on_connection_opened(control::ConnectionId connection, std::string_view peer) override;
+  // Told of every host connection opened and closed (the control socket's CONNECTION events).
+  using ConnectionObserver = std::function<void(bool opened, control::ConnectionId connection, std::string_view peer)>;
+  void set_connection_observer(ConnectionObserver observer) { connection_observer_ = std::move(observer); }
   // --- LptSink ---
   void on_register_write(protocol::SimTime at, std::uint8_t register_value) override;
   void set_initial_register(std::uint8_t register_value) override { plant_.set_initial_register(register_value); }
@@ -102,6 +106,7 @@ class DeviceInstance final : public endpoints::EndpointSink, public endpoints::L
   std::map<std::uint64_t, endpoints::Scheduler::Key> timer_keys_;  // the control unit's queued timers
   std::optional<endpoints::EndpointContext> context_;
   endpoints::WireTap* tap_ = nullptr;
+  ConnectionObserver connection_observer_;
   int performing_ = 0;
   std::deque<std::function<void()>> deferred_input_;
   Counters counters_;

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <optional>
 #include <set>
@@ -29,6 +30,7 @@ class FaultWiring final : public endpoints::WireTap, public control_socket::Cont
     std::optional<std::string> control_path;    // --control
     std::optional<std::string> event_log_path;  // --event-log
     std::string version;
+    plant::SceneWorld* world = nullptr;  // for the object commands (object_control.cpp); must outlive it
   };
   // `device`, `scheduler`, `loop` and `logger` must outlive it. quit() calls `stop`.
   static protocol::Expected<std::unique_ptr<FaultWiring>, std::string> create(
@@ -45,6 +47,8 @@ class FaultWiring final : public endpoints::WireTap, public control_socket::Cont
   nlohmann::json query_faults() override;
   nlohmann::json query_status() override;
   void quit() override;
+  // object_control.cpp: D12 runtime changes through plant::SceneWorld, on the loop's thread.
+  control_socket::CommandResult move_object(const nlohmann::json& arguments) override;
 
   std::uint64_t injections() const { return injector_->injections(); }
 
@@ -53,6 +57,7 @@ class FaultWiring final : public endpoints::WireTap, public control_socket::Cont
               std::function<void()> stop);
   void take(fault_injection::InjectorOutput output);
   void publish(const fault_injection::InjectorEvent& event);
+  void on_connection(bool opened, control::ConnectionId connection, std::string_view peer);
   void arm_deadline();
   endpoints::WireVerdict to_host(endpoints::WireTelegram& telegram);
 
@@ -67,6 +72,8 @@ class FaultWiring final : public endpoints::WireTap, public control_socket::Cont
   std::optional<endpoints::Scheduler::Key> deadline_;
   std::optional<protocol::SimTime> deadline_at_;
   std::set<control::ConnectionId> connections_;  // seen from hosts; a power cycle drops them
+  std::map<control::ConnectionId, std::string> peers_;  // open TCP connections' addresses
+  plant::SceneWorld* world_ = nullptr;
 };
 
 }  // namespace ldoem::daemon

@@ -42,6 +42,9 @@ class EndpointSink {
   // D2: a frame the deframer dropped.
   virtual void on_framing_error(ConnectionId from, const protocol::FramingError& error) = 0;
   virtual void on_connection_closed(ConnectionId connection) = 0;
+  // A host connected (TCP); `peer` is its address ("127.0.0.1:40112"). For the control socket's
+  // CONNECTION_OPENED event; nothing else depends on it.
+  virtual void on_connection_opened(ConnectionId /*connection*/, std::string_view /*peer*/) {}
 };
 
 // The LPT data register as the tilt stepper's drive board sees it (D8).

@@ -7,6 +7,9 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <string>
+#include <string_view>
+#include <variant>
 
 #include "ldoem/plant/scene_ports.hpp"
 #include "ldoem/plant/tilt_plate.hpp"
@@ -34,6 +37,12 @@ class SceneWorld {
   // D12: the moving objects, for the control socket's move-object (WorldMotion::move_object,
   // docs/dynamic-scenes.md "Runtime moves"); null when nothing in the scene moves.
   world::WorldMotion* motion();
+
+  // The control socket's object commands (docs/dynamic-scenes.md "Runtime changes"), between
+  // revolutions on the measuring thread. Each returns the device time it takes effect at, or
+  // why it was refused (the world is unchanged then).
+  std::variant<double, std::string> move_object(std::string_view name, const scene::Pose& pose, double at_s,
+                                                bool keep_velocity);
 
  private:
   scene::BeamTime beam_time_;

@@ -24,6 +24,9 @@ struct Pose {
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
 };
 
+// A scene's rpy_deg (roll, pitch, yaw in degrees): R = Rz(yaw) Ry(pitch) Rx(roll).
+Eigen::Quaterniond rotation_from_rpy_deg(const Eigen::Vector3d& rpy_deg);
+
 // Shapes follow ODE's conventions: box by full side lengths, cylinder and capsule along the
 // local z axis, plane as n . p = offset in world coordinates (planes are not placeable in ODE).
 struct Box { Eigen::Vector3d size_m; };

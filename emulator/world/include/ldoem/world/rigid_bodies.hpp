@@ -49,8 +49,11 @@ class RigidBodies {
   bool left_world(std::size_t body) const;
 
   // The control socket's move: at the first step at or after at_s that is not yet simulated the
-  // body is placed at `pose`, at rest.
-  void place(std::size_t body, const scene::Pose& pose, double at_s);
+  // body is placed at `pose` (a teleport: contacts do not push it there). Its velocities are
+  // zeroed (at rest) unless keep_velocity, which keeps the linear and angular velocity it has at
+  // that step. Returns that step's time: later than at_s when steps up to at_s were already
+  // computed (bodies are stepped ahead of the beams, SceneCaster::prepare).
+  double place(std::size_t body, const scene::Pose& pose, double at_s, bool keep_velocity = false);
 
  private:
   struct Impl;

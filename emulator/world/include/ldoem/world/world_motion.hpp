@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <variant>
 #include <vector>
 
 namespace ldoem::world {
@@ -34,6 +35,14 @@ class WorldMotion final : public raycast::MotionSource {
   // `motion: {linear_velocity_mps: [0, 0, 0]}` to make it movable). Not thread-safe: call it
   // between batches of casts, as prepare. Returns the reason it refused, or nothing when done.
   [[nodiscard]] std::optional<std::string> move_object(std::string_view name, const scene::Pose& pose, double at_s);
+  // The same, saying when the move takes effect (at_s for a kinematic object; a body's first
+  // step not yet computed at or after at_s, RigidBodies::place). keep_velocity: a body keeps
+  // the velocity it has at that step (a teleport in flight) instead of restarting from rest;
+  // kinematic objects have no velocity of their own after a move (they stay at `pose`).
+  [[nodiscard]] std::variant<double, std::string> move(std::string_view name, const scene::Pose& pose, double at_s,
+                                                       bool keep_velocity = false);
+  // True if a moving object is called `name`.
+  bool has(std::string_view name) const;
 
   scene::Pose pose_at(std::size_t k, double t_s) const override;
   Eigen::Vector3d position_at(std::size_t k, double t_s) const override;

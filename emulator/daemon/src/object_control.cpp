@@ -1,0 +1,57 @@
+// FaultWiring's D12 commands (move-object, add-object, remove-object) and the CONNECTION events:
+// the control socket's side of the world, kept apart from the fault machinery in fault_wiring.cpp.
+// Each command runs on the loop's thread, between revolutions, so the casters are never busy.
+#include <chrono>
+
+#include "ldoem/daemon/fault_wiring.hpp"
+#include "ldoem/daemon/object_commands.hpp"
+
+namespace ldoem::daemon {
+
+using control_socket::CommandError;
+using control_socket::CommandResult;
+using nlohmann::json;
+
+namespace {
+
+double seconds(protocol::SimTime time) { return std::chrono::duration<double>(time).count(); }
+
+CommandError refused(std::string desc) { return CommandError{std::string(control_socket::kGenericError), std::move(desc)}; }
+
+json vector_json(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+}  // namespace
+
+CommandResult FaultWiring::move_object(const json& arguments) {
+  auto parsed = parse_move_object(arguments);
+  if (auto* problem = std::get_if<std::string>(&parsed)) return refused(*problem);
+  const MoveObjectRequest& request = std::get<MoveObjectRequest>(parsed);
+  const protocol::SimTime now = scheduler_.now();
+  auto at_s = command_time(request.at_s, seconds(now));
+  if (auto* problem = std::get_if<std::string>(&at_s)) return refused("move-object: " + *problem);
+  if (world_ == nullptr) return refused("move-object: this daemon has no scene world");
+  auto moved = world_->move_object(request.name, request.pose, std::get<double>(at_s), request.keep_velocity);
+  if (auto* problem = std::get_if<std::string>(&moved)) return refused(*problem);
+  json data{{"name", request.name},
+            {"position_m", vector_json(request.pose.position_m)},
+            {"rpy_deg", vector_json(request.rpy_deg)},
+            {"at_s", std::get<double>(moved)},
+            {"keep_velocity", request.keep_velocity}};
+  publish({"OBJECT_MOVED", data, now});
+  return json{{"name", request.name}, {"at_s", std::get<double>(moved)}};
+}
+
+void FaultWiring::on_connection(bool opened, control::ConnectionId connection, std::string_view peer) {
+  const std::string label = control::to_string(connection);  // "tcp#3"
+  json data{{"transport", label.substr(0, label.find('#'))}, {"connection", connection.index}};
+  if (opened) {
+    peers_[connection] = std::string(peer);
+    data["peer"] = std::string(peer);
+  } else if (const auto known = peers_.find(connection); known != peers_.end()) {
+    data["peer"] = known->second;
+    peers_.erase(known);
+  }
+  publish({opened ? "CONNECTION_OPENED" : "CONNECTION_CLOSED", data, scheduler_.now()});
+}
+
+}  // namespace ldoem::daemon
