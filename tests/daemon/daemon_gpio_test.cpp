@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "daemon_process.hpp"
+#include "gpio_sim_chip.hpp"
 #include "host_link.hpp"
 #include "ldoem/protocol/profile.hpp"
 
@@ -31,42 +32,6 @@ constexpr int kModeLine = 2; // D8: DATA2
 // thread, so two edges on one line closer than that thread runs could be reported as one
 // (docs/uml-harness.md). 10 ms is far above that in the UML guest.
 constexpr auto kEdgeGap = 10ms;
-
-struct SimChip {
-  std::string label;
-  std::string sysfs;
-};
-
-// The chip of `run.sh --gpio` (its variables are exported), or one made now by the setup script.
-std::optional<SimChip> sim_chip(std::string& why_not) {
-  const char* label = std::getenv("LDOEM_GPIO_LABEL");
-  const char* sysfs = std::getenv("LDOEM_GPIO_SIM_SYSFS");
-  if (label != nullptr && sysfs != nullptr) return SimChip{label, sysfs};
-  char env_file[] = "/tmp/ldoem-gpio-env.XXXXXX";
-  const int fd = ::mkstemp(env_file);
-  if (fd < 0) {
-    why_not = "mkstemp failed";
-    return std::nullopt;
-  }
-  ::close(fd);
-  const std::string command = std::string(LDOEM_GPIO_SIM_SETUP) + " " + env_file + " 2>&1";
-  const int status = std::system(command.c_str());
-  std::map<std::string, std::string> values;
-  std::ifstream lines(env_file);
-  for (std::string line; std::getline(lines, line);) {
-    const auto equals = line.find('=');
-    if (line.rfind("export ", 0) == 0 && equals != std::string::npos) {
-      values[line.substr(7, equals - 7)] = line.substr(equals + 1);
-    }
-  }
-  ::unlink(env_file);
-  if (status != 0 || !values.contains("LDOEM_GPIO_LABEL") || !values.contains("LDOEM_GPIO_SIM_SYSFS")) {
-    why_not = command + " failed (gpio tests run in the gpio-sim UML kernel: scripts/uml/run.sh --kernel "
-              "\"$(scripts/uml/build-gpio-kernel.sh)\" --gpio -- ctest -L gpio)";
-    return std::nullopt;
-  }
-  return SimChip{values["LDOEM_GPIO_LABEL"], values["LDOEM_GPIO_SIM_SYSFS"]};
-}
 
 class DaemonGpio : public ::testing::Test {
  protected:
@@ -87,13 +52,10 @@ class DaemonGpio : public ::testing::Test {
     ASSERT_TRUE(host_);
   }
 
-  // gpio-sim: the pull is the level an input line reads while nobody drives it.
   bool pull(int line, bool up) {
-    const std::string path = chip_.sysfs + "/sim_gpio" + std::to_string(line) + "/pull";
-    std::ofstream attribute(path);
-    attribute << (up ? "pull-up" : "pull-down") << std::flush;
-    EXPECT_TRUE(attribute.good()) << "writing " << path;
-    return attribute.good();
+    const bool pulled = pull_sim_line(chip_, line, up);
+    EXPECT_TRUE(pulled) << "pulling line " << line << " of " << chip_.sysfs;
+    return pulled;
   }
 
   // D8: direction first, then `count` clock pulses, each edge on its own.
