@@ -6,12 +6,16 @@
 // and libldoem's reaction (FC overflow is the typed error `refused`, WAIT is waited out).
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <sstream>
+
 #include "ldoem/driver/transport.hpp"
 #include "ldoem/endpoints/isotp_channel.hpp"
 #include "ldoem/faults/fault_scheduler.hpp"
 #include "ldoem/io/can_interface.hpp"
 #include "ldoem/io/can_socket.hpp"
 #include "ldoem/protocol/isotp.hpp"
+#include "ldoem/protocol/profile.hpp"
 #include "wire_fault_support.hpp"
 
 namespace ldoem::wire_faults::test {
@@ -237,6 +241,51 @@ TEST(WireFaultsCan, IsotpFcWait_EndlessUntilTheHostGivesUp_LibldoemTimesOut) {
   const auto reply = (*transport)->receive(driver::Clock::now() + 5s);
   ASSERT_TRUE(reply);
   EXPECT_EQ(protocol::format_telegram(*reply), "GET_STATUS reply 0000 0001");
+}
+
+// scenes/faults/lossy-can.yaml as its header says: libldoem drops each broken message (a lost or
+// repeated consecutive frame), times out on that request and asks again; every profile it
+// returns decodes, none is assembled from frames of two messages.
+TEST(WireFaultsCan, LossyCanScenario_LibldoemRetriesEveryBrokenProfile) {
+  LDOEM_REQUIRE_VCAN0();
+  std::ifstream file(std::string(LDOEM_SOURCE_DIR) + "/scenes/faults/lossy-can.yaml");
+  std::stringstream scene;
+  scene << file.rdbuf();
+  ASSERT_FALSE(scene.str().empty());
+  CanFaultyDaemon d(scene.str());
+  ASSERT_TRUE(d.ready()) << d.diagnostics();
+  auto opened = driver::open_transport(*driver::parse_endpoint("can:vcan0"));
+  ASSERT_TRUE(opened);
+  driver::Transport& transport = **opened;
+  auto ask = [&](std::string_view request, std::chrono::milliseconds limit) -> std::optional<protocol::Bytes> {
+    if (!transport.send(telegram(request), driver::Clock::now() + 2s)) return std::nullopt;
+    auto reply = transport.receive(driver::Clock::now() + limit);
+    if (!reply) {
+      EXPECT_TRUE(driver::is_retryable(reply.error())) << driver::describe(reply.error());
+      return std::nullopt;
+    }
+    return *reply;
+  };
+  ASSERT_TRUE(ask("TRANS_ROTATE 0000", 10s));
+  ASSERT_TRUE(ask("TRANS_MEASURE", 5s));
+  constexpr int kProfiles = 30;
+  int retries = 0;
+  std::uint32_t last_profile_number = 0;
+  for (int i = 0; i < kProfiles; ++i) {
+    std::optional<protocol::Bytes> reply;
+    for (int attempt = 0; attempt < 4 && !reply; ++attempt) {
+      reply = ask("GET_PROFILE 0001 39ff", 1500ms);
+      if (!reply) ++retries;
+    }
+    ASSERT_TRUE(reply) << "profile " << i << " lost four times";
+    const auto profile = protocol::decode_profile(*reply);
+    ASSERT_TRUE(profile) << daemon::test::to_hex(*reply);
+    EXPECT_GT(profile->profile_count, last_profile_number);
+    last_profile_number = profile->profile_count;
+  }
+  EXPECT_GE(retries, 1);  // the 25th GET_PROFILE's reply repeats a consecutive frame at least
+  EXPECT_GE(transport.counters().dropped_frames, static_cast<std::uint64_t>(retries));
+  EXPECT_NE(d.events().find("\"kind\":\"isotp_repeat_cf\""), std::string::npos) << d.events();
 }
 
 }  // namespace
