@@ -2,7 +2,7 @@
 
 #include <chrono>
 #include <cmath>
-#include <regex>
+#include <cstdio>
 #include <sstream>
 
 #include "ldoem/cloud/cloud_file.hpp"
@@ -41,11 +41,17 @@ std::string tcp_address(const ChildProcess& daemon) {
   return {};
 }
 
+// std::regex is avoided here: g++ 12 raises -Wmaybe-uninitialized inside it under ASan at -O1.
 std::string hub_port(const ChildProcess& hub) {
-  std::smatch match;
   const std::string text = hub.stderr_text();
-  static const std::regex listening(R"(listening on [^ ]*:([0-9]+))");
-  return std::regex_search(text, match, listening) ? match[1].str() : std::string{};
+  const std::size_t start = text.find("listening on ");
+  if (start == std::string::npos) return {};
+  const std::size_t host_end = text.find_first_of(" \n", start + 13);
+  const std::size_t colon = text.rfind(':', host_end == std::string::npos ? text.size() : host_end);
+  if (colon == std::string::npos || colon < start) return {};
+  std::size_t digits = colon + 1;
+  while (digits < text.size() && text[digits] >= '0' && text[digits] <= '9') ++digits;
+  return text.substr(colon + 1, digits - colon - 1);
 }
 
 }  // namespace
@@ -143,14 +149,16 @@ ScanRun scan_corridor(const TempDir& dir, const std::string& name, Route route, 
 }
 
 std::optional<CorridorFit> parse_tool_fit(const std::string& scan_stdout) {
-  static const std::regex line(
-      R"(wall distance ([0-9.]+) m \([0-9]+ points\); cylinder diameter ([0-9.]+) m, length ([0-9.]+) m)");
-  std::smatch match;
-  if (!std::regex_search(scan_stdout, match, line)) return std::nullopt;
+  const std::size_t start = scan_stdout.find("wall distance ");
+  if (start == std::string::npos) return std::nullopt;
   CorridorFit fit;
-  fit.wall_distance_m = std::stod(match[1].str());
-  fit.cylinder_diameter_m = std::stod(match[2].str());
-  fit.cylinder_length_m = std::stod(match[3].str());
+  int points = 0;
+  int consumed = 0;
+  if (std::sscanf(scan_stdout.c_str() + start, "wall distance %lf m (%d points); cylinder diameter %lf m, length %lf m%n",
+                  &fit.wall_distance_m, &points, &fit.cylinder_diameter_m, &fit.cylinder_length_m, &consumed) != 4 ||
+      consumed == 0) {
+    return std::nullopt;
+  }
   return fit;
 }
 
