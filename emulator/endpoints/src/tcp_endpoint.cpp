@@ -142,6 +142,11 @@ void TcpEndpoint::on_client_ready(std::uint32_t index, io::Readiness readiness) 
       drop(index, "peer closed");
       return;
     }
+    if (fault_hook_ != nullptr) {
+      // D11 tcp_stall started by a telegram just read: nothing more is read from now on.
+      const auto still = clients_.find(index);
+      if (still != clients_.end() && stalled(index, still->second)) return;
+    }
   }
 }
 
