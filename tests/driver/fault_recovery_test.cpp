@@ -258,3 +258,31 @@ TEST(TcpResyncTransport, FrameCutShortOnTheWire_IsGivenUpAfterTheGap_AndTheNextR
 
 }  // namespace
 }  // namespace ldoem::driver
+
+namespace ldoem::driver {
+namespace {
+
+TEST(StaleReplies, ADuplicatedReplyIsNotTakenForTheNextRequestsAnswer) {
+  const Bytes request = p::encode_tcp_frame(encoded(p::GetSyncClock{}));
+  const Bytes first = p::encode_tcp_frame(Bytes{0x82, 0x05, 0x11, 0x11});
+  const Bytes second = p::encode_tcp_frame(Bytes{0x82, 0x05, 0x22, 0x22});
+  Bytes duplicated = first;  // D11 duplicate_reply: the same reply twice
+  duplicated.insert(duplicated.end(), first.begin(), first.end());
+  test::ScriptedTcpServer server({test::ServerStep{p::encode_tcp_frame(encoded(p::GetStatus{})).size(),
+                                                   p::encode_tcp_frame(kStatusIdle)},
+                                  test::ServerStep{request.size(), duplicated}, test::ServerStep{request.size(), second}});
+  auto transport = TcpTransport::connect(TcpEndpoint{"127.0.0.1", server.port()});
+  ASSERT_TRUE(transport) << describe(transport.error());
+  Scanner scanner(std::move(*transport));
+  ASSERT_TRUE(scanner.connect());
+  auto one = scanner.get_sync_clock();
+  ASSERT_TRUE(one) << describe(one.error());
+  EXPECT_EQ(*one, 0x1111);
+  auto two = scanner.get_sync_clock();
+  ASSERT_TRUE(two) << describe(two.error());
+  EXPECT_EQ(*two, 0x2222) << "the duplicate of the first reply was taken for the second";
+  EXPECT_EQ(scanner.counters().stale_replies, 1u);
+}
+
+}  // namespace
+}  // namespace ldoem::driver

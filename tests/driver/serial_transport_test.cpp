@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <thread>
+
 #include "ldoem/driver/scanner.hpp"
 #include "ldoem/protocol/messages.hpp"
 #include "ldoem/protocol/serial_framing.hpp"
@@ -57,24 +59,58 @@ TEST(SerialTransport, SpecRequests_GoOutAsTheExactStrings) {
   }
 }
 
+// The LD side on the pty: reads one request of `request_size` bytes, then writes `reply` (after
+// the request, as a device does: a reply waiting before it would be stale, Scanner skips those).
+class PtyDevice {
+ public:
+  PtyDevice(const PtyPair& pty, std::size_t request_size, Bytes reply)
+      : thread_([&pty, request_size, reply = std::move(reply), this] {
+          request_ = pty.read_master(request_size);
+          pty.write_master(reply);
+        }) {}
+  // Joins and returns the request bytes seen.
+  Bytes request() {
+    thread_.join();
+    return request_;
+  }
+
+ private:
+  Bytes request_;
+  std::thread thread_;
+};
+
 TEST(SerialTransport, ScannerRequests_MatchS2Strings) {
   PtyPair pty;
   auto transport = open_on(pty);
   ASSERT_TRUE(transport);
   const auto& serial = SpecVectors::get();
-  pty.write_master(p::encode_serial_reply(Bytes{0x81, 0x02, 0x00, 0x00, 0x00, 0x01}));
   Scanner scanner(std::move(transport));
+  const Bytes get_status = framed(serial.serial("GET_STATUS"));
+  PtyDevice status_device(pty, get_status.size(), p::encode_serial_reply(Bytes{0x81, 0x02, 0x00, 0x00, 0x00, 0x01}));
   ASSERT_TRUE(scanner.connect());
-  EXPECT_EQ(hex_text(pty.read_master(framed(serial.serial("GET_STATUS")).size())),
-            hex_text(framed(serial.serial("GET_STATUS"))));
-  pty.write_master(p::encode_serial_reply(Bytes{0x84, 0x03, 0x00, 0x00, 0x00, 0x02}));
+  EXPECT_EQ(hex_text(status_device.request()), hex_text(get_status));
+  const Bytes rotate = framed(serial.serial("TRANS_ROTATE 15 Hz"));
+  PtyDevice rotate_device(pty, rotate.size(), p::encode_serial_reply(Bytes{0x84, 0x03, 0x00, 0x00, 0x00, 0x02}));
   ASSERT_TRUE(scanner.trans_rotate(15));
-  EXPECT_EQ(hex_text(pty.read_master(framed(serial.serial("TRANS_ROTATE 15 Hz")).size())),
-            hex_text(framed(serial.serial("TRANS_ROTATE 15 Hz"))));
-  pty.write_master(p::encode_serial_reply(Bytes{0x84, 0x01, 0x00, 0x02}));
+  EXPECT_EQ(hex_text(rotate_device.request()), hex_text(rotate));
+  const Bytes reset = framed(serial.serial("DO_RESET 2"));
+  PtyDevice reset_device(pty, reset.size(), p::encode_serial_reply(Bytes{0x84, 0x01, 0x00, 0x02}));
   ASSERT_TRUE(scanner.do_reset(2));
-  EXPECT_EQ(hex_text(pty.read_master(framed(serial.serial("DO_RESET 2")).size())),
-            hex_text(framed(serial.serial("DO_RESET 2"))));
+  EXPECT_EQ(hex_text(reset_device.request()), hex_text(reset));
+}
+
+TEST(SerialTransport, AReplyWaitingBeforeTheRequest_IsStale_NotTheAnswer) {
+  PtyPair pty;
+  auto transport = open_on(pty);
+  ASSERT_TRUE(transport);
+  ScannerOptions options;
+  options.request_timeout = std::chrono::milliseconds(300);
+  Scanner scanner(std::move(transport), options);
+  pty.write_master(p::encode_serial_reply(Bytes{0x81, 0x02, 0x00, 0x00, 0x00, 0x01}));  // nobody asked yet
+  auto status = scanner.connect();
+  ASSERT_FALSE(status);
+  EXPECT_EQ(status.error().kind, ErrorKind::timeout);
+  EXPECT_EQ(scanner.counters().stale_replies, 1u);
 }
 
 TEST(SerialTransport, MultiPackageProfile_IsReassembled) {

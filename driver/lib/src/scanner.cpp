@@ -17,6 +17,7 @@ namespace {
 constexpr std::uint16_t kProfileCode = p::response_code(p::Service::get_profile);  // 0x8301
 constexpr std::uint16_t kFailureCode = p::code_of(p::Service::service_failure);    // 0xFF00
 constexpr std::uint16_t kGetProfileCode = p::code_of(p::Service::get_profile);
+constexpr std::size_t kMaxStaleTelegrams = 64;  // per request; the rest wait for the next one
 
 std::uint16_t code_of_request(const p::Request& request) { return p::code_of(p::service_of(request)); }
 
@@ -65,7 +66,28 @@ Status Scanner::require_talking(std::uint16_t request_code) const {
 
 // ------------------------------------------------------------------------ reply matching
 
+void Scanner::take_stale_telegrams() {
+  for (Bytes& telegram : transport_->take_arrived(kMaxStaleTelegrams)) {
+    if (telegram.size() >= 2 && p::read_word_be(telegram, 0) == kProfileCode) {
+      profiles_.push_back(std::move(telegram));
+      ++counters_.profiles_queued;
+      continue;
+    }
+    if (telegram.size() >= 2 && p::read_word_be(telegram, 0) == kFailureCode) {
+      auto decoded = p::decode_response(telegram);
+      const auto* failure = decoded ? std::get_if<p::ServiceFailure>(&*decoded) : nullptr;
+      if (failure != nullptr && failure->request_code == kGetProfileCode) {
+        stream_failure_ = *failure;
+        continue;
+      }
+    }
+    ++counters_.stale_replies;
+  }
+}
+
 Status Scanner::send_request(const p::Request& request, Deadline deadline) {
+  // Whatever arrived before the request cannot answer it (a duplicate, a reply too late).
+  take_stale_telegrams();
   const Bytes payload = p::encode_request(request);
   auto sent = transport_->send(payload, deadline);
   if (!sent) {

@@ -5,7 +5,9 @@
 // Reply matching: after sending request R the Scanner reads telegrams until the one whose code
 // is R | 0x8000. On the way, profile telegrams (0x8301) are queued for next_profile() and never
 // lost; SERVICE_FAILURE naming R ends the wait with ErrorKind::service_failure; anything else
-// is counted in counters().skipped_telegrams and skipped. One attempt, no hidden retries: a
+// is counted in counters().skipped_telegrams and skipped. Telegrams that arrived before R was
+// sent (Transport::take_arrived) cannot answer it and are skipped the same way (counted in
+// stale_replies): a duplicated reply or one later than its timeout is not taken for R's. One attempt, no hidden retries: a
 // timeout is returned to the caller (spec 6: S1 waits 5 s once).
 #pragma once
 
@@ -84,6 +86,7 @@ struct ScannerCounters {
   std::uint64_t profiles_delivered = 0;
   std::uint64_t profiles_skipped = 0;   // 0x8301 with another format than the stream's
   std::uint64_t reconnects = 0;         // successful reconnect() calls
+  std::uint64_t stale_replies = 0;      // replies already there before a request: skipped
 };
 
 class Scanner {
@@ -202,6 +205,7 @@ class Scanner {
   Expected<protocol::Profile, DriverError> deliver_profile(const Bytes& payload);
   Status check_device_status(const protocol::StatusBlock& status, std::uint16_t request_code) const;
   void sleep_for(std::chrono::milliseconds pause) const;
+  void take_stale_telegrams();
   void end_stream();
 
   std::unique_ptr<Transport> transport_;

@@ -25,6 +25,7 @@ class SerialTransport final : public Transport {
   Status send(ByteView payload, Deadline deadline) override;
   // Packages with a bad CRC, bad hex or out of sequence are dropped and counted.
   Expected<Bytes, DriverError> receive(Deadline deadline) override;
+  std::vector<Bytes> take_arrived(std::size_t limit) override { return take_arrived_now(*this, limit); }
   void close() override;
   const std::string& name() const override { return name_; }
   TransportCounters counters() const override;

@@ -37,6 +37,7 @@ class TcpTransport final : public Transport {
   // searched again for the next header, and a frame silent for kTcpFrameGap is given up, so
   // corrupted, truncated or garbage bytes cost only the frame they hit (resynchronisation).
   Expected<Bytes, DriverError> receive(Deadline deadline) override;
+  std::vector<Bytes> take_arrived(std::size_t limit) override { return take_arrived_now(*this, limit); }
   void close() override;
   const std::string& name() const override { return name_; }
   TransportCounters counters() const override;

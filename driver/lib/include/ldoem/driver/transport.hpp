@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "ldoem/driver/endpoint.hpp"
 #include "ldoem/driver/error.hpp"
@@ -45,6 +46,12 @@ class Transport {
   // `deadline`, connection_closed, system.
   virtual Expected<Bytes, DriverError> receive(Deadline deadline) = 0;
 
+  // The whole telegrams that have already arrived, without waiting (at most `limit`); the
+  // Scanner reads them before it sends a request, since none of them can answer it (a
+  // duplicated reply, one that came after its request timed out: D11). Default: none (a
+  // transport that cannot look without waiting).
+  virtual std::vector<Bytes> take_arrived(std::size_t limit);
+
   // Releases the descriptor; later calls answer connection_closed. Idempotent.
   virtual void close() = 0;
 
@@ -52,6 +59,9 @@ class Transport {
   virtual const std::string& name() const = 0;
   virtual TransportCounters counters() const = 0;
 };
+
+// Transport::take_arrived for a transport whose receive() with a passed deadline does not wait.
+std::vector<Bytes> take_arrived_now(Transport& transport, std::size_t limit);
 
 // Opens the transport an endpoint names. An `lpt:` endpoint is invalid_argument here (see
 // open_lpt_port). TCP connects with a 1 s timeout (spec 6).
