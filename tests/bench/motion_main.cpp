@@ -5,6 +5,8 @@
 //   BM_StaticSceneCost         SensorModel::measure against the measuring loop as it was before D12
 //   BM_SkewKnob/<beam_time>    per-beam time against one snapshot per revolution: skew error, cost
 //   BM_WorldStep/<step>        ODE world step: falling and rolling trajectory error against cost
+//   BM_EditableScene/<scene>   a static scene with a control socket (SceneCaster, no command) against
+//                              EmbreeRayCaster alone, and what add/remove-object cost per command
 #include "support/bench_scenes.hpp"
 #include "support/measure.hpp"
 
@@ -16,6 +18,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <chrono>
 #include <cmath>
 #include <functional>
 #include <numbers>
@@ -156,6 +159,83 @@ void bm_static_scene_cost(benchmark::State& state, const std::string& path) {
   state.counters["samples_that_differ"] = static_cast<double>(differ);
 }
 
+// --- A static scene behind a control socket ------------------------------------------------------
+
+// With --control the daemon builds world::SceneCaster even for a static scene, so that objects
+// can be added, removed and moved. Without any command it must give the same samples at about
+// the same cost; each command rebuilds one index, once.
+void bm_editable_scene(benchmark::State& state, const std::string& path) {
+  const scene::Scene scene = load_repository_scene(path);
+  const raycast::OdeWorld world(scene);
+  const raycast::EmbreeRayCaster caster(world);
+  const sensor::SensorModel plain(scene, caster);
+  world::SceneCaster editable_caster(scene);
+  const sensor::SensorModel editable(scene, editable_caster);
+  std::vector<std::vector<sensor::BeamRequest>> revolutions;
+  for (int layer = 0; layer < kPaperTilt.count; layer += 2) {
+    std::vector<sensor::BeamRequest> beams;
+    const double start_s = kRevolution_s * static_cast<double>(revolutions.size());
+    for (std::uint32_t tick = 0; tick < 5760; tick += 4) {
+      beams.push_back({tick * 2.0 * std::numbers::pi / 5760.0, kPaperTilt.angle_rad(layer), tick,
+                       start_s + kRevolution_s * tick / 5760.0});
+    }
+    revolutions.push_back(std::move(beams));
+  }
+  std::vector<sensor::BeamSample> out(revolutions.front().size());
+  std::vector<std::vector<sensor::BeamSample>> with(revolutions.size()), without(revolutions.size());
+  std::vector<double> fastest;
+  for (auto _ : state) {
+    const std::function<void()> jobs[] = {
+        [&] {
+          for (std::size_t r = 0; r < revolutions.size(); ++r) {
+            editable_caster.prepare(revolutions[r].front().time_s, revolutions[r].back().time_s);
+            with[r].resize(out.size());
+            editable.measure(3, revolutions[r], with[r]);
+          }
+        },
+        [&] {
+          for (std::size_t r = 0; r < revolutions.size(); ++r) {
+            without[r].resize(out.size());
+            plain.measure(3, revolutions[r], without[r]);
+          }
+        },
+    };
+    fastest = fastest_interleaved(jobs, 11);
+  }
+  std::size_t differ = 0;
+  for (std::size_t r = 0; r < with.size(); ++r) {
+    for (std::size_t i = 0; i < with[r].size(); ++i) {
+      differ += with[r][i].distance != without[r][i].distance || with[r][i].echo != without[r][i].echo;
+    }
+  }
+  // One command of each kind, timed once each (wall clock; they run on the daemon's loop).
+  const auto timed_ms = [](const std::function<void()>& command) {
+    const auto start = std::chrono::steady_clock::now();
+    command();
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  };
+  scene::SceneObject crate;
+  crate.name = "bench_crate";
+  crate.shape = scene::Box{Eigen::Vector3d(0.6, 0.6, 0.6)};
+  crate.pose.position_m = Eigen::Vector3d(3, 1, 0);
+  scene::SceneObject walker = crate;
+  walker.name = "bench_walker";
+  walker.motion = scene::ConstantVelocity{Eigen::Vector3d(0, 1, 0), Eigen::Vector3d::Zero()};
+  const double at_s = kRevolution_s * static_cast<double>(revolutions.size()) + 1.0;
+  // A scene object's removal rebuilds the static index (an epoch); added objects live in the
+  // moving index, whose rebuild does not depend on the scene's size.
+  const std::string scene_object = scene.objects.front().name;
+  state.counters["add_still_ms"] = timed_ms([&] { (void)editable_caster.add_object(crate, at_s); });
+  state.counters["add_moving_ms"] = timed_ms([&] { (void)editable_caster.add_object(walker, at_s + 1); });
+  state.counters["remove_added_ms"] = timed_ms([&] { (void)editable_caster.remove_object("bench_crate", at_s + 2); });
+  state.counters["remove_scene_object_ms"] =
+      timed_ms([&] { (void)editable_caster.remove_object(scene_object, at_s + 3); });
+  state.counters["static_epochs"] = static_cast<double>(editable_caster.static_epochs());
+  state.counters["beams"] = static_cast<double>(out.size() * revolutions.size());
+  state.counters["ratio_editable_vs_plain"] = fastest[0] / fastest[1];
+  state.counters["samples_that_differ"] = static_cast<double>(differ);
+}
+
 // --- Knob 1: per-beam time against one snapshot per revolution -----------------------------------
 
 constexpr double kWallSpeed_mps = 1.5;  // a walking person
@@ -273,6 +353,11 @@ void register_all() {
   for (const char* path : {"scenes/corridor.yaml", "scenes/large.yaml"}) {
     const std::string name = std::string("BM_StaticSceneCost/") + std::filesystem::path(path).stem().string();
     benchmark::RegisterBenchmark(name.c_str(), bm_static_scene_cost, std::string(path))
+        ->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+  }
+  for (const char* path : {"scenes/corridor.yaml", "scenes/large.yaml"}) {
+    const std::string name = std::string("BM_EditableScene/") + std::filesystem::path(path).stem().string();
+    benchmark::RegisterBenchmark(name.c_str(), bm_editable_scene, std::string(path))
         ->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
   }
   benchmark::RegisterBenchmark("BM_SkewKnob/per_beam", bm_skew_knob, scene::BeamTime::per_beam)

@@ -278,11 +278,21 @@ TEST(DaemonFaults, ObjectCommandsOverTheSocket) {
   EXPECT_TRUE(control->wait_event("OBJECT_MOVED", 5s, "name", "post"));
   for (const json& garbage : {json{{"execute", "move-object"}, {"arguments", {{"name", "post"}}}},
                               json{{"execute", "move-object"}, {"arguments", "post"}},
-                              json{{"execute", "move-object"}, {"arguments", {{"name", "post"}, {"position_m", {1, 2, 3}}, {"at_s", "soon"}}}}}) {
+                              json{{"execute", "move-object"}, {"arguments", {{"name", "post"}, {"position_m", {1, 2, 3}}, {"at_s", "soon"}}}},
+                              json{{"execute", "add-object"}, {"arguments", {{"object", 5}}}},
+                              json{{"execute", "remove-object"}, {"arguments", {{"name", json::array()}}}}}) {
     const auto reply = control->execute(garbage);
     ASSERT_TRUE(reply) << garbage.dump();
     EXPECT_TRUE(reply->contains("error")) << garbage.dump() << " -> " << reply->dump();
   }
+  const auto added = control->execute(
+      {{"execute", "add-object"},
+       {"arguments", {{"object", {{"name", "crate"}, {"sphere", {{"radius_m", 0.5}}}}}, {"at_s", 101}}}});
+  ASSERT_TRUE(added && added->contains("return")) << (added ? added->dump() : "none");
+  EXPECT_TRUE(control->wait_event("OBJECT_ADDED", 5s, "name", "crate"));
+  const auto removed = control->execute({{"execute", "remove-object"}, {"arguments", {{"name", "crate"}, {"at_s", 102}}}});
+  ASSERT_TRUE(removed && removed->contains("return")) << (removed ? removed->dump() : "none");
+  EXPECT_TRUE(control->wait_event("OBJECT_REMOVED", 5s, "name", "crate"));
   auto host = TcpHost::connect(fd.daemon->tcp_port());
   ASSERT_TRUE(host);
   EXPECT_EQ(reply_text(*host, "GET_STATUS"), "GET_STATUS reply 0000 0001");

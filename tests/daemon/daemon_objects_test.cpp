@@ -3,6 +3,7 @@
 // loop rounds exactly as the socket hands them (control_socket::handle_line).
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -46,7 +47,8 @@ struct ObjectDaemon {
   std::string failure;
   std::string event_log = dir.path("events.log");
 
-  explicit ObjectDaemon(const std::string& scene_text) {
+  // with_control: --control (an editable world: objects may be added, removed and moved).
+  explicit ObjectDaemon(const std::string& scene_text, bool with_control = true) {
     auto scene = scene::load_scene_from_string(scene_text, "scene.yaml");
     if (!scene) {
       failure = scene.error().message();
@@ -57,6 +59,7 @@ struct ObjectDaemon {
     options.flash_mode = FlashMode::memory;
     options.virtual_time = true;
     options.event_log_path = event_log;
+    if (with_control) options.control_path = dir.path("ctl.sock");
     auto memory = std::make_unique<MemoryEndpoint>();
     host = memory.get();
     std::vector<std::unique_ptr<endpoints::HostEndpoint>> extra;
@@ -151,8 +154,7 @@ TEST(DaemonObjects, MoveObjectGarbage_GetsErrorObjectsAndTheDaemonLives) {
       {{{"name", "post"}, {"position_m", {1, 2, 3}}, {"at_s", now_s - 0.5}}, "in the past"},
       {{{"name", "post"}, {"position_m", {1, 2, 3}}, {"keep_velocity", "yes"}}, "keep_velocity"},
       {{{"name", "post"}, {"position_m", {1, 2, 3}}, {"colour", "red"}}, "unknown argument 'colour'"},
-      {{{"name", "ghost"}, {"position_m", {1, 2, 3}}}, "no moving object named 'ghost'"},
-      {{{"name", "wall"}, {"position_m", {1, 2, 3}}}, "no moving object named 'wall'"},
+      {{{"name", "ghost"}, {"position_m", {1, 2, 3}}}, "no object named 'ghost'"},
   };
   for (const auto& [arguments, expected] : cases) {
     const json reply = d.command({{"execute", "move-object"}, {"arguments", arguments}});
@@ -167,8 +169,10 @@ TEST(DaemonObjects, MoveObjectGarbage_GetsErrorObjectsAndTheDaemonLives) {
   EXPECT_EQ(d.events().find("OBJECT_MOVED"), std::string::npos) << "nothing was moved";
 }
 
-TEST(DaemonObjects, MoveObjectInAStaticScene_SaysNothingMovesThere) {
-  ObjectDaemon d(minimal_scene_text());
+// Without --control a static scene builds no editable world (effects on demand): the commands
+// cannot arrive then, and the target says so if handed one.
+TEST(DaemonObjects, MoveObjectInAStaticSceneWithoutControl_IsRefused) {
+  ObjectDaemon d(minimal_scene_text(), false);
   ASSERT_TRUE(d.daemon) << d.failure;
   const json reply = d.command({{"execute", "move-object"}, {"arguments", {{"name", "wall"}, {"position_m", {1, 2, 3}}}}});
   ASSERT_TRUE(reply.contains("error")) << reply.dump();
@@ -195,6 +199,145 @@ TEST(DaemonObjects, SameCommandsAtTheSameDeviceTimes_GiveTheSameBytes) {
   };
   const std::string first = run();
   EXPECT_EQ(first, run());
+}
+
+// Profiles of a fixed conversation: start, then `count` profiles, with `commands` handed over
+// after the start (at device times given in them).
+struct Conversation {
+  std::vector<MemoryEndpoint::Sent> profiles;
+  std::vector<json> replies;
+  std::string events;
+};
+
+Conversation converse(const std::string& scene_text, bool with_control, const std::vector<json>& commands,
+                      std::size_t count = 24) {
+  ObjectDaemon d(scene_text, with_control);
+  Conversation c;
+  EXPECT_TRUE(d.daemon) << d.failure;
+  if (!d.daemon) return c;
+  d.start_measuring();
+  for (const json& command : commands) c.replies.push_back(d.command(command));
+  char request[32];
+  std::snprintf(request, sizeof(request), "GET_PROFILE %04zx 39ff", count);
+  c.profiles = d.exchange(request, count);
+  c.events = d.events();
+  return c;
+}
+
+json at(const char* command, json arguments) { return {{"execute", command}, {"arguments", std::move(arguments)}}; }
+
+const json kCrate = json::parse(R"({"name": "crate", "box": {"size_m": [0.4, 0.4, 6]}, "pose": {"position_m": [3, 0, 0]},
+                                    "reflectance": 0.5})");
+
+// A static scene behind --control (world::SceneCaster, not EmbreeRayCaster alone) gives the
+// same bytes as without it when no command is sent.
+TEST(DaemonObjects, EditableStaticScene_WithoutCommands_SameBytes) {
+  const auto plain = converse(minimal_scene_text(), false, {});
+  const auto editable = converse(minimal_scene_text(), true, {});
+  ASSERT_EQ(plain.profiles.size(), 24u);
+  ASSERT_EQ(editable.profiles.size(), 24u);
+  for (std::size_t i = 0; i < plain.profiles.size(); ++i) {
+    EXPECT_EQ(plain.profiles[i].at, editable.profiles[i].at);
+    EXPECT_EQ(plain.profiles[i].payload, editable.profiles[i].payload) << "profile " << i;
+  }
+}
+
+// add-object then remove-object, static and moving: the object is there between the two device
+// times only, and after the removal the profiles are the original bytes again.
+TEST(DaemonObjects, AddThenRemove_GivesBackTheOriginalProfileBytes) {
+  json walker = kCrate;
+  walker["name"] = "walker";
+  walker["motion"] = {{"linear_velocity_mps", {0, 0, 0}}};
+  for (const json& object : {kCrate, walker}) {
+    const auto original = converse(minimal_scene_text(), true, {});
+    ASSERT_EQ(original.profiles.size(), 24u);
+    const double added_s = seconds(original.profiles[4].at) + 0.01;
+    const double removed_s = seconds(original.profiles[12].at) + 0.01;
+    const std::string name = object["name"];
+    const auto changed = converse(minimal_scene_text(), true,
+                                  {at("add-object", {{"object", object}, {"at_s", added_s}}),
+                                   at("remove-object", {{"name", name}, {"at_s", removed_s}})});
+    ASSERT_EQ(changed.profiles.size(), 24u) << name;
+    for (const json& reply : changed.replies) ASSERT_TRUE(reply.contains("return")) << reply.dump();
+    int unchanged = 0;
+    int with_object = 0;
+    for (std::size_t i = 0; i < 24; ++i) {
+      const double start_s = seconds(changed.profiles[i].at) - 0.1;
+      const double end_s = seconds(changed.profiles[i].at);
+      if (end_s < added_s || start_s > removed_s) {
+        EXPECT_EQ(changed.profiles[i].payload, original.profiles[i].payload) << name << " profile " << i;
+        ++unchanged;
+      } else if (start_s > added_s && end_s < removed_s) {
+        EXPECT_NEAR(ahead(changed.profiles[i]), 716.8, 1.0) << name << " profile " << i;  // 2.8 m: the crate's face
+        ++with_object;
+      }
+    }
+    EXPECT_GE(unchanged, 12) << name;  // 4 before, about 10 after
+    EXPECT_GE(with_object, 6) << name;
+    EXPECT_NE(changed.events.find(R"("event":"OBJECT_ADDED")"), std::string::npos) << changed.events;
+    EXPECT_NE(changed.events.find(R"("event":"OBJECT_REMOVED")"), std::string::npos) << changed.events;
+  }
+}
+
+// A static object of the scene moves too once the world is editable: the wall comes to 3 m.
+TEST(DaemonObjects, MoveStaticObject_InAnEditableWorld) {
+  ObjectDaemon d(minimal_scene_text());
+  ASSERT_TRUE(d.daemon) << d.failure;
+  d.start_measuring();
+  const double move_s = seconds(d.daemon->now()) + 0.35;
+  const json reply = d.command(at("move-object", {{"name", "wall"}, {"position_m", {3.1, 0, 0}}, {"at_s", move_s}}));
+  ASSERT_TRUE(reply.contains("return")) << reply.dump();
+  int before = 0;
+  int after = 0;
+  for (const auto& sent : d.exchange("GET_PROFILE 000a 39ff", 10)) {
+    if (seconds(sent.at) < move_s) before += ahead(sent) == 1280;
+    if (seconds(sent.at) - 0.1 > move_s) after += ahead(sent) == 768;  // 3 m
+  }
+  EXPECT_GE(before, 2);
+  EXPECT_GE(after, 5);
+}
+
+// Bad add-object / remove-object requests get error objects that say why; the world is unchanged.
+TEST(DaemonObjects, AddRemoveGarbage_GetsErrorObjects) {
+  ObjectDaemon d(post_scene_text());
+  ASSERT_TRUE(d.daemon) << d.failure;
+  d.start_measuring();
+  const double later_s = seconds(d.daemon->now()) + 5.0;
+  ASSERT_TRUE(d.command(at("add-object", {{"object", kCrate}, {"at_s", later_s}})).contains("return"));
+  json body = kCrate;
+  body["name"] = "ball";
+  body["dynamics"] = {{"mass_kg", 1}};
+  json negative = kCrate;
+  negative["name"] = "flat";
+  negative["box"]["size_m"] = {1, -1, 1};
+  json nameless = kCrate;
+  nameless.erase("name");
+  const std::vector<std::pair<json, std::string>> cases{
+      {at("add-object", json::object()), "needs object"},
+      {at("add-object", {{"object", "box"}}), "needs object"},
+      {at("add-object", {{"object", nameless}}), "needs a name"},
+      {at("add-object", {{"object", kCrate}, {"at_s", later_s + 1}}), "exists already"},
+      {at("add-object", {{"object", body}}), "dynamics bodies cannot be added"},
+      {at("add-object", {{"object", json::parse(R"({"name": "floor", "plane": {"normal": [0, 0, 1]}})")}}), "planes"},
+      {at("add-object", {{"object", negative}}), "object.box.size_m"},
+      {at("add-object", {{"object", {{"name", "x"}, {"cone", {{"radius_m", 1}}}}}}), "object"},
+      {at("add-object", {{"object", {{"name", "m"}, {"mesh", {{"file", "/nonexistent.stl"}}}}}}), "object"},
+      {at("add-object", {{"object", {{"name", "y"}, {"sphere", {{"radius_m", 1}}}}}, {"at_s", later_s - 1}}), "before a change"},
+      {at("remove-object", json::object()), "needs name"},
+      {at("remove-object", {{"name", "ghost"}}), "no object named 'ghost'"},
+      {at("remove-object", {{"name", "wall"}, {"at_s", 0.5}}), "in the past"},
+      {at("remove-object", {{"name", "wall"}, {"when", 3}}), "unknown argument 'when'"},
+  };
+  for (const auto& [request, expected] : cases) {
+    const json reply = d.command(request);
+    ASSERT_TRUE(reply.contains("error")) << request.dump() << " -> " << reply.dump();
+    EXPECT_EQ(reply["error"]["class"], "GenericError");
+    EXPECT_NE(reply["error"]["desc"].get<std::string>().find(expected), std::string::npos)
+        << request.dump() << " -> " << reply.dump();
+  }
+  const auto profile = d.exchange("GET_PROFILE 0001 39ff");
+  ASSERT_EQ(profile.size(), 1u);
+  EXPECT_EQ(ahead(profile[0]), 1280) << "nothing in front of the wall before the crate's time";
 }
 
 }  // namespace

@@ -119,7 +119,8 @@ std::optional<StartFailure> Daemon::Impl::build_device(std::vector<std::unique_p
   if (options.seed) {
     scene.seed = *options.seed;
   }
-  world = std::make_unique<plant::SceneWorld>(scene);
+  // With a control socket objects may be added, removed and moved (D12 runtime changes).
+  world = std::make_unique<plant::SceneWorld>(scene, options.control_path.has_value());
   auto flash = open_flash();
   if (!flash) return std::move(flash.error());
   auto loaded = load_flash(**flash);

@@ -20,6 +20,17 @@ CommandError refused(std::string desc) { return CommandError{std::string(control
 
 json vector_json(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
 
+// A world change that fails inside Embree or ODE (out of memory) is an error reply, never a
+// dead daemon: the control socket answers every line.
+template <typename Change>
+std::variant<double, std::string> guarded(std::string_view command, Change change) {
+  try {
+    return change();
+  } catch (const std::exception& failure) {
+    return std::string(command) + ": " + failure.what();
+  }
+}
+
 }  // namespace
 
 CommandResult FaultWiring::move_object(const json& arguments) {
@@ -30,7 +41,9 @@ CommandResult FaultWiring::move_object(const json& arguments) {
   auto at_s = command_time(request.at_s, seconds(now));
   if (auto* problem = std::get_if<std::string>(&at_s)) return refused("move-object: " + *problem);
   if (world_ == nullptr) return refused("move-object: this daemon has no scene world");
-  auto moved = world_->move_object(request.name, request.pose, std::get<double>(at_s), request.keep_velocity);
+  auto moved = guarded("move-object", [&] {
+    return world_->move_object(request.name, request.pose, std::get<double>(at_s), request.keep_velocity);
+  });
   if (auto* problem = std::get_if<std::string>(&moved)) return refused(*problem);
   json data{{"name", request.name},
             {"position_m", vector_json(request.pose.position_m)},
@@ -39,6 +52,35 @@ CommandResult FaultWiring::move_object(const json& arguments) {
             {"keep_velocity", request.keep_velocity}};
   publish({"OBJECT_MOVED", data, now});
   return json{{"name", request.name}, {"at_s", std::get<double>(moved)}};
+}
+
+CommandResult FaultWiring::add_object(const json& arguments) {
+  auto parsed = parse_add_object(arguments);
+  if (auto* problem = std::get_if<std::string>(&parsed)) return refused(*problem);
+  AddObjectRequest& request = std::get<AddObjectRequest>(parsed);
+  const protocol::SimTime now = scheduler_.now();
+  auto at_s = command_time(request.at_s, seconds(now));
+  if (auto* problem = std::get_if<std::string>(&at_s)) return refused("add-object: " + *problem);
+  if (world_ == nullptr) return refused("add-object: this daemon has no scene world");
+  const std::string name = request.object.name;
+  auto added = guarded("add-object", [&] { return world_->add_object(std::move(request.object), std::get<double>(at_s)); });
+  if (auto* problem = std::get_if<std::string>(&added)) return refused(*problem);
+  publish({"OBJECT_ADDED", json{{"name", name}, {"at_s", std::get<double>(added)}, {"object", arguments["object"]}}, now});
+  return json{{"name", name}, {"at_s", std::get<double>(added)}};
+}
+
+CommandResult FaultWiring::remove_object(const json& arguments) {
+  auto parsed = parse_remove_object(arguments);
+  if (auto* problem = std::get_if<std::string>(&parsed)) return refused(*problem);
+  const RemoveObjectRequest& request = std::get<RemoveObjectRequest>(parsed);
+  const protocol::SimTime now = scheduler_.now();
+  auto at_s = command_time(request.at_s, seconds(now));
+  if (auto* problem = std::get_if<std::string>(&at_s)) return refused("remove-object: " + *problem);
+  if (world_ == nullptr) return refused("remove-object: this daemon has no scene world");
+  auto removed = guarded("remove-object", [&] { return world_->remove_object(request.name, std::get<double>(at_s)); });
+  if (auto* problem = std::get_if<std::string>(&removed)) return refused(*problem);
+  publish({"OBJECT_REMOVED", json{{"name", request.name}, {"at_s", std::get<double>(removed)}}, now});
+  return json{{"name", request.name}, {"at_s", std::get<double>(removed)}};
 }
 
 void FaultWiring::on_connection(bool opened, control::ConnectionId connection, std::string_view peer) {

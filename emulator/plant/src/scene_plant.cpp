@@ -6,8 +6,8 @@
 
 namespace ldoem::plant {
 
-SceneWorld::SceneWorld(const scene::Scene& scene) : beam_time_(scene.world.beam_time) {
-  if (scene.moves()) {
+SceneWorld::SceneWorld(const scene::Scene& scene, bool editable) : beam_time_(scene.world.beam_time) {
+  if (scene.moves() || editable) {
     moving_caster_ = std::make_unique<world::SceneCaster>(scene);
   } else {
     world_ = std::make_unique<raycast::OdeWorld>(scene);
@@ -32,11 +32,18 @@ world::WorldMotion* SceneWorld::motion() { return moving_caster_ ? &moving_caste
 
 std::variant<double, std::string> SceneWorld::move_object(std::string_view name, const scene::Pose& pose, double at_s,
                                                           bool keep_velocity) {
-  if (!moving_caster_) {
-    return "move-object: nothing in this scene moves, so no object can be moved ('" + std::string(name) +
-           "'); give it motion: {linear_velocity_mps: [0, 0, 0]} in the scene";
-  }
-  return moving_caster_->motion().move(name, pose, at_s, keep_velocity);
+  if (!moving_caster_) return "move-object: this world is not editable ('" + std::string(name) + "')";
+  return moving_caster_->move_object(name, pose, at_s, keep_velocity);
+}
+
+std::variant<double, std::string> SceneWorld::add_object(scene::SceneObject object, double at_s) {
+  if (!moving_caster_) return std::string("add-object: this world is not editable");
+  return moving_caster_->add_object(std::move(object), at_s);
+}
+
+std::variant<double, std::string> SceneWorld::remove_object(std::string_view name, double at_s) {
+  if (!moving_caster_) return "remove-object: this world is not editable ('" + std::string(name) + "')";
+  return moving_caster_->remove_object(name, at_s);
 }
 
 ScenePlant::ScenePlant(const scene::Scene& scene, SceneWorld& world)

@@ -62,6 +62,7 @@ struct MovingRayCaster::Impl {
   std::vector<RTCScene> scenes;           // one per slice (refit_slices) or one (motion_blur)
   std::vector<RTCGeometry> geometries;
   std::vector<std::vector<RTCBounds>> boxes;  // [slice or time step][moving index]
+  std::vector<TimeSpan> presence;             // empty: every object always exists
   bool prepared = false;
   double t0_s = 0.0;
   double t1_s = 0.0;
@@ -155,6 +156,7 @@ static bool misses_sphere(const Eigen::Vector3d& centre, double radius_m, const 
 
 std::optional<detail::Contact> MovingRayCaster::Impl::test(std::size_t k, const detail::CheckedRay& ray,
                                                            double time_s, double max_range_m) const {
+  if (!presence.empty() && !(time_s >= presence[k].from_s && time_s < presence[k].until_s)) return std::nullopt;
   // Boxes swept over a window hold many rays that miss the object at the ray's own instant: the
   // sphere about its origin rejects most of them before the pose is computed.
   if (misses_sphere(motion.position_at(k, time_s), extents[k].radius_m, ray, max_range_m)) return std::nullopt;
@@ -203,6 +205,13 @@ MovingRayCaster::~MovingRayCaster() = default;
 std::size_t MovingRayCaster::object_count() const { return impl_->scene_indices.size(); }
 
 void MovingRayCaster::invalidate() { impl_->prepared = false; }
+
+void MovingRayCaster::set_presence(std::vector<TimeSpan> spans) {
+  if (!spans.empty() && spans.size() != impl_->scene_indices.size()) {
+    throw std::invalid_argument("MovingRayCaster::set_presence: one span per object");
+  }
+  impl_->presence = std::move(spans);
+}
 
 void MovingRayCaster::prepare(double t0_s, double t1_s) {
   Impl& impl = *impl_;

@@ -84,6 +84,7 @@ struct RigidBodies::Impl {
     scene::Pose pose;
     double at_s;
     bool keep_velocity;
+    bool remove = false;
   };
   std::vector<Placement> placements;  // pending control-socket moves
   // frames[i] holds every body's pose at step first_step + i (time = step * step_s).
@@ -147,6 +148,13 @@ struct RigidBodies::Impl {
         continue;
       }
       dBodyID body = bodies[it->body];
+      if (it->remove) {
+        left[it->body] = true;  // frozen and out of every contact, like a body that left the world
+        dBodyDisable(body);
+        dGeomDisable(geoms[it->body]);
+        it = placements.erase(it);
+        continue;
+      }
       set_body_pose(body, it->pose);
       if (!it->keep_velocity || left[it->body]) {  // a body that left the world has no velocity to keep
         dBodySetLinearVel(body, 0, 0, 0);
@@ -306,6 +314,16 @@ scene::PathBounds RigidBodies::origin_bounds(std::size_t body, double t0_s, doub
 double RigidBodies::place(std::size_t body, const scene::Pose& pose, double at_s, bool keep_velocity) {
   (void)impl_->left.at(body);  // range check
   impl_->placements.push_back({body, pose, at_s, keep_velocity});
+  return first_step_due(at_s);
+}
+
+double RigidBodies::remove(std::size_t body, double at_s) {
+  (void)impl_->left.at(body);  // range check
+  impl_->placements.push_back({body, scene::Pose{}, at_s, false, true});
+  return first_step_due(at_s);
+}
+
+double RigidBodies::first_step_due(double at_s) const {
   // apply_placements runs after step n is taken, at time n * step_s, for every at_s <= that time.
   const double h = impl_->step_s;
   double step = std::max(std::floor(at_s / h), static_cast<double>(impl_->steps + 1));

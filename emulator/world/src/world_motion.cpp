@@ -10,7 +10,7 @@ WorldMotion::WorldMotion(const scene::Scene& scene) : bodies_(scene) {
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
     const scene::SceneObject& object = scene.objects[i];
     if (!object.moves()) continue;
-    Mover mover{object.name, object, -1, {}, true};
+    Mover mover{object.name, object, -1, {}, true, {}};
     if (object.dynamics) {
       mover.body = static_cast<std::ptrdiff_t>(body++);
       mover.keeps_orientation = false;
@@ -36,8 +36,40 @@ std::optional<std::string> WorldMotion::move_object(std::string_view name, const
   return std::nullopt;
 }
 
+std::vector<WorldMotion::Mover>::iterator WorldMotion::find(std::string_view name) {
+  for (auto it = movers_.rbegin(); it != movers_.rend(); ++it) {
+    if (it->name == name && it->exists.until_s == INFINITY) return std::prev(it.base());
+  }
+  return movers_.end();
+}
+
 bool WorldMotion::has(std::string_view name) const {
-  return std::any_of(movers_.begin(), movers_.end(), [&](const Mover& m) { return m.name == name; });
+  return std::any_of(movers_.begin(), movers_.end(),
+                     [&](const Mover& m) { return m.name == name && m.exists.until_s == INFINITY; });
+}
+
+void WorldMotion::add(scene::SceneObject object, std::uint32_t scene_index, double from_s) {
+  Mover mover{object.name, std::move(object), -1, {}, true, {from_s, INFINITY}};
+  mover.keeps_orientation = scene::keeps_orientation(*mover.object.motion);
+  movers_.push_back(std::move(mover));
+  scene_indices_.push_back(scene_index);
+  changed_ = true;
+}
+
+std::optional<std::string> WorldMotion::remove(std::string_view name, double at_s) {
+  const auto it = find(name);
+  if (it == movers_.end()) return "remove-object: no moving object named '" + std::string(name) + "'";
+  it->exists.until_s = std::max(at_s, it->exists.from_s);
+  if (it->body >= 0) bodies_.remove(static_cast<std::size_t>(it->body), at_s);
+  changed_ = true;
+  return std::nullopt;
+}
+
+std::vector<raycast::TimeSpan> WorldMotion::presence() const {
+  std::vector<raycast::TimeSpan> spans;
+  if (!changed_) return spans;
+  for (const Mover& mover : movers_) spans.push_back(mover.exists);
+  return spans;
 }
 
 std::variant<double, std::string> WorldMotion::move(std::string_view name, const scene::Pose& pose, double at_s,
@@ -49,7 +81,7 @@ std::variant<double, std::string> WorldMotion::move(std::string_view name, const
     return std::string("move-object: position beyond 1e4 m");
   }
   if (pose.orientation.norm() < 1e-9) return std::string("move-object: orientation must not be zero");
-  const auto it = std::find_if(movers_.begin(), movers_.end(), [&](const Mover& m) { return m.name == name; });
+  const auto it = find(name);
   if (it == movers_.end()) {
     return "move-object: no moving object named '" + std::string(name) +
            "' (only objects with motion or dynamics can be moved)";

@@ -49,6 +49,8 @@ class FaultWiring final : public endpoints::WireTap, public control_socket::Cont
   void quit() override;
   // object_control.cpp: D12 runtime changes through plant::SceneWorld, on the loop's thread.
   control_socket::CommandResult move_object(const nlohmann::json& arguments) override;
+  control_socket::CommandResult add_object(const nlohmann::json& arguments) override;
+  control_socket::CommandResult remove_object(const nlohmann::json& arguments) override;
 
   std::uint64_t injections() const { return injector_->injections(); }
 

@@ -26,16 +26,18 @@ class WorldMotion;
 namespace ldoem::plant {
 
 // The scene's geometry and the ray caster over it: the static ODE world with Embree, or, when
-// the scene moves (D12), the world::SceneCaster (a scene in which nothing moves builds none of it).
+// the scene moves (D12) or is `editable` (the daemon has a control socket: objects may be added,
+// removed and moved at runtime), the world::SceneCaster. A scene in which nothing moves and that
+// is not editable builds none of it.
 class SceneWorld {
  public:
-  explicit SceneWorld(const scene::Scene& scene);
+  explicit SceneWorld(const scene::Scene& scene, bool editable = false);
   ~SceneWorld();
   const raycast::RayCaster& caster() const;
   // D12: how measurements ready a moving world; empty for a static one.
   std::optional<WorldTiming> timing();
   // D12: the moving objects, for the control socket's move-object (WorldMotion::move_object,
-  // docs/dynamic-scenes.md "Runtime moves"); null when nothing in the scene moves.
+  // docs/dynamic-scenes.md "Runtime changes"); null when nothing in the scene moves.
   world::WorldMotion* motion();
 
   // The control socket's object commands (docs/dynamic-scenes.md "Runtime changes"), between
@@ -43,6 +45,8 @@ class SceneWorld {
   // why it was refused (the world is unchanged then).
   std::variant<double, std::string> move_object(std::string_view name, const scene::Pose& pose, double at_s,
                                                 bool keep_velocity);
+  std::variant<double, std::string> add_object(scene::SceneObject object, double at_s);
+  std::variant<double, std::string> remove_object(std::string_view name, double at_s);
 
  private:
   scene::BeamTime beam_time_;

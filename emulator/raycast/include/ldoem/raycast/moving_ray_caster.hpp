@@ -14,6 +14,7 @@
 #include "ldoem/raycast/ray_caster.hpp"
 #include "ldoem/scene/scene.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -34,6 +35,13 @@ class MotionSource {
   virtual scene::PathBounds origin_bounds(std::size_t k, double t0_s, double t1_s) const = 0;
   // True if object k never turns (its box then keeps its axis-aligned extent).
   virtual bool keeps_orientation(std::size_t k) const = 0;
+};
+
+// When a moving object exists: rays timed in [from_s, until_s) see it (runtime add-object and
+// remove-object, docs/dynamic-scenes.md "Runtime changes").
+struct TimeSpan {
+  double from_s = -INFINITY;
+  double until_s = INFINITY;
 };
 
 enum class MovingIndex : std::uint8_t { refit_slices, motion_blur };
@@ -67,6 +75,8 @@ class MovingRayCaster final : public RayCaster {
   void prepare(double t0_s, double t1_s);
   // Forgets the prepared window: the next prepare rebuilds (after a runtime move).
   void invalidate();
+  // spans[k]: when object k exists (one per object; empty: always, as built). Call between batches.
+  void set_presence(std::vector<TimeSpan> spans);
 
   // Const and thread-safe between prepare calls.
   std::optional<Hit> cast(const Ray& ray) const override;

@@ -54,8 +54,12 @@ class RigidBodies {
   // that step. Returns that step's time: later than at_s when steps up to at_s were already
   // computed (bodies are stepped ahead of the beams, SceneCaster::prepare).
   double place(std::size_t body, const scene::Pose& pose, double at_s, bool keep_velocity = false);
+  // The control socket's remove-object: at the first step not yet computed at or after at_s the
+  // body stops (frozen, no longer colliding with the others). Returns that step's time.
+  double remove(std::size_t body, double at_s);
 
  private:
+  double first_step_due(double at_s) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -2,7 +2,7 @@
 // `motion` (scene/motion.hpp); `dynamics` objects are bodies of RigidBodies. Moving objects are
 // numbered in scene order ("moving index"); scene_indices() maps them back to Scene::objects.
 //
-// The control socket moves objects through move_object (docs/dynamic-scenes.md "Runtime moves").
+// The control socket moves objects through move_object (docs/dynamic-scenes.md "Runtime changes").
 #pragma once
 
 #include "ldoem/raycast/moving_ray_caster.hpp"
@@ -41,8 +41,17 @@ class WorldMotion final : public raycast::MotionSource {
   // kinematic objects have no velocity of their own after a move (they stay at `pose`).
   [[nodiscard]] std::variant<double, std::string> move(std::string_view name, const scene::Pose& pose, double at_s,
                                                        bool keep_velocity = false);
-  // True if a moving object is called `name`.
+  // True if a moving object that has not been removed is called `name`.
   bool has(std::string_view name) const;
+
+  // Runtime changes (SceneCaster's add_object / remove_object). add: a kinematic object (with
+  // `motion`) that exists from from_s on, hits reporting `scene_index`; it becomes the last
+  // moving index. remove: the named object stops existing at at_s (a body stops at its next
+  // step, RigidBodies::remove); returns the reason when there is no such object.
+  void add(scene::SceneObject object, std::uint32_t scene_index, double from_s);
+  [[nodiscard]] std::optional<std::string> remove(std::string_view name, double at_s);
+  // When each moving object exists (for MovingRayCaster::set_presence); empty if all always do.
+  std::vector<raycast::TimeSpan> presence() const;
 
   scene::Pose pose_at(std::size_t k, double t_s) const override;
   Eigen::Vector3d position_at(std::size_t k, double t_s) const override;
@@ -64,10 +73,14 @@ class WorldMotion final : public raycast::MotionSource {
     std::ptrdiff_t body = -1;    // RigidBodies index for dynamics objects
     std::vector<Move> moves;     // kinematic moves, sorted by at_s
     bool keeps_orientation = true;
+    raycast::TimeSpan exists;    // add-object / remove-object
   };
+  // The mover called `name` that has not been removed (the latest of that name), or end().
+  std::vector<Mover>::iterator find(std::string_view name);
 
   std::vector<Mover> movers_;
   std::uint64_t moves_accepted_ = 0;
+  bool changed_ = false;  // an object was added or removed: presence() is not trivial
   std::vector<std::uint32_t> scene_indices_;
   RigidBodies bodies_;
 };
