@@ -1,7 +1,9 @@
 // Issue 11, daemon lifetime and limits, each driven from outside like a hostile or unlucky user:
 // an unreadable or corrupt flash, clients closed during the exit flush, connection numbers that
 // wrap, hosts that switch ECHO on, stall inside a frame or never speak.
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <termios.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -10,6 +12,7 @@
 
 #include "daemon_process.hpp"
 #include "host_link.hpp"
+#include "ldoem/protocol/serial_framing.hpp"
 
 namespace ldoem::daemon::test {
 namespace {
@@ -77,6 +80,41 @@ TEST(DaemonFlash, MissingFlash_IsAFirstPowerUpNotAnError) {
   process->signal(SIGTERM);
   EXPECT_EQ(process->wait(), std::optional<int>(128 + SIGTERM));
   EXPECT_EQ(read_file(flash).rfind("ldoem-flash 1\n", 0), 0u);
+}
+
+// -------------------------------------------------------------------------------- serial echo
+
+// A host that puts its side of the serial pty back into a mode with ECHO (without ECHOCTL, so
+// STX/ETX come back as they are) got every reply back as a request: hundreds of replies a second,
+// without end. Now the daemon switches ECHO off before it writes, and the host gets one reply.
+TEST(DaemonSerial, HostSwitchingEchoOn_GetsOneReplyNotAFeedbackLoop) {
+  TempDir dir;
+  auto process = start_daemon(dir, {"--no-flash", "--serial", "pty:" + dir.path("serial")});
+  ASSERT_TRUE(process && process->wait_ready()) << (process ? process->stderr_text() : "");
+  const int fd = ::open(dir.path("serial").c_str(), O_RDWR | O_NOCTTY | O_CLOEXEC);
+  ASSERT_GE(fd, 0);
+  termios settings{};
+  ASSERT_EQ(::tcgetattr(fd, &settings), 0);
+  ::cfmakeraw(&settings);
+  settings.c_lflag |= ECHO;
+  settings.c_lflag &= ~static_cast<tcflag_t>(ECHOCTL);
+  ASSERT_EQ(::tcsetattr(fd, TCSANOW, &settings), 0);
+  const std::string request = "\x02" "00100003000001026d36" "\x03";  // GET_STATUS, spec 7.4
+  ASSERT_EQ(::write(fd, request.data(), request.size()), static_cast<ssize_t>(request.size()));
+  std::string received;
+  const auto until = std::chrono::steady_clock::now() + 1500ms;  // the loop answered ~300 per second
+  while (std::chrono::steady_clock::now() < until) {
+    if (!wait_readable(fd, 100ms)) continue;
+    char buffer[4096];
+    const ssize_t count = ::read(fd, buffer, sizeof buffer);
+    if (count > 0) received.append(buffer, static_cast<std::size_t>(count));
+  }
+  const Bytes expected = protocol::encode_serial_reply(telegram("GET_STATUS reply 0000 0001"));
+  EXPECT_EQ(received, std::string(expected.begin(), expected.end()));
+  ASSERT_EQ(::tcgetattr(fd, &settings), 0);
+  EXPECT_EQ(settings.c_lflag & ECHO, 0u);
+  EXPECT_NE(process->stderr_text().find("the host switched ECHO on"), std::string::npos) << process->stderr_text();
+  ::close(fd);
 }
 
 }  // namespace

@@ -64,6 +64,7 @@ void SerialEndpoint::flush() {
   if (!pty_) return;
   while (!output_.empty()) {
     auto sent = pty_->send(output_.front());
+    note_echo_resets();
     if (!sent) {
       context_->logger.log(LogLevel::warn, sent.error().message());
       break;
@@ -73,6 +74,20 @@ void SerialEndpoint::flush() {
   }
   (void)context_->loop.change_interest(pty_->fd(), output_.empty() ? io::Interest::readable
                                                                    : io::Interest::readable | io::Interest::writable);
+}
+
+// Said on the 1st, 10th, 100th, ... time: a host that switches ECHO on before every request
+// must not fill the log.
+void SerialEndpoint::note_echo_resets() {
+  const std::uint64_t resets = pty_->echo_resets();
+  if (resets == echo_resets_logged_) return;
+  echo_resets_logged_ = resets;
+  if (resets == next_echo_report_) {
+    context_->logger.log(LogLevel::warn, "serial " + pty_->peer_path() +
+                                             ": the host switched ECHO on; switched off again, it would send our "
+                                             "replies back as requests (" + std::to_string(resets) + " times so far)");
+    next_echo_report_ *= 10;
+  }
 }
 
 }  // namespace ldoem::endpoints

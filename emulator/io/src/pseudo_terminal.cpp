@@ -100,7 +100,8 @@ PseudoTerminal::PseudoTerminal(PseudoTerminal&& other) noexcept
     : controller_(std::move(other.controller_)),
       peer_keeper_(std::move(other.peer_keeper_)),
       peer_path_(std::move(other.peer_path_)),
-      link_path_(std::exchange(other.link_path_, std::nullopt)) {}
+      link_path_(std::exchange(other.link_path_, std::nullopt)),
+      echo_resets_(other.echo_resets_) {}
 
 PseudoTerminal& PseudoTerminal::operator=(PseudoTerminal&& other) noexcept {
   if (this != &other) {
@@ -109,6 +110,7 @@ PseudoTerminal& PseudoTerminal::operator=(PseudoTerminal&& other) noexcept {
     peer_keeper_ = std::move(other.peer_keeper_);
     peer_path_ = std::move(other.peer_path_);
     link_path_ = std::exchange(other.link_path_, std::nullopt);
+    echo_resets_ = other.echo_resets_;
   }
   return *this;
 }
@@ -148,7 +150,20 @@ IoResult<Received> PseudoTerminal::receive(std::size_t max_bytes) {
   }
 }
 
+// A host may switch its side back to a cooked mode with ECHO (`stty sane`, a terminal program):
+// the line discipline then sends every byte we write straight back to us, and our replies come
+// in as requests whose replies come back again, without end (issue 11). Before each write, ECHO
+// and ECHONL are switched off again; the rest of the host's settings stay its own business.
+void PseudoTerminal::keep_echo_off() {
+  termios settings{};
+  if (::tcgetattr(controller_.get(), &settings) != 0) return;
+  if ((settings.c_lflag & (ECHO | ECHONL)) == 0) return;
+  settings.c_lflag &= ~static_cast<tcflag_t>(ECHO | ECHONL);
+  if (::tcsetattr(controller_.get(), TCSANOW, &settings) == 0) ++echo_resets_;
+}
+
 IoResult<std::size_t> PseudoTerminal::send(protocol::ByteView bytes) {
+  keep_echo_off();
   for (;;) {
     const ssize_t written = ::write(controller_.get(), bytes.data(), bytes.size());
     if (written >= 0) {

@@ -27,12 +27,15 @@ class SerialEndpoint final : public HostEndpoint {
   void on_ready(io::Readiness readiness);
   void flush();
   protocol::Bytes faulty_reply(ConnectionId to, protocol::ByteView payload);
+  void note_echo_resets();
 
   std::filesystem::path link_path_;
   EndpointContext* context_ = nullptr;
   std::optional<io::PseudoTerminal> pty_;
   protocol::SerialDeframer deframer_;
   OutputQueue output_;
+  std::uint64_t echo_resets_logged_ = 0;
+  std::uint64_t next_echo_report_ = 1;
 };
 
 }  // namespace ldoem::endpoints

@@ -3,6 +3,7 @@
 // writes arrives here unchanged (raw mode), and vice versa.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -29,8 +30,11 @@ class PseudoTerminal {
   // Bytes the peer wrote (at most max_bytes); empty when none are waiting. The peer side is
   // kept open by this object too, so a host closing and reopening it is not a hang-up.
   IoResult<Received> receive(std::size_t max_bytes = 4096);
-  // How many leading bytes of `bytes` the terminal took (0 when its buffer is full).
+  // How many leading bytes of `bytes` the terminal took (0 when its buffer is full). ECHO is
+  // switched off first if the host switched it on: it would feed our bytes back to us.
   IoResult<std::size_t> send(protocol::ByteView bytes);
+  // How often send() found ECHO on and switched it off.
+  std::uint64_t echo_resets() const { return echo_resets_; }
 
   int fd() const { return controller_.get(); }
   const std::string& peer_path() const { return peer_path_; }  // e.g. /dev/pts/3
@@ -39,11 +43,13 @@ class PseudoTerminal {
  private:
   PseudoTerminal() = default;
   void remove_link();
+  void keep_echo_off();
 
   base::UniqueFd controller_;    // the master side, ours
   base::UniqueFd peer_keeper_;   // our own open of the peer side: no EPOLLHUP while the host is away
   std::string peer_path_;
   std::optional<std::filesystem::path> link_path_;
+  std::uint64_t echo_resets_ = 0;
 };
 
 }  // namespace ldoem::io
