@@ -147,6 +147,9 @@ TEST(Options, BadCommandLines_AreUsageErrorsNamingTheOption) {
       {{"--scene", "s", "--time-scale", "2e6"}, "--time-scale: must be a number from 1e-6 to 1e6"},
       {{"--scene", "s", "--record-max-mb", "1e300"}, "--record-max-mb: must be a number > 0 and at most 1048576"},
       {{"--scene", "s", "--no-flash=1"}, "--no-flash: takes no value"},
+      {{"--scene", "s", "--inter-byte-timeout", "-1"}, "--inter-byte-timeout: must be a number of milliseconds"},
+      {{"--scene", "s", "--tcp-idle-timeout", "1e300"}, "--tcp-idle-timeout: must be a number of seconds"},
+      {{"--scene", "s", "--tcp-silent-timeout", "soon"}, "--tcp-silent-timeout: must be a number of seconds"},
   };
   for (const BadCase& bad : cases) {
     const auto command = parse(bad.arguments);
@@ -156,11 +159,27 @@ TEST(Options, BadCommandLines_AreUsageErrorsNamingTheOption) {
   }
 }
 
+TEST(Options, HostLimits_HaveDefaultsAndOptions) {
+  const auto defaults = parse({"--scene", "s"});
+  ASSERT_TRUE(defaults.has_value());
+  EXPECT_EQ(defaults->options.host_limits, endpoints::HostLimits{});
+  EXPECT_EQ(defaults->options.host_limits.inter_byte_timeout, std::chrono::milliseconds(500));
+  EXPECT_EQ(defaults->options.host_limits.silent_timeout, std::chrono::milliseconds(60000));
+  EXPECT_EQ(defaults->options.host_limits.idle_timeout, std::chrono::milliseconds(0));
+  const auto set = parse({"--scene", "s", "--inter-byte-timeout", "250", "--tcp-silent-timeout", "0",
+                          "--tcp-idle-timeout", "1.5"});
+  ASSERT_TRUE(set.has_value()) << set.error().message;
+  EXPECT_EQ(set->options.host_limits.inter_byte_timeout, std::chrono::milliseconds(250));
+  EXPECT_EQ(set->options.host_limits.silent_timeout, std::chrono::milliseconds(0));
+  EXPECT_EQ(set->options.host_limits.idle_timeout, std::chrono::milliseconds(1500));
+}
+
 TEST(Options, UsageText_ListsEveryOptionExitCodesAndExamples) {
   const std::string text = usage_text("ldoem-emud");
   for (const char* needle : {"--scene", "--can ", "--no-can", "--can-ids", "--tcp", "--serial", "--lpt pty:",
                              "--lpt gpio:", "--flash", "--no-flash", "--time-scale", "--virtual-time", "--seed",
                              "--log-level", "--count-profiles", "--timeout", "--help", "--version", "[vcan0]",
+                             "--reset-flash", "--inter-byte-timeout", "--tcp-silent-timeout", "--tcp-idle-timeout",
                              "[<scene>.flash]", "49152", "128+N", "  2  ", "Examples:",
                              "ldoem-emud --scene scenes/corridor.yaml --can vcan0 --lpt pty:/tmp/ldoem-lpt"}) {
     EXPECT_NE(text.find(needle), std::string::npos) << needle;

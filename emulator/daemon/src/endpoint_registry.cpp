@@ -20,12 +20,12 @@ Made make_can(const Options& options, const DeviceFacts& device) {
 
 Made make_tcp(const Options& options, const DeviceFacts&) {
   if (!options.tcp) return nullptr;
-  return std::make_unique<endpoints::TcpEndpoint>(options.tcp->address, options.tcp->port);
+  return std::make_unique<endpoints::TcpEndpoint>(options.tcp->address, options.tcp->port, options.host_limits);
 }
 
 Made make_serial(const Options& options, const DeviceFacts&) {
   if (!options.serial_pty) return nullptr;
-  return std::make_unique<endpoints::SerialEndpoint>(*options.serial_pty);
+  return std::make_unique<endpoints::SerialEndpoint>(*options.serial_pty, options.host_limits.inter_byte_timeout);
 }
 
 Made make_lpt_pty(const Options& options, const DeviceFacts&) {

@@ -58,6 +58,18 @@ Expected<LptOption, UsageError> parse_lpt_option(std::string_view text) {
   return usage_error("--lpt", "expects pty:PATH or gpio:CHIP");
 }
 
+// A host timeout in `unit_seconds` (1e-3: milliseconds), 0 = never, at most 1e6 s.
+Expected<std::chrono::milliseconds, UsageError> host_timeout(std::string_view option, std::string_view text,
+                                                             double unit_seconds) {
+  const auto value = parse_double(text);
+  const bool ms = unit_seconds < 1.0;
+  if (!value || !(*value >= 0.0 && *value * unit_seconds <= kMaxHostTimeoutSeconds)) {
+    return usage_error(option, ms ? "must be a number of milliseconds from 0 (never) to 1e9"
+                                  : "must be a number of seconds from 0 (never) to 1e6");
+  }
+  return std::chrono::milliseconds(static_cast<std::int64_t>(std::ceil(*value * unit_seconds * 1000.0)));
+}
+
 // What the parser remembers beyond Options, for the checks that involve several options.
 struct Seen {
   bool can = false;
@@ -142,6 +154,24 @@ const std::map<std::string_view, ValueHandler>& value_options() {
            return error_of(usage_error("--timeout", "must be a number of seconds > 0 and at most 1e9 (31 years)"));
          }
          o.timeout_s = *seconds;
+         return std::nullopt;
+       }},
+      {"--inter-byte-timeout", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
+         const auto limit = host_timeout("--inter-byte-timeout", v, 1e-3);
+         if (!limit) return limit.error();
+         o.host_limits.inter_byte_timeout = *limit;
+         return std::nullopt;
+       }},
+      {"--tcp-silent-timeout", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
+         const auto limit = host_timeout("--tcp-silent-timeout", v, 1.0);
+         if (!limit) return limit.error();
+         o.host_limits.silent_timeout = *limit;
+         return std::nullopt;
+       }},
+      {"--tcp-idle-timeout", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
+         const auto limit = host_timeout("--tcp-idle-timeout", v, 1.0);
+         if (!limit) return limit.error();
+         o.host_limits.idle_timeout = *limit;
          return std::nullopt;
        }},
       {"--control", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
@@ -326,6 +356,12 @@ std::string usage_text(std::string_view program_name) {
          "  --virtual-time        run the simulated clock as fast as possible: when nothing is\n"
          "                        ready, jump to the next deadline (tests, benchmarks) [off]\n"
          "  --seed N              noise seed, overrides the scene's [scene's seed]\n"
+         "  --inter-byte-timeout MS  drop a TCP frame or serial package the host left incomplete\n"
+         "                        this long (spec 6), 0 = never [500]\n"
+         "  --tcp-silent-timeout S  close a TCP connection without a complete telegram S seconds\n"
+         "                        after connecting, 0 = never [60]\n"
+         "  --tcp-idle-timeout S  close a TCP connection that sent nothing for S seconds,\n"
+         "                        0 = never [0]\n"
          "  --log-level LEVEL     error|warn|info|debug; info logs every telegram [warn]\n"
          "  --count-profiles N    stop (exit 0) after N profile telegrams in total [no limit]\n"
          "  --timeout SECONDS     stop (exit 0) after this many wall seconds, at most 1e9 [no limit]\n"

@@ -11,6 +11,7 @@ std::string format_counters(const Counters& c) {
       << " isotp_queue_overflows=" << c.isotp_queue_overflows << " can_frames_backlogged=" << c.can_frames_backlogged
       << " skipped_profiles=" << c.skipped_profiles << " profiles_sent=" << c.profiles_sent
       << " tcp_connections=" << c.tcp_connections << " tcp_dropped_slow=" << c.tcp_dropped_slow
+      << " tcp_dropped_quiet=" << c.tcp_dropped_quiet
       << " serial_overflows=" << c.serial_overflows << " lpt_steps=" << c.lpt_steps
       << " fault_injections=" << c.fault_injections;
   return out.str();

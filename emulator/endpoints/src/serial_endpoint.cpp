@@ -28,13 +28,32 @@ void SerialEndpoint::on_ready(io::Readiness readiness) {
     return;
   }
   const ConnectionId connection{TransportKind::serial, 1};
-  for (const protocol::DeframerEvent& event : deframer_.feed(received->bytes)) {
+  const auto events = deframer_.feed(received->bytes);
+  if (!received->bytes.empty()) {
+    if (inter_byte_timer_) context_->loop.cancel_timer(*inter_byte_timer_);
+    inter_byte_timer_.reset();
+    if (inter_byte_timeout_.count() > 0 && deframer_.in_frame()) {
+      inter_byte_timer_ = context_->loop.add_timer_after(inter_byte_timeout_, [this] { on_inter_byte_timeout(); });
+    }
+  }
+  for (const protocol::DeframerEvent& event : events) {
     if (const auto* telegram = std::get_if<protocol::Telegram>(&event)) {
       context_->sink.on_telegram(connection, telegram->payload);
     } else {
       context_->sink.on_framing_error(connection, std::get<protocol::FramingError>(event));
     }
   }
+}
+
+void SerialEndpoint::on_inter_byte_timeout() {
+  inter_byte_timer_.reset();
+  if (!deframer_.in_frame()) return;
+  deframer_.reset();
+  ++context_->activity;
+  context_->logger.log(LogLevel::info, "serial#1: package incomplete after " + std::to_string(inter_byte_timeout_.count()) +
+                                           " ms; dropped (spec 6)");
+  context_->sink.on_framing_error(ConnectionId{TransportKind::serial, 1},
+                                  protocol::FramingError{protocol::DecodeError::timeout, 0});
 }
 
 void SerialEndpoint::send(ConnectionId to, protocol::ByteView payload) {

@@ -52,18 +52,100 @@ void TcpEndpoint::on_listener_ready() {
     if (!accepted->has_value()) {
       return;
     }
-    const std::uint32_t index = next_index_++;
+    const auto taken = indices_.take([this](std::uint32_t index) { return clients_.contains(index); });
+    if (!taken) {
+      // Every connection number is in use: the new connection is closed, the others go on.
+      context_->logger.log(LogLevel::warn, "tcp: every connection number is in use; closing the connection from " +
+                                               (*accepted)->peer());
+      continue;
+    }
+    const std::uint32_t index = *taken;
     const int fd = (*accepted)->fd();
+    const auto now = std::chrono::steady_clock::now();
     context_->logger.log(LogLevel::info, "tcp#" + std::to_string(index) + " connected from " + (*accepted)->peer());
-    clients_.emplace(index, Client{std::move(**accepted), protocol::TcpDeframer(), OutputQueue(), {}, false, {}});
+    clients_.emplace(index, Client{std::move(**accepted), protocol::TcpDeframer(), OutputQueue(), {}, false, {}, now,
+                                   false, std::nullopt, std::nullopt});
     ++context_->counters.tcp_connections;
     context_->sink.on_connection_opened(ConnectionId{TransportKind::tcp, index}, clients_.at(index).connection.peer());
     if (auto watched = context_->loop.watch(fd, io::Interest::readable,
                                             [this, index](io::Readiness r) { on_client_ready(index, r); });
         !watched) {
       drop(index, watched.error().message());
+      continue;
+    }
+    if (limits_.silent_timeout.count() > 0) {
+      arm_quiet_timer(index, now + limits_.silent_timeout);
+    } else if (limits_.idle_timeout.count() > 0) {
+      arm_quiet_timer(index, now + limits_.idle_timeout);
     }
   }
+}
+
+// After bytes from the host: a frame left incomplete must be finished within the inter-byte
+// timeout (spec 6), else its start is dropped instead of being joined to whatever comes next.
+void TcpEndpoint::after_receive(std::uint32_t index) {
+  const auto client = clients_.find(index);
+  if (client == clients_.end()) return;
+  Client& c = client->second;
+  c.last_received = std::chrono::steady_clock::now();
+  if (c.inter_byte_timer) {
+    context_->loop.cancel_timer(*c.inter_byte_timer);
+    c.inter_byte_timer.reset();
+  }
+  if (limits_.inter_byte_timeout.count() > 0 && c.deframer.in_frame()) {
+    c.inter_byte_timer = context_->loop.add_timer_after(limits_.inter_byte_timeout,
+                                                         [this, index] { on_inter_byte_timeout(index); });
+  }
+}
+
+void TcpEndpoint::on_inter_byte_timeout(std::uint32_t index) {
+  const auto client = clients_.find(index);
+  if (client == clients_.end()) return;
+  client->second.inter_byte_timer.reset();
+  if (!client->second.deframer.in_frame()) return;
+  if (client->second.stalled) {  // D11 tcp_stall: we are the ones not reading; wait for the rest
+    after_receive(index);
+    return;
+  }
+  client->second.deframer.reset();
+  ++context_->activity;
+  context_->logger.log(LogLevel::info, "tcp#" + std::to_string(index) + ": frame incomplete after " +
+                                           std::to_string(limits_.inter_byte_timeout.count()) + " ms; dropped (spec 6)");
+  context_->sink.on_framing_error(ConnectionId{TransportKind::tcp, index},
+                                  protocol::FramingError{protocol::DecodeError::timeout, 0});
+}
+
+void TcpEndpoint::arm_quiet_timer(std::uint32_t index, std::chrono::steady_clock::time_point at) {
+  const auto client = clients_.find(index);
+  if (client == clients_.end()) return;
+  client->second.quiet_timer = context_->loop.add_timer_at(at, [this, index] { on_quiet_timer(index); });
+}
+
+// One timer per connection, checked lazily: bytes that arrived since it was armed move it on
+// instead of re-arming it for every read.
+void TcpEndpoint::on_quiet_timer(std::uint32_t index) {
+  const auto client = clients_.find(index);
+  if (client == clients_.end()) return;
+  Client& c = client->second;
+  c.quiet_timer.reset();
+  if (c.stalled) {  // D11 tcp_stall: the host's bytes wait unread; its quiet time starts again
+    c.last_received = std::chrono::steady_clock::now();
+    arm_quiet_timer(index, c.last_received + std::max(limits_.silent_timeout, limits_.idle_timeout));
+    return;
+  }
+  if (!c.spoke && limits_.silent_timeout.count() > 0) {
+    ++context_->counters.tcp_dropped_quiet;
+    drop(index, "no telegram within " + std::to_string(limits_.silent_timeout.count()) + " ms of connecting");
+    return;
+  }
+  if (limits_.idle_timeout.count() <= 0) return;
+  const auto due = c.last_received + limits_.idle_timeout;
+  if (std::chrono::steady_clock::now() >= due) {
+    ++context_->counters.tcp_dropped_quiet;
+    drop(index, "idle for " + std::to_string(limits_.idle_timeout.count()) + " ms");
+    return;
+  }
+  arm_quiet_timer(index, due);
 }
 
 // Out of descriptors, the pending connection stays queued and the listener stays readable: a
@@ -128,11 +210,20 @@ void TcpEndpoint::on_client_ready(std::uint32_t index, io::Readiness readiness) 
     }
     budget -= std::min(budget, received->bytes.size());
     const auto events = client->second.deframer.feed(received->bytes);
+    after_receive(index);
     for (const protocol::DeframerEvent& event : events) {
-      if (!clients_.count(index)) {
+      const auto still = clients_.find(index);
+      if (still == clients_.end()) {
         return;
       }
       if (const auto* telegram = std::get_if<protocol::Telegram>(&event)) {
+        if (!still->second.spoke) {
+          still->second.spoke = true;
+          // Silent no more: from now on only the idle timeout (if any) applies.
+          if (still->second.quiet_timer) context_->loop.cancel_timer(*still->second.quiet_timer);
+          still->second.quiet_timer.reset();
+          if (limits_.idle_timeout.count() > 0) arm_quiet_timer(index, still->second.last_received + limits_.idle_timeout);
+        }
         context_->sink.on_telegram(connection, telegram->payload);
       } else {
         context_->sink.on_framing_error(connection, std::get<protocol::FramingError>(event));
@@ -199,6 +290,9 @@ void TcpEndpoint::drop(std::uint32_t index, std::string_view why) {
   context_->logger.log(LogLevel::info, "tcp#" + std::to_string(index) + " closed: " + std::string(why));
   context_->loop.unwatch(client->second.connection.fd());
   if (client->second.fault_resume) context_->scheduler.cancel(*client->second.fault_resume);
+  // Its timers go with it: the index may be given to a new connection.
+  if (client->second.inter_byte_timer) context_->loop.cancel_timer(*client->second.inter_byte_timer);
+  if (client->second.quiet_timer) context_->loop.cancel_timer(*client->second.quiet_timer);
   clients_.erase(client);
   resume_listener();  // a descriptor is free again
   context_->sink.on_connection_closed(ConnectionId{TransportKind::tcp, index});

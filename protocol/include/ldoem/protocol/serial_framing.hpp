@@ -101,6 +101,8 @@ class SerialDeframer {
   std::vector<DeframerEvent> feed(ByteView chunk);
   std::uint64_t dropped_frames() const { return dropped_frames_; }
   std::uint64_t skipped_bytes() const { return scanner_.skipped_bytes(); }
+  // True while a package has started but is not complete (a caller may time it out, spec 6).
+  bool in_frame() const { return scanner_.in_package(); }
   void reset();
 
  private:

@@ -12,6 +12,7 @@
 
 #include "ldoem/base/device_constants.hpp"
 #include "ldoem/endpoints/can_id_pair.hpp"
+#include "ldoem/endpoints/host_limits.hpp"
 #include "ldoem/endpoints/logger.hpp"
 #include "ldoem/protocol/expected.hpp"
 
@@ -33,6 +34,7 @@ inline constexpr double kMaxTimeoutSeconds = 1e9;         // about 31 years (int
 inline constexpr double kMinTimeScale = 1e-6;             // a simulated second per 11.6 wall days
 inline constexpr double kMaxTimeScale = 1e6;              // 11.6 simulated days per wall second
 inline constexpr double kMaxRecordMegabytes = 1024.0 * 1024.0;  // 1 TiB per capture file
+inline constexpr double kMaxHostTimeoutSeconds = 1e6;     // the host timeouts: 11.6 days
 
 using endpoints::CanIdPair;
 using endpoints::LogLevel;
@@ -77,6 +79,8 @@ struct Options {
   std::optional<std::filesystem::path> record_path;
   std::uint64_t record_max_bytes = 0;
   unsigned record_files = 10;
+  // --inter-byte-timeout, --tcp-silent-timeout, --tcp-idle-timeout (issue 11, docs/emulator.md).
+  endpoints::HostLimits host_limits;
   std::optional<std::filesystem::path> control_path;    // --control: the control socket (D11)
   std::optional<std::filesystem::path> event_log_path;  // --event-log: fault and state events
 

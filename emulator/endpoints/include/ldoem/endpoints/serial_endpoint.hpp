@@ -1,11 +1,13 @@
 // The LD's RS-232/RS-422 port (spec 4.2) as a pseudo-terminal: one connection, serial#1. Bytes
-// nobody reads are lost, as on a real line.
+// nobody reads are lost, as on a real line; a package left incomplete for the inter-byte timeout
+// is dropped (spec 6), so its start is never joined to the next one.
 #pragma once
 
 #include <filesystem>
 #include <optional>
 
 #include "ldoem/endpoints/host_endpoint.hpp"
+#include "ldoem/endpoints/host_limits.hpp"
 #include "ldoem/endpoints/output_queue.hpp"
 #include "ldoem/io/pseudo_terminal.hpp"
 #include "ldoem/protocol/serial_framing.hpp"
@@ -14,7 +16,9 @@ namespace ldoem::endpoints {
 
 class SerialEndpoint final : public HostEndpoint {
  public:
-  explicit SerialEndpoint(std::filesystem::path link_path) : link_path_(std::move(link_path)) {}
+  explicit SerialEndpoint(std::filesystem::path link_path,
+                          std::chrono::milliseconds inter_byte_timeout = kDefaultInterByteTimeout)
+      : link_path_(std::move(link_path)), inter_byte_timeout_(inter_byte_timeout) {}
 
   std::string_view name() const override { return "serial"; }
   std::optional<TransportKind> transport() const override { return TransportKind::serial; }
@@ -28,8 +32,11 @@ class SerialEndpoint final : public HostEndpoint {
   void flush();
   protocol::Bytes faulty_reply(ConnectionId to, protocol::ByteView payload);
   void note_echo_resets();
+  void on_inter_byte_timeout();
 
   std::filesystem::path link_path_;
+  std::chrono::milliseconds inter_byte_timeout_;  // 0: never
+  std::optional<io::EventLoop::TimerId> inter_byte_timer_;
   EndpointContext* context_ = nullptr;
   std::optional<io::PseudoTerminal> pty_;
   protocol::SerialDeframer deframer_;

@@ -1,6 +1,7 @@
 // The LD's Ethernet port (spec 4.1): a TCP listener; every accepted session is its own
 // connection (tcp#1, tcp#2, ...) with its deframer and a bounded output queue. A host that stops
-// reading is dropped once its queue is full.
+// reading is dropped once its queue is full; a frame left half sent is dropped after the
+// inter-byte timeout, and a connection that stays silent or idle too long is closed (HostLimits).
 #pragma once
 
 #include <chrono>
@@ -10,6 +11,7 @@
 #include <string>
 
 #include "ldoem/endpoints/host_endpoint.hpp"
+#include "ldoem/endpoints/host_limits.hpp"
 #include "ldoem/endpoints/output_queue.hpp"
 #include "ldoem/io/tcp.hpp"
 #include "ldoem/protocol/tcp_framing.hpp"
@@ -18,7 +20,9 @@ namespace ldoem::endpoints {
 
 class TcpEndpoint final : public HostEndpoint {
  public:
-  TcpEndpoint(std::string address, std::uint16_t port) : address_(std::move(address)), port_(port) {}
+  TcpEndpoint(std::string address, std::uint16_t port, HostLimits limits = {},
+              ConnectionIndices indices = ConnectionIndices())
+      : address_(std::move(address)), port_(port), limits_(limits), indices_(indices) {}
 
   std::string_view name() const override { return "tcp"; }
   std::optional<TransportKind> transport() const override { return TransportKind::tcp; }
@@ -41,6 +45,10 @@ class TcpEndpoint final : public HostEndpoint {
     std::optional<Scheduler::Key> fault_resume;
     bool stalled = false;
     SimTime wire_free_at{};  // bandwidth: when the last paced piece was on the wire
+    std::chrono::steady_clock::time_point last_received;
+    bool spoke = false;  // a complete telegram arrived (silent_timeout no longer applies)
+    std::optional<io::EventLoop::TimerId> inter_byte_timer;
+    std::optional<io::EventLoop::TimerId> quiet_timer;  // silent_timeout, then idle_timeout
   };
 
   void on_listener_ready();
@@ -54,13 +62,18 @@ class TcpEndpoint final : public HostEndpoint {
   bool stalled(std::uint32_t index, Client& client);
   bool paced(std::uint32_t index, Client& client);
   void resume_after_fault(std::uint32_t index);
+  void after_receive(std::uint32_t index);
+  void on_inter_byte_timeout(std::uint32_t index);
+  void arm_quiet_timer(std::uint32_t index, std::chrono::steady_clock::time_point at);
+  void on_quiet_timer(std::uint32_t index);
 
   std::string address_;
   std::uint16_t port_;
   EndpointContext* context_ = nullptr;
   std::optional<io::TcpListener> listener_;
+  HostLimits limits_;
+  ConnectionIndices indices_;
   std::map<std::uint32_t, Client> clients_;
-  std::uint32_t next_index_ = 1;
 
   static constexpr std::chrono::milliseconds kListenerRest{100};
   static constexpr std::chrono::seconds kWarnPeriod{10};
