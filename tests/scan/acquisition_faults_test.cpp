@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cerrno>
 
 #include "ldoem/hub/scanner_device.hpp"
 #include "ldoem/protocol/service_codes.hpp"
@@ -184,6 +185,30 @@ TEST(AcquireFaults, RetriesUsedUp_EndsWithTheLastFault) {
   EXPECT_EQ(run.scan.error().error->kind, driver::ErrorKind::timeout);
   EXPECT_EQ(run.scan.error().stage, "GET2DPROFILE layer 2");
   EXPECT_EQ(bench.count(protocol::Service::get_profile), 6u);
+}
+
+}  // namespace
+}  // namespace ldoem::scan
+
+namespace ldoem::scan {
+namespace {
+
+TEST(AcquireFaults, UnreachableDevice_IsFinalAtInitialize_NoRetry) {
+  hub::TransportFactory refused = []() -> driver::Expected<std::unique_ptr<driver::Transport>, driver::DriverError> {
+    return driver::fail(driver::system_error("connect", "tcp:127.0.0.1:1", ECONNREFUSED));
+  };
+  hub::ScannerDevice device("nowhere", refused, {}, std::make_unique<test::VirtualSleeper>());
+  std::uint32_t retries = 0;
+  AcquisitionHooks hooks;
+  hooks.sleep = [](std::chrono::milliseconds) {};
+  hooks.on_retry = [&retries](const std::string&, const driver::DriverError&, std::uint32_t, std::uint32_t) { ++retries; };
+  auto plan = small_plan();
+  plan.layers = plan_layers(0.0, 0.18, false).value();
+  auto scan = acquire(device, plan, hooks);
+  ASSERT_FALSE(scan);
+  EXPECT_EQ(scan.error().stage, "INITIALIZE");
+  EXPECT_EQ(scan.error().error->kind, driver::ErrorKind::system);
+  EXPECT_EQ(retries, 0u);
 }
 
 }  // namespace

@@ -28,7 +28,7 @@ class Run {
     init_.motor_speed_hz = plan_.motor_speed_hz;
     init_.angle_step_ticks = plan_.sectors.angle_step_ticks;
     init_.sectors = plan_.sectors.sectors;
-    auto info = with_retries("INITIALIZE", false, [this] { return device_.initialize(init_); });
+    auto info = with_retries("INITIALIZE", Phase::initializing, [this] { return device_.initialize(init_); });
     if (!info) {
       return Unexpected<AcquisitionError>({AcquisitionFailure::device_error, "INITIALIZE", info.error(), {}});
     }
@@ -64,26 +64,35 @@ class Run {
     driver::DriverError error;
   };
 
-  Diagnosis diagnose(driver::DriverError error, bool measuring) {
+  // Where in the scan a step is: what a lost connection calls for differs.
+  enum class Phase : std::uint8_t {
+    initializing,  // INITIALIZE itself reconnects
+    starting,      // ROTATE, MEASURE: INITIALIZE again first after a lost connection
+    measuring,     // layers: also INITIALIZE again when the device left MEASURE by itself
+  };
+
+  Diagnosis diagnose(driver::DriverError error, Phase phase) {
+    const bool initialized = phase != Phase::initializing;
     if (error.kind == driver::ErrorKind::device_fault) {
       return {false, false, std::move(error)};
     }
     if (error.kind == driver::ErrorKind::connection_closed) {
-      return {true, true, std::move(error)};  // a reset or a power cycle: reconnect, configure again
+      return {true, initialized, std::move(error)};  // a reset or a power cycle: reconnect, configure again
     }
     // The status names a motor fault behind a timeout (a stalled head stops the stream, D11),
     // and shows a device that left MEASURE by itself (a spontaneous reset).
     auto status = device_.status();
     if (!status) {
       const auto kind = status.error().kind;
-      const bool lost = kind == driver::ErrorKind::connection_closed || kind == driver::ErrorKind::wrong_state;
+      const bool lost =
+          initialized && (kind == driver::ErrorKind::connection_closed || kind == driver::ErrorKind::wrong_state);
       return {lost || driver::is_retryable(error), lost, std::move(error)};
     }
     if (auto fault = driver::device_fault_in(*status, "GET_STATUS", error.object)) {
       fault->detail += " after " + driver::describe(error);
       return {false, false, std::move(*fault)};
     }
-    if (measuring && status->status.sensor != protocol::SensorMode::measure) {
+    if (phase == Phase::measuring && status->status.sensor != protocol::SensorMode::measure) {
       return {true, true, std::move(error)};
     }
     return {driver::is_retryable(error), false, std::move(error)};
@@ -113,9 +122,8 @@ class Run {
   }
 
   // Runs `step` until it succeeds, fails finally, or has been retried plan_.retries times.
-  // `measuring`: the step needs the device in MEASURE (ROTATE and MEASURE were done).
   template <class Step>
-  auto with_retries(const std::string& stage, bool measuring, Step step) -> decltype(step()) {
+  auto with_retries(const std::string& stage, Phase phase, Step step) -> decltype(step()) {
     bool restart = false;
     for (std::uint32_t attempt = 0;; ++attempt) {
       auto result = [&]() -> decltype(step()) {
@@ -130,7 +138,7 @@ class Run {
       if (result) {
         return result;
       }
-      Diagnosis diagnosis = diagnose(result.error(), measuring);
+      Diagnosis diagnosis = diagnose(result.error(), phase);
       if (!diagnosis.retry || attempt >= plan_.retries || stop_requested()) {
         return driver::fail(std::move(diagnosis.error));
       }
@@ -150,11 +158,11 @@ class Run {
     if (stop_requested()) {
       return stopped("before ROTATE");
     }
-    if (auto rotating = with_retries("ROTATE", false, [this] { return device_.rotate(plan_.motor_speed_hz); });
+    if (auto rotating = with_retries("ROTATE", Phase::starting, [this] { return device_.rotate(plan_.motor_speed_hz); });
         !rotating) {
       return device_failure("ROTATE", rotating.error());
     }
-    if (auto measuring = with_retries("MEASURE", false, [this] { return device_.measure(); }); !measuring) {
+    if (auto measuring = with_retries("MEASURE", Phase::starting, [this] { return device_.measure(); }); !measuring) {
       return device_failure("MEASURE", measuring.error());
     }
     const std::uint32_t count = plan_.layers.layer_count;
@@ -163,7 +171,7 @@ class Run {
         return stopped("layer " + std::to_string(layer));
       }
       const std::string stage = "GET2DPROFILE layer " + std::to_string(layer);
-      auto sample = with_retries(stage, true, [this] { return device_.get_profile(plan_.profile_timeout); });
+      auto sample = with_retries(stage, Phase::measuring, [this] { return device_.get_profile(plan_.profile_timeout); });
       if (!sample) {
         return device_failure(stage, sample.error());
       }
