@@ -8,20 +8,20 @@
 
 #include <nlohmann/json.hpp>
 
-#include "ldoem/daemon/object_commands.hpp"
+#include "ldoem/control_socket/object_commands.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const auto* text = reinterpret_cast<const char*>(data);
   const nlohmann::json arguments = nlohmann::json::parse(text, text + size, nullptr, false);
   if (arguments.is_discarded() || !arguments.is_object()) return 0;
   try {
-    const auto move = ldoem::daemon::parse_move_object(arguments);
-    if (const auto* request = std::get_if<ldoem::daemon::MoveObjectRequest>(&move)) {
+    const auto move = ldoem::control_socket::parse_move_object(arguments);
+    if (const auto* request = std::get_if<ldoem::control_socket::MoveObjectRequest>(&move)) {
       if (!request->pose.position_m.allFinite() || request->name.empty()) std::abort();
     }
-    (void)ldoem::daemon::parse_add_object(arguments);
-    (void)ldoem::daemon::parse_remove_object(arguments);
-    (void)ldoem::daemon::command_time(0.5, 1.0);
+    (void)ldoem::control_socket::parse_add_object(arguments);
+    (void)ldoem::control_socket::parse_remove_object(arguments);
+    (void)ldoem::control_socket::command_time(0.5, 1.0);
   } catch (...) {
     std::abort();  // the control socket answers every line; a throw here would be a crash there
   }

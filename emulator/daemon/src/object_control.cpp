@@ -4,11 +4,18 @@
 #include <chrono>
 
 #include "ldoem/daemon/fault_wiring.hpp"
-#include "ldoem/daemon/object_commands.hpp"
+#include "ldoem/control_socket/object_commands.hpp"
 
 namespace ldoem::daemon {
 
+using control_socket::AddObjectRequest;
+using control_socket::command_time;
 using control_socket::CommandError;
+using control_socket::MoveObjectRequest;
+using control_socket::parse_add_object;
+using control_socket::parse_move_object;
+using control_socket::parse_remove_object;
+using control_socket::RemoveObjectRequest;
 using control_socket::CommandResult;
 using nlohmann::json;
 

@@ -46,7 +46,7 @@ class ControlTarget {
   virtual nlohmann::json query_faults() = 0;
   virtual nlohmann::json query_status() = 0;
   // move-object, add-object, remove-object (D12 runtime changes; their arguments are checked by
-  // the target: emulator/daemon/object_commands.hpp). CommandNotFound for a target without a world.
+  // the target: object_commands.hpp). CommandNotFound for a target without a world.
   virtual CommandResult move_object(const nlohmann::json& arguments) { return no_world("move-object", arguments); }
   virtual CommandResult add_object(const nlohmann::json& arguments) { return no_world("add-object", arguments); }
   virtual CommandResult remove_object(const nlohmann::json& arguments) { return no_world("remove-object", arguments); }

@@ -1,11 +1,11 @@
-#include "ldoem/daemon/object_commands.hpp"
+#include "ldoem/control_socket/object_commands.hpp"
 
 #include <cmath>
 #include <initializer_list>
 
 #include "ldoem/scene/scene_loader.hpp"
 
-namespace ldoem::daemon {
+namespace ldoem::control_socket {
 namespace {
 
 using nlohmann::json;
@@ -124,4 +124,4 @@ std::variant<double, std::string> command_time(std::optional<double> at_s, doubl
   return *at_s;
 }
 
-}  // namespace ldoem::daemon
+}  // namespace ldoem::control_socket

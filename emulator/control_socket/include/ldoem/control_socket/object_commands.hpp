@@ -1,6 +1,7 @@
 // The control socket's object commands (D12 runtime changes, docs/faults.md "Control socket"):
-// their arguments, checked here without touching the world. Pure: JSON in, a request or the
-// reason it is refused out.
+// their arguments, checked here without touching the world (the daemon acts on them:
+// emulator/daemon/src/object_control.cpp). Pure: JSON in, a request or the reason it is refused
+// out. Its own library (ldoem_object_commands): it needs the scene loader, the protocol does not.
 //
 //   move-object    {"name": "door", "position_m": [x, y, z], "rpy_deg": [r, p, y],
 //                   "at_s": 2.5, "keep_velocity": false}
@@ -18,7 +19,7 @@
 
 #include "ldoem/scene/scene.hpp"
 
-namespace ldoem::daemon {
+namespace ldoem::control_socket {
 
 struct MoveObjectRequest {
   std::string name;
@@ -45,4 +46,4 @@ std::variant<RemoveObjectRequest, std::string> parse_remove_object(const nlohman
 // The device time a command acts at: at_s, or `now_s` without it; refused in the past.
 std::variant<double, std::string> command_time(std::optional<double> at_s, double now_s);
 
-}  // namespace ldoem::daemon
+}  // namespace ldoem::control_socket
