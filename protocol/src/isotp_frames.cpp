@@ -101,6 +101,8 @@ std::string_view describe(IsoTpSendError error) {
       return "iso-tp peer answered flow control overflow";
     case IsoTpSendError::invalid_flow_status:
       return "iso-tp flow control with a reserved flow status";
+    case IsoTpSendError::too_many_waits:
+      return "iso-tp receiver sent more flow-control WAITs in a row than N_WFTmax";
   }
   return "iso-tp send error";
 }

@@ -45,6 +45,7 @@ Expected<std::monostate, IsoTpSendError> IsoTpSender::start(SimTime now, ByteVie
   if (message.empty()) {
     return Unexpected(IsoTpSendError::empty_message);
   }
+  waits_in_a_row_ = 0;
   if (message.size() > kIsoTpMaxEscapedLength) {
     return Unexpected(IsoTpSendError::too_large);
   }
@@ -165,6 +166,7 @@ void IsoTpSender::on_flow_control(SimTime now, const CanFrame& frame) {
   }
   switch (frame.data[0] & kLowNibble) {
     case static_cast<std::uint8_t>(IsoTpFlowStatus::continue_to_send):
+      waits_in_a_row_ = 0;
       peer_block_size_ = frame.data[1];
       frames_left_in_block_ = peer_block_size_;
       peer_st_min_ = decode_st_min(frame.data[2]);
@@ -175,6 +177,10 @@ void IsoTpSender::on_flow_control(SimTime now, const CanFrame& frame) {
       state_ = State::sending;
       return;
     case static_cast<std::uint8_t>(IsoTpFlowStatus::wait):
+      if (++waits_in_a_row_ > config_.max_wait_frames) {
+        fail(IsoTpSendError::too_many_waits);
+        return;
+      }
       flow_control_deadline_ = now + config_.n_bs_timeout;  // N_Bs starts again
       return;
     case static_cast<std::uint8_t>(IsoTpFlowStatus::overflow):

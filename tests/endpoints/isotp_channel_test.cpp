@@ -60,6 +60,19 @@ TEST(IsoTpChannel, LongReply_WaitsForHostFlowControlThenSendsAll) {
   EXPECT_EQ(channel.counters().telegrams_sent, 1u);
 }
 
+// Issue 11: a host answering our first frame with FC WAIT forever no longer holds the channel:
+// after N_WFTmax WAITs the message is a send failure and the next telegram goes out.
+TEST(IsoTpChannel, HostWaitingForever_EndsTheMessageAfterNWftMax) {
+  IsoTpChannel channel = default_channel();
+  (void)channel.send(0s, counting_bytes(20));
+  (void)channel.send(0s, Bytes{0x01, 0x02});
+  IsoTpChannelOutput out;
+  for (int wait = 1; wait <= 11; ++wait) out = channel.on_frame(std::chrono::milliseconds(500 * wait), frame(0x6C0, {0x31, 0x00, 0x00}));
+  EXPECT_EQ(channel.counters().send_failures, 1u);
+  ASSERT_EQ(out.frames.size(), 1u);  // the queued single-frame telegram, at once
+  EXPECT_EQ(out.frames[0], frame(0x6C1, {0x02, 0x01, 0x02}));
+}
+
 TEST(IsoTpChannel, HostBlockSizeAndStMin_PaceOurConsecutiveFrames) {
   IsoTpChannel channel = default_channel();
   (void)channel.send(0s, counting_bytes(30));  // FF + 4 CFs

@@ -497,6 +497,37 @@ TEST(IsoTpSender, FlowControlWaitThenContinue_SendsAfterContinue) {
   EXPECT_EQ(sender.state(), IsoTpSender::State::done);
 }
 
+// Issue 11: N_WFTmax. Each WAIT restarts N_Bs, so a receiver answering WAIT forever held the
+// sender forever; now the WAIT after the tenth in a row ends the message, and a CTS in between
+// starts the count again.
+TEST(IsoTpSender, MoreWaitsInARowThanNWftMax_Fail) {
+  IsoTpSender sender(sender_config());
+  (void)start_and_poll(sender, {}, counting_bytes(20));
+  for (std::uint32_t wait = 1; wait <= kIsoTpDefaultMaxWaitFrames; ++wait) {
+    sender.on_flow_control(milliseconds(500 * wait), host({0x31, 0x00, 0x00}));
+    ASSERT_EQ(sender.state(), IsoTpSender::State::waiting_for_flow_control) << "WAIT " << wait;
+  }
+  sender.on_flow_control(milliseconds(5500), host({0x31, 0x00, 0x00}));
+  EXPECT_EQ(sender.state(), IsoTpSender::State::failed);
+  EXPECT_EQ(sender.error(), IsoTpSendError::too_many_waits);
+}
+
+TEST(IsoTpSender, WaitsCountOnlyInARow_ACtsStartsAgain) {
+  IsoTpSenderConfig config = sender_config();
+  config.max_wait_frames = 2;
+  IsoTpSender sender(config);
+  (void)start_and_poll(sender, {}, counting_bytes(40));
+  sender.on_flow_control({}, host({0x31, 0x00, 0x00}));
+  sender.on_flow_control({}, host({0x31, 0x00, 0x00}));
+  sender.on_flow_control({}, host({0x30, 0x01, 0x00}));  // CTS, block size 1
+  (void)sender.poll({});
+  sender.on_flow_control({}, host({0x31, 0x00, 0x00}));
+  sender.on_flow_control({}, host({0x31, 0x00, 0x00}));
+  EXPECT_EQ(sender.state(), IsoTpSender::State::waiting_for_flow_control);
+  sender.on_flow_control({}, host({0x31, 0x00, 0x00}));
+  EXPECT_EQ(sender.error(), IsoTpSendError::too_many_waits);
+}
+
 TEST(IsoTpSender, FlowControlOverflow_Fails) {
   IsoTpSender sender(sender_config());
   (void)start_and_poll(sender, {}, counting_bytes(20));

@@ -75,6 +75,10 @@ DriverError send_error(protocol::IsoTpSendError error, const std::string& object
       return make_error(ErrorKind::refused, "send", object, "the device answered flow control overflow");
     case protocol::IsoTpSendError::invalid_flow_status:
       return make_error(ErrorKind::framing, "send", object, "flow control with a reserved flow status");
+    case protocol::IsoTpSendError::too_many_waits:
+      // Like a missing flow control: the device did not take the request in time (retryable).
+      return make_error(ErrorKind::timeout, "send", object,
+                        "the device answered flow control WAIT more than N_WFTmax times in a row");
   }
   return make_error(ErrorKind::system, "send", object);
 }
@@ -84,6 +88,7 @@ protocol::IsoTpSenderConfig sender_config(const CanEndpoint& endpoint, const Iso
   config.data_id = endpoint.request_id;
   config.pad_frames = options.pad_frames;
   config.n_bs_timeout = options.timeout;
+  config.max_wait_frames = options.max_wait_frames;
   return config;
 }
 

@@ -19,6 +19,7 @@ protocol::IsoTpSenderConfig sender_config(const IsoTpChannelConfig& config) {
   protocol::IsoTpSenderConfig sender;
   sender.data_id = config.ids.response_id;
   sender.pad_frames = config.pad_frames;
+  sender.max_wait_frames = config.max_wait_frames;
   return sender;
 }
 

@@ -185,14 +185,23 @@ enum class IsoTpSendError : std::uint8_t {
   timeout,              // N_Bs expired waiting for flow control
   overflow,             // the peer answered FC overflow
   invalid_flow_status,  // the peer's FC carried a reserved flow status
+  too_many_waits,       // more FC WAITs in a row than N_WFTmax (max_wait_frames)
 };
 
 std::string_view describe(IsoTpSendError error);
+
+// N_WFTmax default: ten WAITs in a row, 10 s at D1's N_Bs of 1 s if the peer sends each just in
+// time; a receiver that needs longer is not one a host or the LD should wait on.
+inline constexpr std::uint32_t kIsoTpDefaultMaxWaitFrames = 10;
 
 struct IsoTpSenderConfig {
   std::uint32_t data_id = kIsoTpDeviceToHostId;  // identifier of SF/FF/CF frames
   bool pad_frames = false;                        // D1: unpadded unless configured
   SimTime n_bs_timeout = kIsoTpDefaultTimeout;    // D1
+  // N_WFTmax (ISO 15765-2): FC WAITs accepted in a row before the message is given up
+  // (IsoTpSendError::too_many_waits). Each WAIT restarts N_Bs, so without it a peer answering
+  // WAIT forever held the sender forever (issue 11).
+  std::uint32_t max_wait_frames = kIsoTpDefaultMaxWaitFrames;
 };
 
 struct IsoTpSendPoll {
@@ -244,6 +253,7 @@ class IsoTpSender {
   std::uint8_t next_sequence_ = 1;
   SimTime next_frame_due_{};
   std::optional<SimTime> last_consecutive_sent_;
+  std::uint32_t waits_in_a_row_ = 0;  // FC WAITs since the last CTS (N_WFTmax)
   std::uint8_t peer_block_size_ = 0;
   std::uint8_t frames_left_in_block_ = 0;
   SimTime peer_st_min_{};

@@ -25,6 +25,8 @@ struct IsoTpOptions {
   std::chrono::microseconds st_min{0};
   bool pad_frames = false;  // D1: unpadded unless configured (then 0xCC)
   std::chrono::milliseconds timeout{1000};  // D1: N_Bs = N_Cr = 1000 ms
+  // N_WFTmax: the LD's FC WAITs accepted in a row before a request is given up (issue 11).
+  std::uint32_t max_wait_frames = protocol::kIsoTpDefaultMaxWaitFrames;
 };
 
 // Monotonic time as the ISO-TP state machines see it (they never read a clock themselves).

@@ -31,6 +31,7 @@ struct IsoTpChannelConfig {
   SimTime st_min = SimTime::zero();  // our flow control's STmin (D1: 0 unless configured)
   bool pad_frames = false;           // D1: unpadded unless configured
   std::size_t max_queued_telegrams = kIsoTpMaxQueuedTelegrams;
+  std::uint32_t max_wait_frames = protocol::kIsoTpDefaultMaxWaitFrames;  // N_WFTmax for our sender
 };
 
 struct IsoTpChannelOutput {
