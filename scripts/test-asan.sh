@@ -3,7 +3,8 @@
 # on, no benchmarks, no vcan/gpio test programs: ASan's shadow memory does not fit in a UML guest's
 # address space, so those run only on the plain build). Part of scripts/test.sh (docs/ci.md).
 #   scripts/test-asan.sh [--no-deps]   (--no-deps: skip scripts/install-deps.sh)
-# Tests labelled `plain` measure time or memory and run only in the plain build (docs/ci.md).
+# Tests that assert wall time are filtered out by the asan test preset (label `plain` too, should
+# one be given it); docs/ci.md says which and why.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cache=${LDOEM_CACHE:-$HOME/.cache/ldoem}
