@@ -128,12 +128,17 @@ void CanEndpoint::send(ConnectionId to, protocol::ByteView payload) {
 void CanEndpoint::transmit(std::size_t channel, const std::vector<protocol::CanFrame>& frames) {
   if (pacer_) {
     const SimTime at = context_->scheduler.now();
-    for (const protocol::CanFrame& frame : frames) {
-      pacer_->push(at, frame);
+    // Frames waiting for the paced bus and for the socket share the backlog's bound.
+    if (frames.size() + pacer_->size() + backlog_.size() > backlog_.max_frames()) {
+      note_dropped_frames(frames.size());
+    } else {
+      for (const protocol::CanFrame& frame : frames) {
+        pacer_->push(at, frame);
+      }
     }
     release_paced_frames(at);
   } else {
-    backlog_.insert(backlog_.end(), frames.begin(), frames.end());
+    if (!backlog_.push(frames)) note_dropped_frames(frames.size());
     flush_backlog();
   }
   schedule_poll(channel);
@@ -161,9 +166,8 @@ void CanEndpoint::schedule_poll(std::size_t channel) {
 
 // D9 bus_timing: frames whose last bit is on the bus go to the socket; the next one is a deadline.
 void CanEndpoint::release_paced_frames(SimTime at) {
-  for (const protocol::CanFrame& frame : pacer_->take_due(at)) {
-    backlog_.push_back(frame);
-  }
+  const std::vector<protocol::CanFrame> due_frames = pacer_->take_due(at);
+  if (!backlog_.push(due_frames)) note_dropped_frames(due_frames.size());
   flush_backlog();
   const std::optional<SimTime> due = pacer_->deadline();
   if (!due || (pacer_scheduled_ && *pacer_scheduled_ <= *due)) return;
@@ -190,6 +194,12 @@ void CanEndpoint::flush_backlog() {
   }
   (void)context_->loop.change_interest(socket_->fd(), backlog_.empty() ? io::Interest::readable
                                                                        : io::Interest::readable | io::Interest::writable);
+}
+
+void CanEndpoint::note_dropped_frames(std::size_t count) {
+  context_->counters.can_frames_dropped += count;
+  context_->logger.log(LogLevel::info, "can: " + std::to_string(count) + " frames dropped, backlog full (" +
+                                           std::to_string(backlog_.max_frames()) + " frames: the bus takes nothing)");
 }
 
 void CanEndpoint::apply_can_config(const protocol::CanConfig& config) {

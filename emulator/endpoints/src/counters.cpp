@@ -9,6 +9,7 @@ std::string format_counters(const Counters& c) {
   out << "counters: telegrams_received=" << c.telegrams_received << " framing_errors=" << c.framing_errors
       << " isotp_receive_errors=" << c.isotp_receive_errors << " isotp_send_failures=" << c.isotp_send_failures
       << " isotp_queue_overflows=" << c.isotp_queue_overflows << " can_frames_backlogged=" << c.can_frames_backlogged
+      << " can_frames_dropped=" << c.can_frames_dropped
       << " skipped_profiles=" << c.skipped_profiles << " profiles_sent=" << c.profiles_sent
       << " tcp_connections=" << c.tcp_connections << " tcp_dropped_slow=" << c.tcp_dropped_slow
       << " tcp_dropped_quiet=" << c.tcp_dropped_quiet

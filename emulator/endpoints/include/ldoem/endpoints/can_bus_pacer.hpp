@@ -55,6 +55,7 @@ class CanBusPacer {
   std::optional<SimTime> deadline() const;
 
   bool empty() const { return queue_.empty(); }
+  std::size_t size() const { return queue_.size(); }
   // Frames with identifier `id` still queued (D10: that host's previous telegram is still being sent).
   bool pending_for(std::uint32_t id) const;
   // The time the bus is free again after the last queued frame.

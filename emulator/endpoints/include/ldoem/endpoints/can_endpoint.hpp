@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "ldoem/endpoints/can_bus_pacer.hpp"
+#include "ldoem/endpoints/can_frame_backlog.hpp"
 #include "ldoem/endpoints/can_id_pair.hpp"
 #include "ldoem/endpoints/host_endpoint.hpp"
 #include "ldoem/endpoints/isotp_channel.hpp"
@@ -46,6 +47,7 @@ class CanEndpoint final : public HostEndpoint {
   void schedule_poll(std::size_t channel);
   void release_paced_frames(SimTime at);
   void flush_backlog();
+  void note_dropped_frames(std::size_t count);
   void set_filters();
   // D11 (can_endpoint_faults.cpp): a host's first frame answered with FC overflow or held with
   // FC WAIT; false when the frame goes to the channel as usual.
@@ -64,7 +66,7 @@ class CanEndpoint final : public HostEndpoint {
   std::optional<io::CanRawSocket> socket_;
   std::vector<IsoTpChannel> channels_;  // channel i is ConnectionId{can, i + 1}
   std::vector<std::optional<Scheduler::Key>> scheduled_polls_;  // the one queued poll per channel
-  std::deque<protocol::CanFrame> backlog_;  // frames the interface's queue refused
+  CanFrameBacklog backlog_;                 // frames the interface's queue refused, bounded
   std::optional<CanBusPacer> pacer_;        // D9 bus_timing only: frames leave at the bit rate
   std::optional<SimTime> pacer_scheduled_;  // the pacer's release deadline already queued
   IsoTpChannelCounters retired_;            // counts of channels replaced by a new CAN configuration

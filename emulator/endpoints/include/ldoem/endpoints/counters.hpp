@@ -14,6 +14,7 @@ struct Counters {
   std::uint64_t isotp_send_failures = 0;   // D1: N_Bs timeout or host overflow
   std::uint64_t isotp_queue_overflows = 0;
   std::uint64_t can_frames_backlogged = 0; // the interface's queue was full
+  std::uint64_t can_frames_dropped = 0;    // the backlog behind it was full too (L-limits-2)
   std::uint64_t skipped_profiles = 0;      // D10
   std::uint64_t profiles_sent = 0;
   std::uint64_t tcp_connections = 0;
