@@ -15,8 +15,8 @@
 
 namespace ldoem::capture {
 
-using protocol::Expected;
-using protocol::Unexpected;
+using base::Expected;
+using base::Unexpected;
 
 namespace {
 
@@ -39,16 +39,16 @@ std::optional<protocol::LinkType> link_type_of(int dlt) {
   }
 }
 
-Expected<CapturePackets, std::string> read_with_libpcap(const std::filesystem::path& path) {
+base::Expected<CapturePackets, std::string> read_with_libpcap(const std::filesystem::path& path) {
   std::array<char, PCAP_ERRBUF_SIZE> error{};
   std::unique_ptr<pcap_t, decltype(&pcap_close)> handle(
       pcap_open_offline_with_tstamp_precision(path.c_str(), PCAP_TSTAMP_PRECISION_NANO, error.data()), &pcap_close);
-  if (!handle) return Unexpected(path.string() + ": " + error.data());
+  if (!handle) return base::Unexpected(path.string() + ": " + error.data());
   const int dlt = pcap_datalink(handle.get());
   const auto link_type = link_type_of(dlt);
   if (!link_type) {
     const char* name = pcap_datalink_val_to_name(dlt);
-    return Unexpected(path.string() + ": link type " + (name ? name : std::to_string(dlt)) +
+    return base::Unexpected(path.string() + ": link type " + (name ? name : std::to_string(dlt)) +
                       " carries no LD-OEM transport (want Ethernet, IPv4, Linux cooked, loopback or SocketCAN)");
   }
   CapturePackets result{CaptureFormat::pcap, {}};
@@ -60,7 +60,7 @@ Expected<CapturePackets, std::string> read_with_libpcap(const std::filesystem::p
     result.packets.push_back(
         {time, protocol::decode_link_payload(*link_type, protocol::ByteView(data, header->caplen))});
   }
-  if (status == PCAP_ERROR) return Unexpected(path.string() + ": " + pcap_geterr(handle.get()));
+  if (status == PCAP_ERROR) return base::Unexpected(path.string() + ": " + pcap_geterr(handle.get()));
   return result;
 }
 
@@ -75,28 +75,28 @@ std::string_view format_name(CaptureFormat format) {
   return "?";
 }
 
-Expected<CapturePackets, std::string> read_capture_packets(const std::filesystem::path& path) {
+base::Expected<CapturePackets, std::string> read_capture_packets(const std::filesystem::path& path) {
   std::error_code error;
   const auto size = std::filesystem::file_size(path, error);
-  if (error) return Unexpected(path.string() + ": " + error.message());
+  if (error) return base::Unexpected(path.string() + ": " + error.message());
   if (size > kMaxCaptureFileBytes) {
-    return Unexpected(path.string() + ": " + std::to_string(size) + " bytes, more than the " +
+    return base::Unexpected(path.string() + ": " + std::to_string(size) + " bytes, more than the " +
                       std::to_string(kMaxCaptureFileBytes) + " a capture may have (split it with editcap -c)");
   }
   std::ifstream in(path, std::ios::binary);
-  if (!in) return Unexpected(path.string() + ": cannot open for reading");
+  if (!in) return base::Unexpected(path.string() + ": cannot open for reading");
   const protocol::Bytes bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (protocol::looks_like_pcapng(bytes)) {
     auto packets = protocol::decode_pcapng(bytes);
     if (!packets) {
       // One link type only (tcpdump, dumpcap): libpcap reads that too; ours said why it failed.
-      return Unexpected(path.string() + ": block at byte " + std::to_string(packets.error().offset) + ": " +
+      return base::Unexpected(path.string() + ": block at byte " + std::to_string(packets.error().offset) + ": " +
                         std::string(protocol::describe(packets.error().error)));
     }
     CapturePackets result{CaptureFormat::pcapng, {}};
     result.packets.reserve(packets->size());
     for (const auto& packet : *packets) {
-      result.packets.push_back({protocol::SimTime(static_cast<std::int64_t>(packet.time_ns)),
+      result.packets.push_back({base::SimTime(static_cast<std::int64_t>(packet.time_ns)),
                                 protocol::decode_link_payload(packet.link_type, packet.data)});
     }
     return result;
@@ -105,24 +105,24 @@ Expected<CapturePackets, std::string> read_capture_packets(const std::filesystem
   if (protocol::looks_like_candump_log(text)) {
     auto entries = protocol::parse_candump_log(text);
     if (!entries) {
-      return Unexpected(path.string() + ":" + std::to_string(entries.error().line) + ": " +
+      return base::Unexpected(path.string() + ":" + std::to_string(entries.error().line) + ": " +
                         std::string(protocol::describe(entries.error().error)));
     }
     CapturePackets result{CaptureFormat::candump, {}};
     for (const auto& entry : *entries) {
       protocol::LinkPayload payload = std::monostate{};
       if (!entry.extended_id && !entry.remote) payload = entry.frame;
-      result.packets.push_back({protocol::SimTime(static_cast<std::int64_t>(entry.time_ns)), payload});
+      result.packets.push_back({base::SimTime(static_cast<std::int64_t>(entry.time_ns)), payload});
     }
     return result;
   }
   return read_with_libpcap(path);
 }
 
-Expected<CaptureConversation, std::string> read_capture_conversation(const std::filesystem::path& path,
+base::Expected<CaptureConversation, std::string> read_capture_conversation(const std::filesystem::path& path,
                                                                      protocol::ConversationConfig config) {
   auto packets = read_capture_packets(path);
-  if (!packets) return Unexpected(packets.error());
+  if (!packets) return base::Unexpected(packets.error());
   return CaptureConversation{packets->format, protocol::extract_conversation(packets->packets, config)};
 }
 

@@ -41,11 +41,11 @@ CaptureWriter::~CaptureWriter() {
   if (fd_ >= 0) ::close(fd_);
 }
 
-protocol::Expected<std::unique_ptr<CaptureWriter>, std::string> CaptureWriter::open(CaptureWriterOptions options) {
-  if (options.path.empty()) return protocol::Unexpected(std::string("capture: no file name"));
-  if (options.max_files == 0) return protocol::Unexpected(std::string("capture: max_files must be at least 1"));
+base::Expected<std::unique_ptr<CaptureWriter>, std::string> CaptureWriter::open(CaptureWriterOptions options) {
+  if (options.path.empty()) return base::Unexpected(std::string("capture: no file name"));
+  if (options.max_files == 0) return base::Unexpected(std::string("capture: max_files must be at least 1"));
   std::unique_ptr<CaptureWriter> writer(new CaptureWriter(std::move(options)));
-  if (std::string error = writer->start_file(); !error.empty()) return protocol::Unexpected(error);
+  if (std::string error = writer->start_file(); !error.empty()) return base::Unexpected(error);
   return writer;
 }
 
@@ -110,14 +110,14 @@ std::string CaptureWriter::write_all(const Bytes& blocks) {
   return {};
 }
 
-void CaptureWriter::append_packet(Bytes& out, std::uint32_t interface, SimTime time, ByteView data,
+void CaptureWriter::append_packet(Bytes& out, std::uint32_t interface, base::SimTime time, ByteView data,
                                   WireDirection direction) const {
   const auto time_ns = static_cast<std::uint64_t>(std::max<std::int64_t>(0, time.count()));
   const Bytes block = protocol::encode_pcapng_packet(interface, time_ns, data, packet_direction(direction));
   out.insert(out.end(), block.begin(), block.end());
 }
 
-std::string CaptureWriter::write_can(SimTime time, const protocol::CanFrame& frame, WireDirection direction) {
+std::string CaptureWriter::write_can(base::SimTime time, const protocol::CanFrame& frame, WireDirection direction) {
   ++counters_.records;
   return commit([&] {
     Bytes blocks;
@@ -141,7 +141,7 @@ protocol::TcpSegment CaptureWriter::segment(std::uint32_t connection, WireDirect
   return segment;
 }
 
-std::string CaptureWriter::write_tcp(SimTime time, std::uint32_t connection, WireDirection direction, ByteView bytes) {
+std::string CaptureWriter::write_tcp(base::SimTime time, std::uint32_t connection, WireDirection direction, ByteView bytes) {
   TcpConnection* state = nullptr;
   const auto build = [&] {
     state = &connections_[connection];
@@ -188,7 +188,7 @@ std::string CaptureWriter::write_tcp(SimTime time, std::uint32_t connection, Wir
   return error;
 }
 
-std::string CaptureWriter::close_tcp(SimTime time, std::uint32_t connection) {
+std::string CaptureWriter::close_tcp(base::SimTime time, std::uint32_t connection) {
   const auto found = connections_.find(connection);
   if (found == connections_.end()) return {};
   TcpConnection state = found->second;
@@ -210,7 +210,7 @@ std::string CaptureWriter::close_tcp(SimTime time, std::uint32_t connection) {
   });
 }
 
-std::string CaptureWriter::write_serial(SimTime time, WireDirection direction, ByteView bytes) {
+std::string CaptureWriter::write_serial(base::SimTime time, WireDirection direction, ByteView bytes) {
   ++counters_.records;
   return commit([&] {
     Bytes blocks;
@@ -220,7 +220,7 @@ std::string CaptureWriter::write_serial(SimTime time, WireDirection direction, B
   });
 }
 
-std::string CaptureWriter::write_lpt(SimTime time, ByteView values) {
+std::string CaptureWriter::write_lpt(base::SimTime time, ByteView values) {
   ++counters_.records;
   return commit([&] {
     Bytes blocks;

@@ -61,63 +61,63 @@ std::string_view describe(CandumpError error) {
   return "unknown candump error";
 }
 
-Expected<CandumpEntry, CandumpError> parse_candump_line(std::string_view line) {
+base::Expected<CandumpEntry, CandumpError> parse_candump_line(std::string_view line) {
   line = trim(line);
   const std::size_t first_space = line.find_first_of(" \t");
   if (first_space == std::string_view::npos) {
-    return Unexpected(line.starts_with('(') ? CandumpError::missing_field : CandumpError::bad_timestamp);
+    return base::Unexpected(line.starts_with('(') ? CandumpError::missing_field : CandumpError::bad_timestamp);
   }
   CandumpEntry entry;
-  if (!parse_time(line.substr(0, first_space), entry.time_ns)) return Unexpected(CandumpError::bad_timestamp);
+  if (!parse_time(line.substr(0, first_space), entry.time_ns)) return base::Unexpected(CandumpError::bad_timestamp);
   std::string_view rest = trim(line.substr(first_space));
   const std::size_t second_space = rest.find_first_of(" \t");
-  if (second_space == std::string_view::npos) return Unexpected(CandumpError::missing_field);
+  if (second_space == std::string_view::npos) return base::Unexpected(CandumpError::missing_field);
   entry.interface = std::string(rest.substr(0, second_space));
   rest = trim(rest.substr(second_space));
   // Newer can-utils may append a direction flag (" R" / " T"): not part of the frame.
   if (const std::size_t space = rest.find_first_of(" \t"); space != std::string_view::npos) {
     const std::string_view flag = trim(rest.substr(space));
-    if (flag != "R" && flag != "T") return Unexpected(CandumpError::bad_data);
+    if (flag != "R" && flag != "T") return base::Unexpected(CandumpError::bad_data);
     rest = rest.substr(0, space);
   }
   const std::size_t hash = rest.find('#');
-  if (hash == std::string_view::npos) return Unexpected(CandumpError::missing_field);
+  if (hash == std::string_view::npos) return base::Unexpected(CandumpError::missing_field);
   const std::string_view id_text = rest.substr(0, hash);
   std::string_view data_text = rest.substr(hash + 1);
-  if (id_text.size() != 3 && id_text.size() != 8) return Unexpected(CandumpError::bad_identifier);
+  if (id_text.size() != 3 && id_text.size() != 8) return base::Unexpected(CandumpError::bad_identifier);
   std::uint32_t id = 0;
   for (char c : id_text) {
     const int value = hex_value(c);
-    if (value < 0) return Unexpected(CandumpError::bad_identifier);
+    if (value < 0) return base::Unexpected(CandumpError::bad_identifier);
     id = (id << 4) | static_cast<std::uint32_t>(value);
   }
-  if (id_text.size() == 3 && id > kCanStandardIdMask) return Unexpected(CandumpError::bad_identifier);
-  if (id_text.size() == 8 && id > 0x1FFFFFFF) return Unexpected(CandumpError::bad_identifier);
+  if (id_text.size() == 3 && id > kCanStandardIdMask) return base::Unexpected(CandumpError::bad_identifier);
+  if (id_text.size() == 8 && id > 0x1FFFFFFF) return base::Unexpected(CandumpError::bad_identifier);
   entry.extended_id = id_text.size() == 8;
-  if (data_text.starts_with('#')) return Unexpected(CandumpError::unsupported);
+  if (data_text.starts_with('#')) return base::Unexpected(CandumpError::unsupported);
   if (data_text.starts_with('R') || data_text.starts_with('r')) {
     entry.remote = true;
     data_text.remove_prefix(1);
     if (data_text.size() > 1 || (data_text.size() == 1 && (data_text[0] < '0' || data_text[0] > '8'))) {
-      return Unexpected(CandumpError::bad_data);
+      return base::Unexpected(CandumpError::bad_data);
     }
     entry.frame.id = id;
     entry.frame.length = data_text.empty() ? 0 : static_cast<std::uint8_t>(data_text[0] - '0');
     return entry;
   }
-  if (data_text.size() % 2 != 0 || data_text.size() > 2 * kCanMaxDataBytes) return Unexpected(CandumpError::bad_data);
+  if (data_text.size() % 2 != 0 || data_text.size() > 2 * kCanMaxDataBytes) return base::Unexpected(CandumpError::bad_data);
   entry.frame.id = id;
   entry.frame.length = static_cast<std::uint8_t>(data_text.size() / 2);
   for (std::size_t i = 0; i < entry.frame.length; ++i) {
     const int high = hex_value(data_text[2 * i]);
     const int low = hex_value(data_text[2 * i + 1]);
-    if (high < 0 || low < 0) return Unexpected(CandumpError::bad_data);
+    if (high < 0 || low < 0) return base::Unexpected(CandumpError::bad_data);
     entry.frame.data[i] = static_cast<std::uint8_t>((high << 4) | low);
   }
   return entry;
 }
 
-Expected<std::vector<CandumpEntry>, CandumpFailure> parse_candump_log(std::string_view text) {
+base::Expected<std::vector<CandumpEntry>, CandumpFailure> parse_candump_log(std::string_view text) {
   std::vector<CandumpEntry> entries;
   std::size_t line_number = 0;
   while (!text.empty()) {
@@ -127,7 +127,7 @@ Expected<std::vector<CandumpEntry>, CandumpFailure> parse_candump_log(std::strin
     text = newline == std::string_view::npos ? std::string_view{} : text.substr(newline + 1);
     if (line.empty() || line.starts_with('#')) continue;
     auto entry = parse_candump_line(line);
-    if (!entry) return Unexpected(CandumpFailure{entry.error(), line_number});
+    if (!entry) return base::Unexpected(CandumpFailure{entry.error(), line_number});
     entries.push_back(std::move(*entry));
   }
   return entries;

@@ -41,7 +41,7 @@ ConversationExtractor::ConversationExtractor(ConversationConfig config)
 
 ConversationExtractor::~ConversationExtractor() = default;
 
-void ConversationExtractor::add(SimTime time, const LinkPayload& payload) {
+void ConversationExtractor::add(base::SimTime time, const LinkPayload& payload) {
   ++counters_.packets;
   std::visit(
       [&](const auto& value) {
@@ -68,7 +68,7 @@ std::vector<CapturedTelegram> ConversationExtractor::take() {
   return out;
 }
 
-void ConversationExtractor::add_tcp(SimTime time, const TcpSegment& segment) {
+void ConversationExtractor::add_tcp(base::SimTime time, const TcpSegment& segment) {
   WireDirection direction;
   if (segment.destination_port == config_.tcp_port) {
     direction = WireDirection::host_to_device;
@@ -119,7 +119,7 @@ void ConversationExtractor::add_tcp(SimTime time, const TcpSegment& segment) {
   if ((segment.flags & kTcpFin) != 0 && flow->next_sequence) *flow->next_sequence += 1;
 }
 
-void ConversationExtractor::add_can(SimTime time, const CanFrame& frame) {
+void ConversationExtractor::add_can(base::SimTime time, const CanFrame& frame) {
   IsoTpReceiver* receiver = nullptr;
   WireDirection direction = WireDirection::host_to_device;
   if (frame.id == config_.request_can_id) {
@@ -138,7 +138,7 @@ void ConversationExtractor::add_can(SimTime time, const CanFrame& frame) {
   }
 }
 
-void ConversationExtractor::add_serial(SimTime time, const SerialChunk& chunk) {
+void ConversationExtractor::add_serial(base::SimTime time, const SerialChunk& chunk) {
   if (chunk.direction == WireDirection::host_to_device) {
     deliver(time, WireTransport::serial, chunk.direction, 0, serial_requests_.feed(chunk.bytes));
   } else {
@@ -146,7 +146,7 @@ void ConversationExtractor::add_serial(SimTime time, const SerialChunk& chunk) {
   }
 }
 
-void ConversationExtractor::deliver(SimTime time, WireTransport transport, WireDirection direction,
+void ConversationExtractor::deliver(base::SimTime time, WireTransport transport, WireDirection direction,
                                     std::uint32_t stream, std::vector<DeframerEvent> events) {
   for (auto& event : events) {
     if (auto* telegram = std::get_if<Telegram>(&event)) {
@@ -170,14 +170,14 @@ Conversation extract_conversation(const std::vector<DecodedPacket>& packets, Con
 
 std::vector<Exchange> exchanges_of(const std::vector<CapturedTelegram>& telegrams, WireTransport transport) {
   std::vector<Exchange> exchanges;
-  SimTime request_time{};
+  base::SimTime request_time{};
   for (const auto& telegram : telegrams) {
     if (telegram.transport != transport) continue;
     if (telegram.direction == WireDirection::host_to_device) {
       exchanges.push_back(Exchange{telegram.payload, {}});
       request_time = telegram.time;
     } else if (!exchanges.empty()) {
-      const SimTime delay = std::max(SimTime::zero(), telegram.time - request_time);
+      const base::SimTime delay = std::max(base::SimTime::zero(), telegram.time - request_time);
       exchanges.back().answers.push_back(RecordedAnswer{delay, telegram.payload});
     }
   }

@@ -68,14 +68,14 @@ void append_config_body(Bytes& out, const ConfigBody& body) {
   std::visit([&out](const auto& fields) { append_fields(out, fields); }, body);
 }
 
-Expected<ConfigBody, DecodeError> read_config_fields(std::uint16_t key, WordReader& reader,
+base::Expected<ConfigBody, DecodeError> read_config_fields(std::uint16_t key, WordReader& reader,
                                                      bool allow_global_zero_pad) {
-  if (!has_config_layout(key)) return Unexpected(DecodeError::unknown_config_key);
-  if (reader.remaining_bytes() % 2 != 0) return Unexpected(DecodeError::bad_length);
+  if (!has_config_layout(key)) return base::Unexpected(DecodeError::unknown_config_key);
+  if (reader.remaining_bytes() % 2 != 0) return base::Unexpected(DecodeError::bad_length);
   const std::size_t words = reader.remaining_words();
   switch (static_cast<ConfigKey>(key)) {
     case ConfigKey::serial: {
-      if (words != kSerialWords) return Unexpected(DecodeError::bad_length);
+      if (words != kSerialWords) return base::Unexpected(DecodeError::bad_length);
       SerialConfig c;
       c.baud_code = reader.word();
       c.parity = reader.word();
@@ -84,7 +84,7 @@ Expected<ConfigBody, DecodeError> read_config_fields(std::uint16_t key, WordRead
       return ConfigBody{c};
     }
     case ConfigKey::can: {
-      if (words != kCanWords) return Unexpected(DecodeError::bad_length);
+      if (words != kCanWords) return base::Unexpected(DecodeError::bad_length);
       CanConfig c;
       c.bitrate_code = reader.word();
       c.request_id = reader.word();
@@ -94,7 +94,7 @@ Expected<ConfigBody, DecodeError> read_config_fields(std::uint16_t key, WordRead
       return ConfigBody{c};
     }
     case ConfigKey::ethernet: {
-      if (words != kEthernetWords) return Unexpected(DecodeError::bad_length);
+      if (words != kEthernetWords) return base::Unexpected(DecodeError::bad_length);
       EthernetConfig c;
       c.ip_address = read_octets(reader);
       c.subnet_mask = read_octets(reader);
@@ -105,19 +105,19 @@ Expected<ConfigBody, DecodeError> read_config_fields(std::uint16_t key, WordRead
     }
     case ConfigKey::global: {
       const bool padded = allow_global_zero_pad && words == kGlobalWords + 1;
-      if (words != kGlobalWords && !padded) return Unexpected(DecodeError::bad_length);
+      if (words != kGlobalWords && !padded) return base::Unexpected(DecodeError::bad_length);
       GlobalConfig c;
       c.sensor_id = reader.word();
       c.motor_speed_hz = reader.word();
       c.angle_step_ticks = reader.word();
       if (padded) {
-        if (reader.word() != 0x0000) return Unexpected(DecodeError::bad_length);
+        if (reader.word() != 0x0000) return base::Unexpected(DecodeError::bad_length);
         c.trailing_zero_word = true;
       }
       return ConfigBody{c};
     }
     case ConfigKey::interlace: {
-      if (words != kInterlaceWords) return Unexpected(DecodeError::bad_length);
+      if (words != kInterlaceWords) return base::Unexpected(DecodeError::bad_length);
       return ConfigBody{InterlaceConfig{reader.word()}};
     }
     case ConfigKey::arcnet_historical:
@@ -125,7 +125,7 @@ Expected<ConfigBody, DecodeError> read_config_fields(std::uint16_t key, WordRead
     case ConfigKey::arcnet:
       break;
   }
-  return Unexpected(DecodeError::unknown_config_key);
+  return base::Unexpected(DecodeError::unknown_config_key);
 }
 
 }  // namespace detail

@@ -4,7 +4,7 @@
 
 #include "ldoem/protocol/config.hpp"
 #include "ldoem/protocol/errors.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 #include "word_reader.hpp"
 
 namespace ldoem::protocol::detail {
@@ -15,7 +15,7 @@ void append_config_body(Bytes& out, const ConfigBody& body);
 // Reads the fields of `key` from the rest of `reader`, which must hold exactly them
 // (bad_length otherwise); `allow_global_zero_pad` accepts S2's extra 0x0000 WORD after the
 // global key (D2). unknown_config_key for a key without a layout.
-Expected<ConfigBody, DecodeError> read_config_fields(std::uint16_t key, WordReader& reader,
+base::Expected<ConfigBody, DecodeError> read_config_fields(std::uint16_t key, WordReader& reader,
                                                      bool allow_global_zero_pad);
 
 }  // namespace ldoem::protocol::detail

@@ -13,7 +13,7 @@ using std::chrono::milliseconds;
 constexpr std::uint8_t kStMinMaxMilliseconds = 0x7F;
 constexpr std::uint8_t kStMinFirstMicroCode = 0xF1;  // 100 us
 constexpr std::uint8_t kStMinLastMicroCode = 0xF9;   // 900 us
-constexpr SimTime kStMinMicroStep = microseconds(100);
+constexpr base::SimTime kStMinMicroStep = microseconds(100);
 
 }  // namespace
 
@@ -35,7 +35,7 @@ std::optional<IsoTpFrameType> isotp_frame_type(const CanFrame& frame) {
   }
 }
 
-SimTime decode_st_min(std::uint8_t st_min_byte) {
+base::SimTime decode_st_min(std::uint8_t st_min_byte) {
   if (st_min_byte <= kStMinMaxMilliseconds) {
     return milliseconds(st_min_byte);
   }
@@ -45,16 +45,16 @@ SimTime decode_st_min(std::uint8_t st_min_byte) {
   return kIsoTpMaxStMin;  // reserved values: the standard's longest separation
 }
 
-std::uint8_t encode_st_min(SimTime separation) {
-  if (separation <= SimTime::zero()) {
+std::uint8_t encode_st_min(base::SimTime separation) {
+  if (separation <= base::SimTime::zero()) {
     return 0;
   }
   if (separation <= kStMinMicroStep * 9) {
     // Round up to the next 100 us so the peer never sends faster than asked.
-    const auto steps = (separation + kStMinMicroStep - SimTime(1)) / kStMinMicroStep;
+    const auto steps = (separation + kStMinMicroStep - base::SimTime(1)) / kStMinMicroStep;
     return static_cast<std::uint8_t>(0xF0 + steps);
   }
-  const auto whole_ms = (separation + milliseconds(1) - SimTime(1)) / milliseconds(1);
+  const auto whole_ms = (separation + milliseconds(1) - base::SimTime(1)) / milliseconds(1);
   return static_cast<std::uint8_t>(std::min<std::int64_t>(whole_ms, kStMinMaxMilliseconds));
 }
 

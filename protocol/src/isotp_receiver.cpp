@@ -47,7 +47,7 @@ std::optional<FirstFrameHeader> parse_first_frame(const CanFrame& frame) {
 IsoTpReceiver::IsoTpReceiver(IsoTpReceiverConfig config)
     : config_(config), st_min_byte_(encode_st_min(config.st_min)) {}
 
-IsoTpReceiveResult IsoTpReceiver::on_frame(SimTime now, const CanFrame& frame) {
+IsoTpReceiveResult IsoTpReceiver::on_frame(base::SimTime now, const CanFrame& frame) {
   IsoTpReceiveResult result;
   const bool timed_out = state_ == State::receiving && now >= consecutive_frame_deadline_;
   if (timed_out) {
@@ -73,7 +73,7 @@ IsoTpReceiveResult IsoTpReceiver::on_frame(SimTime now, const CanFrame& frame) {
   return result;
 }
 
-void IsoTpReceiver::on_frame_idle(SimTime now, IsoTpFrameType type, const CanFrame& frame,
+void IsoTpReceiver::on_frame_idle(base::SimTime now, IsoTpFrameType type, const CanFrame& frame,
                                   IsoTpReceiveResult& result) {
   switch (type) {
     case IsoTpFrameType::single_frame:
@@ -90,7 +90,7 @@ void IsoTpReceiver::on_frame_idle(SimTime now, IsoTpFrameType type, const CanFra
   }
 }
 
-void IsoTpReceiver::on_frame_receiving(SimTime now, IsoTpFrameType type,
+void IsoTpReceiver::on_frame_receiving(base::SimTime now, IsoTpFrameType type,
                                        const CanFrame& frame, IsoTpReceiveResult& result) {
   switch (type) {
     // ISO 15765-2: a new SF or FF ends the running reception (unexpected_frame) and starts a
@@ -129,7 +129,7 @@ void IsoTpReceiver::accept_single_frame(const CanFrame& frame, IsoTpReceiveResul
   ++counters_.messages;
 }
 
-void IsoTpReceiver::accept_first_frame(SimTime now, const CanFrame& frame,
+void IsoTpReceiver::accept_first_frame(base::SimTime now, const CanFrame& frame,
                                        IsoTpReceiveResult& result) {
   const std::optional<FirstFrameHeader> header = parse_first_frame(frame);
   if (!header) {
@@ -156,7 +156,7 @@ void IsoTpReceiver::accept_first_frame(SimTime now, const CanFrame& frame,
   result.flow_control = flow_control(IsoTpFlowStatus::continue_to_send);
 }
 
-void IsoTpReceiver::accept_consecutive_frame(SimTime now, const CanFrame& frame,
+void IsoTpReceiver::accept_consecutive_frame(base::SimTime now, const CanFrame& frame,
                                              IsoTpReceiveResult& result) {
   const std::uint8_t sequence = frame.data[0] & kLowNibble;
   if (sequence != next_sequence_) {
@@ -186,7 +186,7 @@ void IsoTpReceiver::accept_consecutive_frame(SimTime now, const CanFrame& frame,
   }
 }
 
-IsoTpReceiveResult IsoTpReceiver::on_timer(SimTime now) {
+IsoTpReceiveResult IsoTpReceiver::on_timer(base::SimTime now) {
   IsoTpReceiveResult result;
   if (state_ == State::receiving && now >= consecutive_frame_deadline_) {
     drop(IsoTpReceiveError::timeout, result);
@@ -194,7 +194,7 @@ IsoTpReceiveResult IsoTpReceiver::on_timer(SimTime now) {
   return result;
 }
 
-std::optional<SimTime> IsoTpReceiver::deadline() const {
+std::optional<base::SimTime> IsoTpReceiver::deadline() const {
   switch (state_) {
     case State::idle:
       return std::nullopt;

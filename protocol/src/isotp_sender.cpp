@@ -38,16 +38,16 @@ bool IsoTpSender::busy() const {
   return false;
 }
 
-Expected<std::monostate, IsoTpSendError> IsoTpSender::start(SimTime now, ByteView message) {
+base::Expected<std::monostate, IsoTpSendError> IsoTpSender::start(base::SimTime now, ByteView message) {
   if (busy()) {
-    return Unexpected(IsoTpSendError::busy);
+    return base::Unexpected(IsoTpSendError::busy);
   }
   if (message.empty()) {
-    return Unexpected(IsoTpSendError::empty_message);
+    return base::Unexpected(IsoTpSendError::empty_message);
   }
   waits_in_a_row_ = 0;
   if (message.size() > kIsoTpMaxEscapedLength) {
-    return Unexpected(IsoTpSendError::too_large);
+    return base::Unexpected(IsoTpSendError::too_large);
   }
   message_.assign(message.begin(), message.end());
   next_offset_ = 0;
@@ -59,7 +59,7 @@ Expected<std::monostate, IsoTpSendError> IsoTpSender::start(SimTime now, ByteVie
   return std::monostate{};
 }
 
-IsoTpSendPoll IsoTpSender::poll(SimTime now) {
+IsoTpSendPoll IsoTpSender::poll(base::SimTime now) {
   IsoTpSendPoll result;
   switch (state_) {
     case State::idle:
@@ -79,7 +79,7 @@ IsoTpSendPoll IsoTpSender::poll(SimTime now) {
   return result;
 }
 
-void IsoTpSender::send_due_frames(SimTime now, std::vector<CanFrame>& out) {
+void IsoTpSender::send_due_frames(base::SimTime now, std::vector<CanFrame>& out) {
   if (now < next_frame_due_) {
     return;
   }
@@ -100,7 +100,7 @@ void IsoTpSender::send_due_frames(SimTime now, std::vector<CanFrame>& out) {
       state_ = State::done;
     } else if (peer_block_size_ > 0 && --frames_left_in_block_ == 0) {
       wait_for_flow_control(now);
-    } else if (peer_st_min_ > SimTime::zero()) {
+    } else if (peer_st_min_ > base::SimTime::zero()) {
       break;  // one CF per call: the next one counts STmin from when this one really went out
     }
   }
@@ -147,12 +147,12 @@ CanFrame IsoTpSender::finish_frame(CanFrame frame) const {
   return frame;
 }
 
-void IsoTpSender::wait_for_flow_control(SimTime now) {
+void IsoTpSender::wait_for_flow_control(base::SimTime now) {
   state_ = State::waiting_for_flow_control;
   flow_control_deadline_ = now + config_.n_bs_timeout;
 }
 
-void IsoTpSender::on_flow_control(SimTime now, const CanFrame& frame) {
+void IsoTpSender::on_flow_control(base::SimTime now, const CanFrame& frame) {
   if (state_ != State::waiting_for_flow_control) {
     return;  // ISO 15765-2: an FC nobody waits for is ignored
   }
@@ -192,7 +192,7 @@ void IsoTpSender::on_flow_control(SimTime now, const CanFrame& frame) {
   }
 }
 
-std::optional<SimTime> IsoTpSender::deadline() const {
+std::optional<base::SimTime> IsoTpSender::deadline() const {
   switch (state_) {
     case State::idle:
     case State::done:

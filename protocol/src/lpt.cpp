@@ -6,7 +6,7 @@ namespace ldoem::protocol {
 StepEdgeDetector::StepEdgeDetector(std::uint8_t initial_register)
     : last_register_(initial_register) {}
 
-std::optional<StepPulse> StepEdgeDetector::on_write(SimTime at, std::uint8_t register_value) {
+std::optional<StepPulse> StepEdgeDetector::on_write(base::SimTime at, std::uint8_t register_value) {
   const LptRegister before = decode_lpt(last_register_);
   const LptRegister after = decode_lpt(register_value);
   last_register_ = register_value;

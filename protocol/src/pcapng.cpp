@@ -189,9 +189,9 @@ bool looks_like_pcapng(ByteView file) {
   return file.size() >= 4 && file[0] == 0x0A && file[1] == 0x0D && file[2] == 0x0D && file[3] == 0x0A;
 }
 
-Expected<std::vector<CapturePacket>, CaptureFormatFailure> decode_pcapng(ByteView file) {
+base::Expected<std::vector<CapturePacket>, CaptureFormatFailure> decode_pcapng(ByteView file) {
   const auto fail = [](CaptureFormatError error, std::size_t offset) {
-    return Unexpected(CaptureFormatFailure{error, offset});
+    return base::Unexpected(CaptureFormatFailure{error, offset});
   };
   if (!looks_like_pcapng(file)) return fail(CaptureFormatError::not_pcapng, 0);
   std::vector<CapturePacket> packets;

@@ -55,46 +55,46 @@ void append_sector(Bytes& out, std::uint16_t format, const SectorBlock& sector) 
 }
 
 // Without POINTNUM, a single sector's count follows from what is left after its fixed fields.
-Expected<std::size_t, DecodeError> implied_point_count(std::uint16_t format, std::size_t remaining_bytes) {
+base::Expected<std::size_t, DecodeError> implied_point_count(std::uint16_t format, std::size_t remaining_bytes) {
   const std::size_t fixed_bytes = 2 * sector_words(format) + status_bytes(format);
-  if (remaining_bytes < fixed_bytes) return Unexpected(DecodeError::truncated);
+  if (remaining_bytes < fixed_bytes) return base::Unexpected(DecodeError::truncated);
   const std::size_t point_bytes = 2 * point_words(format);
   const std::size_t left = remaining_bytes - fixed_bytes;
   if (point_bytes == 0) {
-    if (left != 0) return Unexpected(DecodeError::bad_length);
+    if (left != 0) return base::Unexpected(DecodeError::bad_length);
     return std::size_t{0};
   }
-  if (left % point_bytes != 0) return Unexpected(DecodeError::bad_length);
+  if (left % point_bytes != 0) return base::Unexpected(DecodeError::bad_length);
   const std::size_t count = left / point_bytes;
-  if (count > kMaxPointsPerSector) return Unexpected(DecodeError::out_of_range);
+  if (count > kMaxPointsPerSector) return base::Unexpected(DecodeError::out_of_range);
   return count;
 }
 
-Expected<SectorBlock, DecodeError> read_sector(detail::WordReader& reader, std::uint16_t format,
+base::Expected<SectorBlock, DecodeError> read_sector(detail::WordReader& reader, std::uint16_t format,
                                                std::size_t sector_count) {
   const std::size_t fixed_bytes = 2 * sector_words(format);
   SectorBlock sector;
   std::size_t count = 0;
   if (!has(format, kPointNum)) {
-    if (sector_count > 1) return Unexpected(DecodeError::bad_length);
+    if (sector_count > 1) return base::Unexpected(DecodeError::bad_length);
     auto implied = implied_point_count(format, reader.remaining_bytes());
-    if (!implied) return Unexpected(implied.error());
+    if (!implied) return base::Unexpected(implied.error());
     count = *implied;
   } else if (reader.remaining_bytes() < fixed_bytes) {
-    return Unexpected(DecodeError::truncated);
+    return base::Unexpected(DecodeError::truncated);
   }
   sector.sector_num = read_if(reader, format, kSectorNum);
   sector.dir_step_ticks = read_if(reader, format, kDirStep);
   if (has(format, kPointNum)) {
     count = reader.word();
-    if (count > kMaxPointsPerSector) return Unexpected(DecodeError::out_of_range);
+    if (count > kMaxPointsPerSector) return base::Unexpected(DecodeError::out_of_range);
   }
   sector.t_start_ms = read_if(reader, format, kTStart);
   sector.start_dir_ticks = read_if(reader, format, kStartDir);
   // Allocation guard: the points (and the closing fields) must be in the payload already.
   const std::size_t closing_bytes = 2 * count_bits(format, {kTEnd, kEndDir});
   if (reader.remaining_bytes() < count * 2 * point_words(format) + closing_bytes) {
-    return Unexpected(DecodeError::truncated);
+    return base::Unexpected(DecodeError::truncated);
   }
   sector.points.resize(count);
   for (auto& point : sector.points) {
@@ -135,32 +135,32 @@ Bytes encode_profile(const Profile& profile) {
   return out;
 }
 
-Expected<Profile, DecodeError> decode_profile(ByteView payload) {
-  if (payload.size() < 6) return Unexpected(DecodeError::truncated);
-  if (payload.size() % 2 != 0) return Unexpected(DecodeError::bad_length);
+base::Expected<Profile, DecodeError> decode_profile(ByteView payload) {
+  if (payload.size() < 6) return base::Unexpected(DecodeError::truncated);
+  if (payload.size() % 2 != 0) return base::Unexpected(DecodeError::bad_length);
   detail::WordReader reader(payload);
-  if (reader.word() != response_code(Service::get_profile)) return Unexpected(DecodeError::unknown_service);
+  if (reader.word() != response_code(Service::get_profile)) return base::Unexpected(DecodeError::unknown_service);
   Profile profile;
   profile.format = reader.word();
   const std::uint16_t format = profile.format;
   const std::size_t sector_count = reader.word();
-  if (sector_count > kMaxSectorBlocks) return Unexpected(DecodeError::out_of_range);
-  if (reader.remaining_bytes() < 2 * (header_words(format) - 3)) return Unexpected(DecodeError::truncated);
+  if (sector_count > kMaxSectorBlocks) return base::Unexpected(DecodeError::out_of_range);
+  if (reader.remaining_bytes() < 2 * (header_words(format) - 3)) return base::Unexpected(DecodeError::truncated);
   profile.profile_sent = read_if(reader, format, kProfileSent);
   profile.profile_count = read_if(reader, format, kProfileCount);
   profile.layer = read_if(reader, format, kLayerNum);
   profile.sectors.reserve(sector_count);
   for (std::size_t i = 0; i < sector_count; ++i) {
     auto sector = read_sector(reader, format, sector_count);
-    if (!sector) return Unexpected(sector.error());
+    if (!sector) return base::Unexpected(sector.error());
     profile.sectors.push_back(std::move(*sector));
   }
-  if (reader.remaining_bytes() < status_bytes(format)) return Unexpected(DecodeError::truncated);
+  if (reader.remaining_bytes() < status_bytes(format)) return base::Unexpected(DecodeError::truncated);
   if (has(format, kSensorStatus)) {
     profile.status = read_status_block(payload, reader.offset());
     reader.take(StatusBlock::kSizeBytes);
   }
-  if (reader.remaining_bytes() != 0) return Unexpected(DecodeError::bad_length);
+  if (reader.remaining_bytes() != 0) return base::Unexpected(DecodeError::bad_length);
   return profile;
 }
 

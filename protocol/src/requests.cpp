@@ -80,18 +80,18 @@ struct Params {
   std::uint16_t code;
   detail::WordReader reader;
 
-  Unexpected<RequestError> fail(FailureReason reason, DecodeError detail) const {
-    return Unexpected(RequestError{code, reason, detail});
+  base::Unexpected<RequestError> fail(FailureReason reason, DecodeError detail) const {
+    return base::Unexpected(RequestError{code, reason, detail});
   }
-  Unexpected<RequestError> wrong_length() const {
+  base::Unexpected<RequestError> wrong_length() const {
     return fail(FailureReason::wrong_length, DecodeError::bad_length);
   }
-  Unexpected<RequestError> out_of_range() const {
+  base::Unexpected<RequestError> out_of_range() const {
     return fail(FailureReason::out_of_range, DecodeError::out_of_range);
   }
 };
 
-using RequestResult = Expected<Request, RequestError>;
+using RequestResult = base::Expected<Request, RequestError>;
 
 // D2: no parameter, or the one trailing 0x0000 WORD serial drivers append.
 template <class Parameterless>
@@ -229,9 +229,9 @@ Bytes encode_request(const Request& request) {
   return out;
 }
 
-Expected<Request, RequestError> decode_request(ByteView payload) {
+base::Expected<Request, RequestError> decode_request(ByteView payload) {
   if (payload.size() < 2) {
-    return Unexpected(RequestError{0x0000, FailureReason::wrong_length, DecodeError::truncated});
+    return base::Unexpected(RequestError{0x0000, FailureReason::wrong_length, DecodeError::truncated});
   }
   Params params{read_word_be(payload, 0), detail::WordReader(payload, 2)};
   const auto service = request_service(params.code);

@@ -46,18 +46,18 @@ void append_fields(Bytes& out, const ServiceFailure& r) {
   append_word_be(out, static_cast<std::uint16_t>(r.reason));
 }
 
-using ResponseResult = Expected<Response, DecodeError>;
+using ResponseResult = base::Expected<Response, DecodeError>;
 
 // `rest` is the payload after the code WORD.
 template <class Reply>
 ResponseResult decode_status_block_reply(ByteView rest) {
-  if (rest.size() != StatusBlock::kSizeBytes) return Unexpected(DecodeError::bad_length);
+  if (rest.size() != StatusBlock::kSizeBytes) return base::Unexpected(DecodeError::bad_length);
   return Response{Reply{read_status_block(rest, 0)}};
 }
 
 template <class Reply>
 ResponseResult decode_word_reply(ByteView rest) {
-  if (rest.size() != 2) return Unexpected(DecodeError::bad_length);
+  if (rest.size() != 2) return base::Unexpected(DecodeError::bad_length);
   return Response{Reply{read_word_be(rest, 0)}};
 }
 
@@ -68,7 +68,7 @@ ResponseResult decode_identification(ByteView rest) {
 }
 
 ResponseResult decode_get_status(ByteView rest) {
-  if (rest.size() < StatusBlock::kSizeBytes) return Unexpected(DecodeError::bad_length);
+  if (rest.size() < StatusBlock::kSizeBytes) return base::Unexpected(DecodeError::bad_length);
   GetStatusReply reply;
   reply.status = read_status_block(rest, 0);
   reply.unpublished_fields.assign(rest.begin() + StatusBlock::kSizeBytes, rest.end());
@@ -78,30 +78,30 @@ ResponseResult decode_get_status(ByteView rest) {
 ResponseResult decode_get_config(ByteView rest) {
   detail::WordReader reader(rest);
   const auto key = reader.try_word();
-  if (!key) return Unexpected(DecodeError::bad_length);
+  if (!key) return base::Unexpected(DecodeError::bad_length);
   auto body = detail::read_config_fields(*key, reader, /*allow_global_zero_pad=*/false);
-  if (!body) return Unexpected(body.error());
+  if (!body) return base::Unexpected(body.error());
   return Response{GetConfigReply{std::move(*body)}};
 }
 
 ResponseResult decode_get_function(ByteView rest) {
-  if (rest.size() != 6) return Unexpected(DecodeError::bad_length);
+  if (rest.size() != 6) return base::Unexpected(DecodeError::bad_length);
   return Response{GetFunctionReply{read_word_be(rest, 0), read_word_be(rest, 2), read_word_be(rest, 4)}};
 }
 
 ResponseResult decode_trans_measure(ByteView rest) {
-  if (rest.size() != StatusBlock::kSizeBytes + 2) return Unexpected(DecodeError::bad_length);
+  if (rest.size() != StatusBlock::kSizeBytes + 2) return base::Unexpected(DecodeError::bad_length);
   return Response{TransMeasureReply{read_status_block(rest, 0), read_word_be(rest, 4)}};
 }
 
 ResponseResult decode_service_failure(ByteView rest) {
-  if (rest.size() != 4) return Unexpected(DecodeError::bad_length);
+  if (rest.size() != 4) return base::Unexpected(DecodeError::bad_length);
   return Response{ServiceFailure{read_word_be(rest, 0), static_cast<FailureReason>(read_word_be(rest, 2))}};
 }
 
 ResponseResult decode_profile_response(ByteView payload) {
   auto profile = decode_profile(payload);
-  if (!profile) return Unexpected(profile.error());
+  if (!profile) return base::Unexpected(profile.error());
   return Response{std::move(*profile)};
 }
 
@@ -134,7 +134,7 @@ ResponseResult decode_reply_of(Service service, ByteView payload) {
     case Service::service_failure:
       break;
   }
-  return Unexpected(DecodeError::unknown_service);
+  return base::Unexpected(DecodeError::unknown_service);
 }
 
 }  // namespace
@@ -155,13 +155,13 @@ Bytes encode_response(const Response& response) {
   return out;
 }
 
-Expected<Response, DecodeError> decode_response(ByteView payload) {
-  if (payload.size() < 2) return Unexpected(DecodeError::truncated);
+base::Expected<Response, DecodeError> decode_response(ByteView payload) {
+  if (payload.size() < 2) return base::Unexpected(DecodeError::truncated);
   const std::uint16_t code = read_word_be(payload, 0);
   if (code == code_of(Service::service_failure)) return decode_service_failure(payload.subspan(2));
-  if (!is_response(code)) return Unexpected(DecodeError::unknown_service);
+  if (!is_response(code)) return base::Unexpected(DecodeError::unknown_service);
   const auto service = request_service(static_cast<std::uint16_t>(code & ~kResponseBit));
-  if (!service) return Unexpected(DecodeError::unknown_service);
+  if (!service) return base::Unexpected(DecodeError::unknown_service);
   return decode_reply_of(*service, payload);
 }
 

@@ -101,11 +101,11 @@ std::size_t serial_request_size(std::size_t payload_size) {
   return package_size(3 + words_for(payload_size));  // address, length, package id
 }
 
-Expected<std::size_t, DecodeError> encode_serial_request_into(ByteView payload, std::span<std::uint8_t> out,
+base::Expected<std::size_t, DecodeError> encode_serial_request_into(ByteView payload, std::span<std::uint8_t> out,
                                                              std::uint16_t address) {
   const std::size_t size = serial_request_size(payload.size());
   const std::size_t payload_words = words_for(payload.size());
-  if (out.size() < size || payload_words + 2 > UINT16_MAX) return Unexpected(DecodeError::too_large);
+  if (out.size() < size || payload_words + 2 > UINT16_MAX) return base::Unexpected(DecodeError::too_large);
   PackageWriter writer(out.data());
   writer.word(address);
   writer.word(static_cast<std::uint16_t>(2 + payload_words));  // LLLL counts itself and PPPP

@@ -11,9 +11,9 @@ std::uint8_t xor_checksum(ByteView payload) {
   return checksum;
 }
 
-Expected<std::size_t, DecodeError> encode_tcp_frame_into(ByteView payload, std::span<std::uint8_t> out) {
+base::Expected<std::size_t, DecodeError> encode_tcp_frame_into(ByteView payload, std::span<std::uint8_t> out) {
   const std::size_t size = tcp_frame_size(payload.size());
-  if (out.size() < size || payload.size() > UINT32_MAX) return Unexpected(DecodeError::too_large);
+  if (out.size() < size || payload.size() > UINT32_MAX) return base::Unexpected(DecodeError::too_large);
   auto cursor = std::copy(kTcpMagic.begin(), kTcpMagic.end(), out.begin());
   const auto length = static_cast<std::uint32_t>(payload.size());
   for (int shift = 24; shift >= 0; shift -= 8) *cursor++ = static_cast<std::uint8_t>(length >> shift);

@@ -80,16 +80,16 @@ std::string format_telegram(ByteView payload) {
   return text;
 }
 
-Expected<Bytes, DecodeError> parse_telegram(std::string_view text) {
+base::Expected<Bytes, DecodeError> parse_telegram(std::string_view text) {
   if (text.empty()) return Bytes{};
   const auto tokens = split_tokens(text);
-  if (!tokens) return Unexpected(DecodeError::bad_text);
+  if (!tokens) return base::Unexpected(DecodeError::bad_text);
   if (tokens->size() == 1) {
     if (const auto lone = parse_hex((*tokens)[0], 2)) return Bytes{static_cast<std::uint8_t>(*lone)};
   }
   std::size_t next = 0;
   const auto code = parse_code(*tokens, next);
-  if (!code) return Unexpected(DecodeError::bad_text);
+  if (!code) return base::Unexpected(DecodeError::bad_text);
   Bytes payload;
   append_word_be(payload, *code);
   for (std::size_t i = next; i < tokens->size(); ++i) {
@@ -99,7 +99,7 @@ Expected<Bytes, DecodeError> parse_telegram(std::string_view text) {
     } else if (const auto byte = parse_hex((*tokens)[i], 2); byte && last) {
       payload.push_back(static_cast<std::uint8_t>(*byte));
     } else {
-      return Unexpected(DecodeError::bad_text);
+      return base::Unexpected(DecodeError::bad_text);
     }
   }
   return payload;

@@ -70,14 +70,14 @@ MoveResponse layer_move_response(const scene::Scene& scene) {
   const auto tilt_motor = motor::make_tilt_motor(scene);
   const PaperScanOptions options;
   const double full_step_rad = 2.0 * motor::half_step_rad(scene.scanner.tilt_motor);
-  const protocol::SimTime start = 1s;
-  const protocol::SimTime pulse_interval =
-      std::chrono::duration_cast<protocol::SimTime>(std::chrono::duration<double>(1.0 / options.step_rate_hz));
-  const protocol::SimTime pulses[] = {start, start + pulse_interval};
+  const base::SimTime start = 1s;
+  const base::SimTime pulse_interval =
+      std::chrono::duration_cast<base::SimTime>(std::chrono::duration<double>(1.0 / options.step_rate_hz));
+  const base::SimTime pulses[] = {start, start + pulse_interval};
   tilt_motor->advance_to(start - 1ms);
   MoveResponse response;
   std::size_t sent = 0;
-  for (protocol::SimTime t = start - 1ms; t <= start + 200ms; t += 100us) {
+  for (base::SimTime t = start - 1ms; t <= start + 200ms; t += 100us) {
     while (sent < std::size(pulses) && pulses[sent] <= t) tilt_motor->on_step_pulse(pulses[sent++], 1, false);
     tilt_motor->advance_to(t);
     const double lag_mdeg = std::abs(tilt_motor->tilt_rad() - static_cast<double>(sent) * full_step_rad) * kMillidegreesPerRad;

@@ -214,7 +214,7 @@ void bm_isotp(benchmark::State& state) {
   for (std::size_t i = 0; i < message_bytes; ++i) message[i] = static_cast<std::uint8_t>(i * 31 + 7);
   protocol::IsoTpSender sender(protocol::IsoTpSenderConfig{.data_id = protocol::kIsoTpDeviceToHostId});
   protocol::IsoTpReceiver receiver(protocol::IsoTpReceiverConfig{.flow_control_id = protocol::kIsoTpHostToDeviceId});
-  protocol::SimTime now{0};
+  base::SimTime now{0};
   std::uint64_t frames = 0;
   std::uint64_t messages = 0;
   for (auto _ : state) {

@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
                                                     Effect::motor_dynamics, Effect::head_dynamics, Effect::sweep_motion};
   const scene::Scene scene = bench::with_effects(bench::load_repository_scene(argv[1]), effects);
   plant::SceneWorld world(scene);
-  const auto period = std::chrono::duration_cast<protocol::SimTime>(std::chrono::duration<double>(1.0 / kRevolutionHz));
+  const auto period = std::chrono::duration_cast<base::SimTime>(std::chrono::duration<double>(1.0 / kRevolutionHz));
   std::vector<control::BeamQuery> beams(kBeamsPerRevolution);
   std::vector<control::BeamReturn> returns(kBeamsPerRevolution);
   const auto aim_revolution = [&](int r) {

@@ -22,7 +22,7 @@ namespace {
 
 using namespace std::chrono_literals;
 using endpoints::MemoryEndpoint;
-using protocol::SimTime;
+using base::SimTime;
 
 constexpr auto kWallLimit = 30s;  // every wait is bounded; virtual time needs far less
 

@@ -25,7 +25,7 @@ namespace {
 using namespace std::chrono_literals;
 using endpoints::MemoryEndpoint;
 using nlohmann::json;
-using protocol::SimTime;
+using base::SimTime;
 
 constexpr auto kWallLimit = 30s;
 

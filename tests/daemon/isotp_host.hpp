@@ -16,7 +16,7 @@ using endpoints::IsoTpChannel;
 using endpoints::IsoTpChannelConfig;
 using endpoints::IsoTpChannelOutput;
 using endpoints::CanIdPair;
-using protocol::SimTime;
+using base::SimTime;
 
 class IsoTpHost {
  public:

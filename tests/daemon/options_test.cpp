@@ -9,7 +9,7 @@
 namespace ldoem::daemon {
 namespace {
 
-protocol::Expected<Command, UsageError> parse(std::vector<std::string_view> arguments) {
+base::Expected<Command, UsageError> parse(std::vector<std::string_view> arguments) {
   return parse_command_line(arguments);
 }
 

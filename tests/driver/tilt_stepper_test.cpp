@@ -19,19 +19,19 @@ using namespace std::chrono_literals;
 
 class FakeSleeper final : public Sleeper {
  public:
-  p::SimTime now() override { return now_; }
-  void sleep_until(p::SimTime time) override {
+  base::SimTime now() override { return now_; }
+  void sleep_until(base::SimTime time) override {
     if (time > now_) {
       now_ = time;
     }
   }
 
  private:
-  p::SimTime now_ = 1s;  // an arbitrary epoch: sequences are relative to the move's start
+  base::SimTime now_ = 1s;  // an arbitrary epoch: sequences are relative to the move's start
 };
 
 struct Write {
-  p::SimTime at;
+  base::SimTime at;
   std::uint8_t value;
   bool operator==(const Write&) const = default;
 };
@@ -61,7 +61,7 @@ class TiltStepperTest : public ::testing::Test {
   FakeSleeper sleeper_;
   FakeLptPort port_{sleeper_};
   TiltStepper stepper_{port_, sleeper_};
-  const p::SimTime t0_ = 1s;
+  const base::SimTime t0_ = 1s;
 };
 
 TEST_F(TiltStepperTest, ThreeFullStepsUp_GiveSetupThenRisingAndFallingEdges) {

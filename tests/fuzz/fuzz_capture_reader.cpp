@@ -38,7 +38,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         (*again)[0].direction != packet.direction) {
       std::abort();
     }
-    decoded.push_back({SimTime(static_cast<std::int64_t>(packet.time_ns & 0x3FFFFFFFFFFFFFFF)),
+    decoded.push_back({ldoem::base::SimTime(static_cast<std::int64_t>(packet.time_ns & 0x3FFFFFFFFFFFFFFF)),
                        decode_link_payload(packet.link_type, packet.data)});
   }
   const Conversation conversation = extract_conversation(decoded);

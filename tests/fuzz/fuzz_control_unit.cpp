@@ -25,7 +25,7 @@ namespace {
 
 namespace c = ldoem::control;
 namespace p = ldoem::protocol;
-using p::SimTime;
+using ldoem::base::SimTime;
 
 class Input {
  public:

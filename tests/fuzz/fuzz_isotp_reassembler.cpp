@@ -22,7 +22,7 @@ using ldoem::protocol::IsoTpReceiverConfig;
 using ldoem::protocol::IsoTpReceiveResult;
 using ldoem::protocol::IsoTpSender;
 using ldoem::protocol::IsoTpSenderConfig;
-using ldoem::protocol::SimTime;
+using ldoem::base::SimTime;
 
 class InputReader {
  public:

@@ -33,7 +33,7 @@ using ldoem::interop::RawCanOptions;
 using ldoem::interop::RawCanSocket;
 using ldoem::protocol::Bytes;
 using ldoem::protocol::CanFrame;
-using ldoem::protocol::SimTime;
+using ldoem::base::SimTime;
 using Clock = std::chrono::steady_clock;
 
 constexpr std::uint32_t kDataId = ldoem::protocol::kIsoTpDeviceToHostId;         // 0x6C1, as the LD

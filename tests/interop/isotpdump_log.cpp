@@ -172,7 +172,7 @@ std::optional<DumpedFrame> parse_line(const std::string& line) {
 
 }  // namespace
 
-protocol::Expected<std::vector<DumpedFrame>, DumpError> parse_isotpdump(std::string_view text) {
+base::Expected<std::vector<DumpedFrame>, DumpError> parse_isotpdump(std::string_view text) {
   std::vector<DumpedFrame> frames;
   std::istringstream lines{std::string(text)};
   std::string line;
@@ -181,7 +181,7 @@ protocol::Expected<std::vector<DumpedFrame>, DumpError> parse_isotpdump(std::str
     if (plain.find_first_not_of(" \t\r") == std::string::npos) continue;
     auto frame = parse_line(plain);
     if (!frame) {
-      return protocol::Unexpected<DumpError>("line " + std::to_string(number) +
+      return base::Unexpected<DumpError>("line " + std::to_string(number) +
                                              ": not an isotpdump frame line: " + plain);
     }
     frames.push_back(std::move(*frame));

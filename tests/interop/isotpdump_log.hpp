@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "ldoem/protocol/bytes.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 #include "ldoem/protocol/isotp.hpp"
 
 namespace ldoem::interop {
@@ -42,7 +42,7 @@ struct DumpedFrame {
 using DumpError = std::string;
 
 // Every non-empty line must be a frame line; the first one that is not is the error.
-protocol::Expected<std::vector<DumpedFrame>, DumpError> parse_isotpdump(std::string_view text);
+base::Expected<std::vector<DumpedFrame>, DumpError> parse_isotpdump(std::string_view text);
 
 struct DumpedMessage {
   std::uint32_t id = 0;

@@ -17,8 +17,8 @@ SocketError failure(const std::string& operation, const std::string& object, int
   return operation + " " + object + ": " + std::strerror(errno_value);
 }
 
-protocol::Unexpected<SocketError> unexpected(const std::string& operation, const std::string& object) {
-  return protocol::Unexpected<SocketError>(failure(operation, object, errno));
+base::Unexpected<SocketError> unexpected(const std::string& operation, const std::string& object) {
+  return base::Unexpected<SocketError>(failure(operation, object, errno));
 }
 
 // Closes the descriptor unless released; keeps open() free of repeated clean-up code.
@@ -48,7 +48,7 @@ bool configure(int fd, const RawCanOptions& options) {
 
 }  // namespace
 
-protocol::Expected<RawCanSocket, SocketError> RawCanSocket::open(const std::string& interface_name,
+base::Expected<RawCanSocket, SocketError> RawCanSocket::open(const std::string& interface_name,
                                                                  const RawCanOptions& options) {
   const int type = SOCK_RAW | SOCK_CLOEXEC | (options.non_blocking ? SOCK_NONBLOCK : 0);
   FdGuard guard{::socket(PF_CAN, type, CAN_RAW)};
@@ -81,7 +81,7 @@ RawCanSocket::~RawCanSocket() {
   if (fd_ >= 0) ::close(fd_);
 }
 
-protocol::Expected<bool, SocketError> RawCanSocket::write(const protocol::CanFrame& frame) {
+base::Expected<bool, SocketError> RawCanSocket::write(const protocol::CanFrame& frame) {
   can_frame raw{};
   raw.can_id = frame.id;
   raw.len = static_cast<__u8>(frame.payload().size());
@@ -96,7 +96,7 @@ protocol::Expected<bool, SocketError> RawCanSocket::write(const protocol::CanFra
   }
 }
 
-protocol::Expected<ReadResult, SocketError> RawCanSocket::read() {
+base::Expected<ReadResult, SocketError> RawCanSocket::read() {
   can_frame raw{};
   iovec vector{&raw, sizeof raw};
   alignas(cmsghdr) char control[CMSG_SPACE(sizeof(std::uint32_t))];

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "ldoem/protocol/can_frame.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 
 namespace ldoem::interop {
 
@@ -30,7 +30,7 @@ struct ReadResult {
 
 class RawCanSocket {
  public:
-  static protocol::Expected<RawCanSocket, SocketError> open(const std::string& interface_name,
+  static base::Expected<RawCanSocket, SocketError> open(const std::string& interface_name,
                                                             const RawCanOptions& options);
   RawCanSocket(RawCanSocket&& other) noexcept;
   RawCanSocket& operator=(RawCanSocket&& other) noexcept;
@@ -39,8 +39,8 @@ class RawCanSocket {
   ~RawCanSocket();
 
   // true: written; false: the socket would block (non-blocking mode only); error otherwise.
-  protocol::Expected<bool, SocketError> write(const protocol::CanFrame& frame);
-  protocol::Expected<ReadResult, SocketError> read();
+  base::Expected<bool, SocketError> write(const protocol::CanFrame& frame);
+  base::Expected<ReadResult, SocketError> read();
   // The receive buffer the kernel granted (SO_RCVBUF reads back twice the request).
   int receive_buffer_bytes() const;
   int fd() const { return fd_; }

@@ -89,10 +89,10 @@ TEST(Conversation, IsoTpOnD1Identifiers_ReassemblesALongReply) {
   Bytes reply = hex("83 01 39 FF");
   for (int i = 0; i < 40; ++i) reply.push_back(static_cast<std::uint8_t>(i));
   IsoTpSender sender({.data_id = kIsoTpDeviceToHostId});
-  ASSERT_TRUE(sender.start(SimTime{}, reply).has_value());
+  ASSERT_TRUE(sender.start(base::SimTime{}, reply).has_value());
   std::vector<DecodedPacket> packets;
   packets.push_back({milliseconds(1), *make_can_frame(kIsoTpHostToDeviceId, hex("02 01 02"))});
-  IsoTpSendPoll poll = sender.poll(SimTime{});
+  IsoTpSendPoll poll = sender.poll(base::SimTime{});
   for (const auto& frame : poll.frames) packets.push_back({milliseconds(2), frame});
   // The host's flow control on 0x6C0 is not a request.
   const CanFrame flow_control = make_flow_control_frame(kIsoTpHostToDeviceId, IsoTpFlowStatus::continue_to_send, 0, 0, false);

@@ -42,7 +42,7 @@ Bytes counting_bytes(std::size_t length, std::uint8_t first = 0) {
   return bytes;
 }
 
-IsoTpReceiverConfig receiver_config(std::uint8_t block_size = 0, SimTime st_min = {}) {
+IsoTpReceiverConfig receiver_config(std::uint8_t block_size = 0, base::SimTime st_min = {}) {
   IsoTpReceiverConfig config;
   config.flow_control_id = kReplyId;
   config.block_size = block_size;
@@ -58,7 +58,7 @@ IsoTpSenderConfig sender_config(bool pad_frames = false) {
 }
 
 // Starts `message` and takes the frames due at `now`.
-std::vector<CanFrame> start_and_poll(IsoTpSender& sender, SimTime now, const Bytes& message) {
+std::vector<CanFrame> start_and_poll(IsoTpSender& sender, base::SimTime now, const Bytes& message) {
   EXPECT_TRUE(sender.start(now, message).has_value());
   return sender.poll(now).frames;
 }
@@ -67,7 +67,7 @@ std::vector<CanFrame> start_and_poll(IsoTpSender& sender, SimTime now, const Byt
 // Sender and receiver joined without bus delay: frames reach the other side at the time they
 // are sent, flow control goes straight back. The harness only moves time to the next deadline.
 struct TimedFrame {
-  SimTime at;
+  base::SimTime at;
   CanFrame frame;
 };
 
@@ -79,7 +79,7 @@ struct Transfer {
 };
 
 Transfer run_transfer(IsoTpSender& sender, IsoTpReceiver& receiver, const Bytes& message,
-                      SimTime now = {}) {
+                      base::SimTime now = {}) {
   Transfer transfer;
   EXPECT_TRUE(sender.start(now, message).has_value());
   for (int rounds = 0; rounds < 100000 && sender.busy(); ++rounds) {
@@ -95,7 +95,7 @@ Transfer run_transfer(IsoTpSender& sender, IsoTpReceiver& receiver, const Bytes&
         sender.on_flow_control(now, *received.flow_control);
       }
     }
-    const std::optional<SimTime> next = sender.deadline();
+    const std::optional<base::SimTime> next = sender.deadline();
     if (next && *next > now) {
       now = *next;
     }
@@ -338,7 +338,7 @@ TEST(IsoTpReceiver, EscapedFirstFrame_AcceptedWithFlowControl) {
 TEST(IsoTpRoundTrip, Profile5800BytesBlockSize8StMin1ms_FrameCountAndTiming) {
   IsoTpSender sender(sender_config());
   IsoTpReceiver receiver(receiver_config(8, milliseconds(1)));
-  const SimTime start = milliseconds(100);
+  const base::SimTime start = milliseconds(100);
   const Bytes profile = counting_bytes(5800, 0x37);
   const Transfer transfer = run_transfer(sender, receiver, profile, start);
 
@@ -686,7 +686,7 @@ TEST(IsoTpReceiver, ConsecutiveFrameAfterNcr_TimeoutAndFrameIgnored) {
 
 TEST(IsoTpSender, NbsTimeout_Fails) {
   IsoTpSender sender(sender_config());
-  const SimTime start = milliseconds(20);
+  const base::SimTime start = milliseconds(20);
   (void)start_and_poll(sender, start, counting_bytes(20));
   const IsoTpSendPoll before = sender.poll(start + milliseconds(999));
   EXPECT_EQ(sender.state(), IsoTpSender::State::waiting_for_flow_control);
@@ -710,7 +710,7 @@ TEST(IsoTpSender, FlowControlAfterNbs_TimeoutNotContinue) {
 // STmin encoding
 
 TEST(IsoTpStMin, Decode_MillisecondsMicrosecondsAndReserved) {
-  EXPECT_EQ(decode_st_min(0x00), SimTime::zero());
+  EXPECT_EQ(decode_st_min(0x00), base::SimTime::zero());
   EXPECT_EQ(decode_st_min(0x01), milliseconds(1));
   EXPECT_EQ(decode_st_min(0x7F), milliseconds(127));
   EXPECT_EQ(decode_st_min(0xF1), microseconds(100));
@@ -721,7 +721,7 @@ TEST(IsoTpStMin, Decode_MillisecondsMicrosecondsAndReserved) {
 }
 
 TEST(IsoTpStMin, Encode_RoundsUpAndClamps) {
-  EXPECT_EQ(encode_st_min(SimTime::zero()), 0x00);
+  EXPECT_EQ(encode_st_min(base::SimTime::zero()), 0x00);
   EXPECT_EQ(encode_st_min(microseconds(100)), 0xF1);
   EXPECT_EQ(encode_st_min(microseconds(250)), 0xF3);
   EXPECT_EQ(encode_st_min(microseconds(900)), 0xF9);
@@ -734,9 +734,9 @@ TEST(IsoTpStMin, Encode_RoundsUpAndClamps) {
 
 TEST(IsoTpStMin, EncodeThenDecode_NeverFaster) {
   for (int us = 0; us <= 130000; us += 37) {
-    const SimTime wanted = microseconds(us);
-    const SimTime got = decode_st_min(encode_st_min(wanted));
-    EXPECT_GE(got, std::min<SimTime>(wanted, kIsoTpMaxStMin)) << us << " us";
+    const base::SimTime wanted = microseconds(us);
+    const base::SimTime got = decode_st_min(encode_st_min(wanted));
+    EXPECT_GE(got, std::min<base::SimTime>(wanted, kIsoTpMaxStMin)) << us << " us";
   }
 }
 

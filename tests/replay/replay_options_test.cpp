@@ -6,7 +6,7 @@
 namespace ldoem::replay {
 namespace {
 
-protocol::Expected<ReplayOptions, ReplayUsageError> parse(std::vector<std::string_view> arguments) {
+base::Expected<ReplayOptions, ReplayUsageError> parse(std::vector<std::string_view> arguments) {
   return parse_replay_options(arguments);
 }
 

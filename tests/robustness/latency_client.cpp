@@ -117,7 +117,7 @@ class CanLink final : public Link {
   }
 
  private:
-  ldoem::protocol::SimTime elapsed() const { return Clock::now() - start_; }
+  ldoem::base::SimTime elapsed() const { return Clock::now() - start_; }
   bool transmit(const std::vector<ldoem::protocol::CanFrame>& frames) {
     for (const auto& frame : frames) {
       for (;;) {

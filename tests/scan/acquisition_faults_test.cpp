@@ -66,7 +66,7 @@ struct Retry {
 };
 
 struct Run {
-  protocol::Expected<Scan, AcquisitionError> scan;
+  base::Expected<Scan, AcquisitionError> scan;
   std::vector<Retry> retries;
 };
 

@@ -29,7 +29,7 @@ class TiltLptPort final : public driver::LptPort {
  public:
   driver::Status write_data(std::uint8_t value) override {
     std::lock_guard lock(mutex_);
-    if (const auto pulse = detector_.on_write(protocol::SimTime{}, value)) {
+    if (const auto pulse = detector_.on_write(base::SimTime{}, value)) {
       position_half_steps_ += protocol::direction_sign(pulse->direction) *
                               (pulse->mode == protocol::StepMode::half_step ? 1 : 2);
     }
@@ -56,11 +56,11 @@ class TiltLptPort final : public driver::LptPort {
 
 class VirtualSleeper final : public driver::Sleeper {
  public:
-  protocol::SimTime now() override { return now_; }
-  void sleep_until(protocol::SimTime time) override { now_ = std::max(now_, time); }
+  base::SimTime now() override { return now_; }
+  void sleep_until(base::SimTime time) override { now_ = std::max(now_, time); }
 
  private:
-  protocol::SimTime now_{};
+  base::SimTime now_{};
 };
 
 class ScriptedLd {

@@ -22,7 +22,7 @@ using daemon::test::minimal_scene_text;
 using daemon::test::TcpHost;
 using daemon::test::telegram;
 using daemon::test::to_hex;
-using protocol::SimTime;
+using base::SimTime;
 
 // spec 7.3: GET_STATUS and its reply in IDLE, framed for TCP.
 const std::string kGoodStatusFrame = "02 55 53 50 00 00 00 06 81 02 00 00 00 01 82";

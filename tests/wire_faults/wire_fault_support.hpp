@@ -61,7 +61,7 @@ struct InProcessTcp {
   // Runs the loop until `count` bytes came on `fd`; the bytes, and the simulated time of the last.
   struct Arrival {
     Bytes bytes;
-    protocol::SimTime at{};
+    base::SimTime at{};
   };
   Arrival receive(int fd, std::size_t count, std::chrono::milliseconds wall_limit = std::chrono::seconds(20));
   // Runs the loop until `done` or `wall_limit`.

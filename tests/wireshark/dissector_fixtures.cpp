@@ -45,7 +45,7 @@ void check(const std::string& error) {
 
 // One telegram over ISO-TP as the bus carries it: the sender's frames and, for a multi-frame
 // message, the receiver's flow control.
-void write_isotp(capture::CaptureWriter& writer, protocol::SimTime& time, const Bytes& payload, WireDirection direction) {
+void write_isotp(capture::CaptureWriter& writer, base::SimTime& time, const Bytes& payload, WireDirection direction) {
   const bool to_device = direction == WireDirection::host_to_device;
   const std::uint32_t data_id = to_device ? protocol::kIsoTpHostToDeviceId : protocol::kIsoTpDeviceToHostId;
   const std::uint32_t fc_id = to_device ? protocol::kIsoTpDeviceToHostId : protocol::kIsoTpHostToDeviceId;
@@ -70,8 +70,8 @@ void write_isotp(capture::CaptureWriter& writer, protocol::SimTime& time, const 
 }
 
 struct Stamp {
-  protocol::SimTime time{};
-  protocol::SimTime next() { return time += std::chrono::milliseconds(1); }
+  base::SimTime time{};
+  base::SimTime next() { return time += std::chrono::milliseconds(1); }
 };
 
 protocol::Profile make_profile(std::uint16_t format, std::vector<std::size_t> points, std::uint16_t sent) {

@@ -12,8 +12,8 @@
 namespace ldoem::cloud {
 namespace {
 
-using protocol::Expected;
-using protocol::Unexpected;
+using base::Expected;
+using base::Unexpected;
 
 constexpr std::uint32_t kMinSide = 16;
 constexpr std::uint32_t kMaxSide = 8192;

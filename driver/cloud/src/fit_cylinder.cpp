@@ -241,13 +241,13 @@ double distance_to_cylinder_surface(const CylinderFit& cylinder, const Eigen::Ve
 
 Expected<CylinderFit, FitError> fit_cylinder_ransac(std::span<const Eigen::Vector3d> points,
                                                     const CylinderRansacOptions& options) {
-  if (!options_usable(options)) return protocol::Unexpected(FitError::bad_options);
+  if (!options_usable(options)) return base::Unexpected(FitError::bad_options);
   constexpr std::size_t cylinder_parameters = 5;
   if (const std::optional<FitError> error = detail::check_points(points, cylinder_parameters)) {
-    return protocol::Unexpected(*error);
+    return base::Unexpected(*error);
   }
   std::optional<CylinderModel> model = best_sampled_cylinder(points, options);
-  if (!model) return protocol::Unexpected(FitError::no_model_found);
+  if (!model) return base::Unexpected(FitError::no_model_found);
 
   std::vector<std::size_t> inliers = collect_inliers(*model, points, options.inlier_distance_m);
   constexpr int refinement_rounds = 3;
@@ -256,12 +256,12 @@ Expected<CylinderFit, FitError> fit_cylinder_ransac(std::span<const Eigen::Vecto
     inliers = collect_inliers(*model, points, options.inlier_distance_m);
   }
   if (inliers.size() < cylinder_parameters || !radius_allowed(model->radius_m, options)) {
-    return protocol::Unexpected(FitError::no_model_found);
+    return base::Unexpected(FitError::no_model_found);
   }
   if (options.axis_hint) {
     const double cosine = std::abs(model->direction.dot(options.axis_hint->direction.normalized()));
     if (std::acos(std::min(1.0, cosine)) > options.axis_hint->max_angle_rad) {
-      return protocol::Unexpected(FitError::axis_outside_tolerance);
+      return base::Unexpected(FitError::axis_outside_tolerance);
     }
   }
   return describe(*model, points, std::move(inliers), options.axis_hint);

@@ -88,23 +88,23 @@ double distance_to_plane(const PlaneFit& plane, const Eigen::Vector3d& point) {
 Expected<PlaneFit, FitError> fit_plane_ransac(std::span<const Eigen::Vector3d> points,
                                               const PlaneRansacOptions& options) {
   if (!(options.inlier_distance_m > 0.0) || options.iterations == 0) {
-    return protocol::Unexpected(FitError::bad_options);
+    return base::Unexpected(FitError::bad_options);
   }
   if (const std::optional<FitError> error = detail::check_points(points, 3)) {
-    return protocol::Unexpected(*error);
+    return base::Unexpected(*error);
   }
   std::optional<PlaneModel> model = best_sampled_plane(points, options);
-  if (!model) return protocol::Unexpected(FitError::no_model_found);
+  if (!model) return base::Unexpected(FitError::no_model_found);
 
   std::vector<std::size_t> inliers = collect_inliers(*model, points, options.inlier_distance_m);
   constexpr int refinement_rounds = 2;
   for (int round = 0; round < refinement_rounds; ++round) {
     const std::optional<PlaneModel> refined = least_squares_plane(points, inliers);
-    if (!refined) return protocol::Unexpected(FitError::no_model_found);
+    if (!refined) return base::Unexpected(FitError::no_model_found);
     model = refined;
     inliers = collect_inliers(*model, points, options.inlier_distance_m);
   }
-  if (inliers.size() < 3) return protocol::Unexpected(FitError::no_model_found);
+  if (inliers.size() < 3) return base::Unexpected(FitError::no_model_found);
 
   PlaneFit fit;
   fit.normal = model->normal;

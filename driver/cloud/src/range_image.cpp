@@ -9,8 +9,8 @@
 namespace ldoem::cloud {
 namespace {
 
-using protocol::Expected;
-using protocol::Unexpected;
+using base::Expected;
+using base::Unexpected;
 
 struct PixelIndex {
   std::uint32_t row;

@@ -29,10 +29,10 @@ std::vector<std::size_t> without(const std::vector<std::size_t>& remaining, cons
 Expected<CylinderSegmentation, FitError> segment_cylinder(std::span<const Eigen::Vector3d> points,
                                                           const CylinderSegmentationOptions& options) {
   if (!(options.seed_region.radius_m > 0.0) || !options.seed_region.centre.allFinite()) {
-    return protocol::Unexpected(FitError::bad_options);
+    return base::Unexpected(FitError::bad_options);
   }
   for (const Eigen::Vector3d& point : points) {
-    if (!point.allFinite()) return protocol::Unexpected(FitError::non_finite_point);
+    if (!point.allFinite()) return base::Unexpected(FitError::non_finite_point);
   }
   CylinderSegmentation result;
   std::vector<std::size_t> remaining(points.size());
@@ -58,7 +58,7 @@ Expected<CylinderSegmentation, FitError> segment_cylinder(std::span<const Eigen:
   }
   result.candidate_count = candidates.size();
   Expected<CylinderFit, FitError> cylinder = fit_cylinder_ransac(gather(points, candidates), options.cylinder);
-  if (!cylinder) return protocol::Unexpected(cylinder.error());
+  if (!cylinder) return base::Unexpected(cylinder.error());
   map_back(cylinder->inliers, candidates);
   result.cylinder = std::move(*cylinder);
   return result;

@@ -10,8 +10,8 @@
 namespace ldoem::hub {
 namespace {
 
-using protocol::Unexpected;
-using ConfigResult = protocol::Expected<HubConfig, std::string>;
+using base::Unexpected;
+using ConfigResult = base::Expected<HubConfig, std::string>;
 
 Unexpected<std::string> config_error(std::string text) { return Unexpected<std::string>(std::move(text)); }
 
@@ -29,7 +29,7 @@ bool is_device_name(const std::string& name) {
   return true;
 }
 
-protocol::Expected<std::chrono::milliseconds, std::string> milliseconds_of(const YAML::Node& node,
+base::Expected<std::chrono::milliseconds, std::string> milliseconds_of(const YAML::Node& node,
                                                                          const std::string& where) {
   const auto value = node.as<long long>();
   if (value < 0) {
@@ -38,7 +38,7 @@ protocol::Expected<std::chrono::milliseconds, std::string> milliseconds_of(const
   return std::chrono::milliseconds(value);
 }
 
-protocol::Expected<DeviceConfig, std::string> parse_device(const YAML::Node& node, std::size_t index) {
+base::Expected<DeviceConfig, std::string> parse_device(const YAML::Node& node, std::size_t index) {
   const std::string where = "devices[" + std::to_string(index) + "]";
   if (!node.IsMap()) {
     return config_error(where + " is not a map");
@@ -145,7 +145,7 @@ ConfigResult parse_root(const YAML::Node& root) {
 
 }  // namespace
 
-protocol::Expected<ListenAddress, std::string> parse_listen_address(std::string_view text) {
+base::Expected<ListenAddress, std::string> parse_listen_address(std::string_view text) {
   const std::size_t colon = text.rfind(':');
   if (colon == std::string_view::npos) {
     return config_error("`" + std::string(text) + "` is not HOST:PORT");
@@ -167,7 +167,7 @@ protocol::Expected<ListenAddress, std::string> parse_listen_address(std::string_
   return address;
 }
 
-protocol::Expected<HubConfig, std::string> parse_hub_config(std::string_view yaml_text) {
+base::Expected<HubConfig, std::string> parse_hub_config(std::string_view yaml_text) {
   // yaml-cpp reports errors by exception; they stop here (no exceptions across our APIs).
   try {
     return parse_root(YAML::Load(std::string(yaml_text)));

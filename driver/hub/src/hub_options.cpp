@@ -6,7 +6,7 @@
 namespace ldoem::hub {
 namespace {
 
-using protocol::Unexpected;
+using base::Unexpected;
 
 // Large enough for any sane setting, small enough that no later arithmetic overflows.
 constexpr std::uint64_t kMaxCount = 1'000'000;
@@ -26,7 +26,7 @@ auto count_into(std::size_t& slot) {
 
 }  // namespace
 
-protocol::Expected<HubCommandLine, std::string> parse_hub_command_line(const std::vector<std::string_view>& args) {
+base::Expected<HubCommandLine, std::string> parse_hub_command_line(const std::vector<std::string_view>& args) {
   HubCommandLine line;
   base::CommandLine command_line("ldoem-hub");
   CLI::App& app = command_line.app();

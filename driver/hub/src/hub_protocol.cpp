@@ -6,7 +6,7 @@
 namespace ldoem::hub {
 namespace {
 
-using protocol::Unexpected;
+using base::Unexpected;
 
 template <class... Ts>
 struct Overloaded : Ts... {
@@ -63,7 +63,7 @@ std::string_view trim_line_end(std::string_view line) {
 }
 
 using Args = std::vector<std::string_view>;
-using CommandResult = protocol::Expected<HubCommand, std::string>;
+using CommandResult = base::Expected<HubCommand, std::string>;
 
 CommandResult fail_with(std::string detail) { return Unexpected<std::string>(std::move(detail)); }
 
@@ -227,7 +227,7 @@ bool changes_device(const HubCommand& command) {
          std::holds_alternative<MotorMove>(command);
 }
 
-protocol::Expected<HubRequest, RequestParseError> parse_request(std::string_view line) {
+base::Expected<HubRequest, RequestParseError> parse_request(std::string_view line) {
   const Args tokens = split_spaces(trim_line_end(line));
   const auto failure = [](std::string id, std::string kind, std::string detail) {
     return Unexpected<RequestParseError>({std::move(id), std::move(kind), std::move(detail)});
@@ -308,7 +308,7 @@ std::optional<std::string> HubReply::field(std::string_view key) const {
   return std::nullopt;
 }
 
-protocol::Expected<HubReply, ReplyParseError> parse_reply(std::string_view line) {
+base::Expected<HubReply, ReplyParseError> parse_reply(std::string_view line) {
   line = trim_line_end(line);
   const auto failure = [](std::string detail) { return Unexpected<ReplyParseError>({std::move(detail)}); };
   if (line.find_first_of("\r\n") != std::string_view::npos) {

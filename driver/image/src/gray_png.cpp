@@ -29,7 +29,7 @@ std::string_view to_string(PngError error) {
   return "unknown";
 }
 
-protocol::Expected<std::string, PngError> encode_gray_png(const GrayImage& image) {
+base::Expected<std::string, PngError> encode_gray_png(const GrayImage& image) {
   const detail::PngLayout layout{image.width, image.height, static_cast<int>(image.depth), PNG_COLOR_TYPE_GRAY, 1};
   return detail::encode_png(layout, image.pixels.size(), &image, fill_gray_row);
 }

@@ -40,9 +40,9 @@ bool write_png(png_structp png, png_infop info, const PngLayout& layout, const R
 
 }  // namespace
 
-protocol::Expected<std::string, PngError> encode_png(const PngLayout& layout, std::size_t sample_count,
+base::Expected<std::string, PngError> encode_png(const PngLayout& layout, std::size_t sample_count,
                                                      const void* pixels, RowFiller fill_row) {
-  using protocol::Unexpected;
+  using base::Unexpected;
   if (layout.width == 0 || layout.height == 0) return Unexpected(PngError::empty_image);
   if (layout.width > kMaxPngSide || layout.height > kMaxPngSide) return Unexpected(PngError::too_large);
   const std::size_t samples_per_row = std::size_t{layout.width} * layout.channels;

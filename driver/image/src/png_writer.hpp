@@ -24,7 +24,7 @@ struct PngLayout {
 using RowFiller = void (*)(const void* pixels, std::uint32_t row, png_byte* out);
 
 // Checks the layout (sides, sample count) and writes the PNG to memory.
-[[nodiscard]] protocol::Expected<std::string, PngError> encode_png(const PngLayout& layout, std::size_t sample_count,
+[[nodiscard]] base::Expected<std::string, PngError> encode_png(const PngLayout& layout, std::size_t sample_count,
                                                                    const void* pixels, RowFiller fill_row);
 
 }  // namespace ldoem::image::detail

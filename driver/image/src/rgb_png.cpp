@@ -13,7 +13,7 @@ void fill_rgb_row(const void* pixels, std::uint32_t row, png_byte* out) {
 
 }  // namespace
 
-protocol::Expected<std::string, PngError> encode_rgb_png(const RgbImage& image) {
+base::Expected<std::string, PngError> encode_rgb_png(const RgbImage& image) {
   const detail::PngLayout layout{image.width, image.height, 8, PNG_COLOR_TYPE_RGB, 3};
   return detail::encode_png(layout, image.pixels.size(), &image, fill_rgb_row);
 }

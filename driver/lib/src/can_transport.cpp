@@ -19,7 +19,7 @@ namespace ldoem::driver {
 namespace {
 
 using protocol::CanFrame;
-using protocol::SimTime;
+using base::SimTime;
 
 // How long one wait for a full transmit queue lasts before write() is tried again: ENOBUFS
 // is not signalled through poll(2).

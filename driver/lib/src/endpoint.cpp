@@ -9,8 +9,8 @@
 namespace ldoem::driver {
 namespace {
 
-using protocol::Expected;
-using protocol::Unexpected;
+using base::Expected;
+using base::Unexpected;
 
 constexpr std::size_t kMaxInterfaceNameChars = 15;  // IFNAMSIZ - 1 (Linux)
 constexpr std::uint32_t kMaxStandardCanId = 0x7FF;  // D1: 11-bit identifiers
@@ -222,7 +222,7 @@ std::string describe(const EndpointError& error) {
   return line;
 }
 
-protocol::Expected<Endpoint, EndpointError> parse_endpoint(std::string_view text) {
+base::Expected<Endpoint, EndpointError> parse_endpoint(std::string_view text) {
   if (text.empty()) {
     return error(EndpointErrorKind::empty, text, "expected can:, tcp:, serial: or lpt:");
   }

@@ -8,7 +8,7 @@
 
 namespace ldoem::driver {
 
-using protocol::SimTime;
+using base::SimTime;
 
 SimTime MonotonicSleeper::now() {
   timespec ts{};

@@ -14,11 +14,11 @@ namespace {
 using namespace ldoem;
 using scan::kExitFailure;
 
-protocol::Expected<std::unique_ptr<driver::Device>, driver::DriverError> open_device(const scan::ScanOptions& options) {
+base::Expected<std::unique_ptr<driver::Device>, driver::DriverError> open_device(const scan::ScanOptions& options) {
   if (options.hub) {
     auto client = hub::HubClient::connect(*options.hub, options.timeout);
     if (!client) {
-      return protocol::Unexpected<driver::DriverError>(client.error());
+      return base::Unexpected<driver::DriverError>(client.error());
     }
     return std::unique_ptr<driver::Device>(std::make_unique<hub::HubDevice>(std::move(client.value()), options.hub_device));
   }

@@ -8,7 +8,7 @@ namespace {
 
 using driver::MotorMove;
 using driver::TiltDirection;
-using protocol::Unexpected;
+using base::Unexpected;
 
 MotorMove move_by(std::int64_t steps, const AcquisitionPlan& plan) {
   MotorMove move;
@@ -24,7 +24,7 @@ class Run {
   Run(driver::Device& device, const AcquisitionPlan& plan, const AcquisitionHooks& hooks)
       : device_(device), plan_(plan), hooks_(hooks) {}
 
-  protocol::Expected<Scan, AcquisitionError> execute() {
+  base::Expected<Scan, AcquisitionError> execute() {
     init_.motor_speed_hz = plan_.motor_speed_hz;
     init_.angle_step_ticks = plan_.sectors.angle_step_ticks;
     init_.sectors = plan_.sectors.sectors;
@@ -202,7 +202,7 @@ class Run {
     }
   }
 
-  protocol::Expected<driver::TiltPosition, driver::DriverError> move_to(std::int64_t target_half_steps) {
+  base::Expected<driver::TiltPosition, driver::DriverError> move_to(std::int64_t target_half_steps) {
     const std::int64_t delta_half = target_half_steps - position_half_steps_;
     const std::int64_t steps = delta_half / plan_.layers.half_steps_per_step();
     auto moved = device_.move_motor(move_by(steps, plan_));
@@ -212,7 +212,7 @@ class Run {
     return moved;
   }
 
-  protocol::Expected<driver::TiltPosition, driver::DriverError> go_home() { return move_to(0); }
+  base::Expected<driver::TiltPosition, driver::DriverError> go_home() { return move_to(0); }
 
   std::optional<driver::DriverError> clean_up(const std::optional<driver::DriverError>& cause = std::nullopt) {
     std::optional<driver::DriverError> first;
@@ -250,7 +250,7 @@ std::string describe(const AcquisitionError& error) {
   return line;
 }
 
-protocol::Expected<Scan, AcquisitionError> acquire(driver::Device& device, const AcquisitionPlan& plan,
+base::Expected<Scan, AcquisitionError> acquire(driver::Device& device, const AcquisitionPlan& plan,
                                                    const AcquisitionHooks& hooks) {
   return Run(device, plan, hooks).execute();
 }

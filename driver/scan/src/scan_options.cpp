@@ -12,11 +12,11 @@
 namespace ldoem::scan {
 namespace {
 
-using protocol::Unexpected;
+using base::Unexpected;
 constexpr double kMaxTimeoutSeconds = 7.0 * 24 * 3600;  // a week
 // Enough for any flaky link; a bound so a typo cannot make a dead device hold a scan for hours.
 constexpr std::uint32_t kMaxRetries = 100;
-using OptionsResult = protocol::Expected<ScanOptions, std::string>;
+using OptionsResult = base::Expected<ScanOptions, std::string>;
 
 Unexpected<std::string> usage_error(std::string text) { return Unexpected<std::string>(std::move(text)); }
 
@@ -239,7 +239,7 @@ std::optional<cloud::CloudFileFormat> output_format(std::string_view path, Cloud
   return std::nullopt;
 }
 
-protocol::Expected<AcquisitionPlan, std::string> make_plan(const ScanOptions& options) {
+base::Expected<AcquisitionPlan, std::string> make_plan(const ScanOptions& options) {
   auto sectors = plan_sectors(options.horizontal_apex_deg, options.horizontal_resolution_deg, options.speed_hz);
   if (!sectors) {
     return usage_error(sectors.error());

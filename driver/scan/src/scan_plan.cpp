@@ -10,7 +10,7 @@
 namespace ldoem::scan {
 namespace {
 
-using protocol::Unexpected;
+using base::Unexpected;
 
 // Tolerance for "is an integer": the options are decimal texts such as 0.18 / 0.09.
 constexpr double kIntegerTolerance = 1e-6;

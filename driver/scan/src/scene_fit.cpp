@@ -5,11 +5,11 @@
 
 namespace ldoem::scan {
 
-protocol::Expected<SceneFit, std::string> fit_scene(const cloud::PointCloud& cloud) {
+base::Expected<SceneFit, std::string> fit_scene(const cloud::PointCloud& cloud) {
   const std::vector<Eigen::Vector3d> points = cloud::finite_positions(cloud);
   auto wall = cloud::fit_plane_ransac(points);
   if (!wall) {
-    return protocol::Unexpected<std::string>("wall plane: " + std::string(cloud::to_string(wall.error())));
+    return base::Unexpected<std::string>("wall plane: " + std::string(cloud::to_string(wall.error())));
   }
   std::vector<Eigen::Vector3d> rest;
   std::size_t next_inlier = 0;
@@ -24,7 +24,7 @@ protocol::Expected<SceneFit, std::string> fit_scene(const cloud::PointCloud& clo
   options.axis_hint = cloud::AxisHint{Eigen::Vector3d::UnitZ(), 0.2};
   auto cylinder = cloud::fit_cylinder_ransac(rest, options);
   if (!cylinder) {
-    return protocol::Unexpected<std::string>("cylinder: " + std::string(cloud::to_string(cylinder.error())));
+    return base::Unexpected<std::string>("cylinder: " + std::string(cloud::to_string(cylinder.error())));
   }
   return SceneFit{wall->offset_m, wall->inlier_count, 2.0 * cylinder->radius_m, cylinder->length_m,
                   cylinder->inlier_count};

@@ -10,8 +10,8 @@ namespace {
 
 using protocol::Bytes;
 using protocol::ByteView;
-using protocol::Expected;
-using protocol::Unexpected;
+using base::Expected;
+using base::Unexpected;
 
 void append_record(std::string& out, std::string_view name, std::initializer_list<unsigned> values) {
   out += name;

@@ -21,8 +21,8 @@
 
 namespace ldoem::daemon {
 
-using protocol::SimTime;
-using protocol::Unexpected;
+using base::SimTime;
+using base::Unexpected;
 
 namespace {
 
@@ -68,8 +68,8 @@ struct Daemon::Impl final : endpoints::Scheduler {
   void cancel(const Key& key) override { deadlines.cancel(key); }
 
   std::optional<StartFailure> build_device(std::vector<std::unique_ptr<endpoints::HostEndpoint>> extra);
-  protocol::Expected<std::unique_ptr<control::FlashStore>, StartFailure> open_flash();
-  protocol::Expected<control::DeviceConfig, StartFailure> load_flash(const control::FlashStore& flash);
+  base::Expected<std::unique_ptr<control::FlashStore>, StartFailure> open_flash();
+  base::Expected<control::DeviceConfig, StartFailure> load_flash(const control::FlashStore& flash);
   std::optional<StartFailure> build_faults();
   void fire_due(SimTime at);
   void arm_wall_timer();
@@ -87,7 +87,7 @@ struct Daemon::Impl final : endpoints::Scheduler {
   }
 };
 
-protocol::Expected<std::unique_ptr<control::FlashStore>, StartFailure> Daemon::Impl::open_flash() {
+base::Expected<std::unique_ptr<control::FlashStore>, StartFailure> Daemon::Impl::open_flash() {
   if (options.flash_mode == FlashMode::memory) return std::unique_ptr<control::FlashStore>(new control::MemoryFlashStore());
   return std::unique_ptr<control::FlashStore>(new FileFlashStore(options.flash_path));
 }
@@ -95,7 +95,7 @@ protocol::Expected<std::unique_ptr<control::FlashStore>, StartFailure> Daemon::I
 // Issue 11: a flash file that exists but cannot be read or parsed stops the start (exit 2): the
 // daemon would otherwise run on the scene's defaults and overwrite the file at the first flash
 // write or at exit, and whatever it held would be lost. --reset-flash asks for exactly that.
-protocol::Expected<control::DeviceConfig, StartFailure> Daemon::Impl::load_flash(const control::FlashStore& flash) {
+base::Expected<control::DeviceConfig, StartFailure> Daemon::Impl::load_flash(const control::FlashStore& flash) {
   const control::DeviceConfig defaults = plant::device_config_from(scene.scanner.flash);
   const std::string where = "flash " + options.flash_path.string();
   const std::string remedy = "; fix or remove the file, or start with --reset-flash to replace it with the scene's defaults (D4)";
@@ -248,7 +248,7 @@ void Daemon::Impl::on_signal(int signal_number) {
 Daemon::Daemon(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Daemon::~Daemon() = default;
 
-protocol::Expected<std::unique_ptr<Daemon>, StartFailure> Daemon::create(
+base::Expected<std::unique_ptr<Daemon>, StartFailure> Daemon::create(
     Options options, scene::Scene scene, std::ostream& out, std::ostream& log,
     std::vector<std::unique_ptr<endpoints::HostEndpoint>> extra_endpoints) {
   // Block the daemon's signals before any thread exists (Embree and TBB start workers while the

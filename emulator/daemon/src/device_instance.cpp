@@ -8,7 +8,7 @@ namespace ldoem::daemon {
 
 using control::ConnectionId;
 using endpoints::LogLevel;
-using protocol::SimTime;
+using base::SimTime;
 
 DeviceInstance::DeviceInstance(const scene::Scene& scene, plant::SceneWorld& world,
                                std::unique_ptr<control::FlashStore> flash, const control::DeviceConfig& flash_config,

@@ -9,7 +9,7 @@ using endpoints::ConsecutiveFrameFault;
 using endpoints::FirstFrameFault;
 using faults::FaultKind;
 using faults::Transport;
-using protocol::SimTime;
+using base::SimTime;
 
 namespace {
 

@@ -8,7 +8,7 @@ using endpoints::LogLevel;
 using endpoints::WireDirection;
 using endpoints::WireVerdict;
 using faults::FaultKind;
-using protocol::SimTime;
+using base::SimTime;
 
 namespace {
 
@@ -29,7 +29,7 @@ FaultWiring::~FaultWiring() {
   device_.set_connection_observer(nullptr);
 }
 
-protocol::Expected<std::unique_ptr<FaultWiring>, std::string> FaultWiring::create(
+base::Expected<std::unique_ptr<FaultWiring>, std::string> FaultWiring::create(
     const scene::Scene& scene, DeviceInstance& device, endpoints::Scheduler& scheduler, io::EventLoop& loop,
     const endpoints::Logger& logger, Setup setup, std::function<void()> stop) {
   std::unique_ptr<FaultWiring> wiring(new FaultWiring(device, scheduler, logger, std::move(stop)));
@@ -46,13 +46,13 @@ protocol::Expected<std::unique_ptr<FaultWiring>, std::string> FaultWiring::creat
   device.set_fault_hook(wiring->endpoint_faults_.get());
   if (setup.event_log_path) {
     wiring->event_log_.open(*setup.event_log_path, std::ios::out | std::ios::trunc);
-    if (!wiring->event_log_) return protocol::Unexpected("--event-log " + *setup.event_log_path + ": cannot open");
+    if (!wiring->event_log_) return base::Unexpected("--event-log " + *setup.event_log_path + ": cannot open");
   }
   if (setup.control_path) {
     auto server = control_socket::ControlServer::open(
         loop, *setup.control_path, control_socket::greeting_line(setup.version),
         [self](std::string_view line) { return control_socket::handle_line(line, *self); });
-    if (!server) return protocol::Unexpected("--control: " + server.error().message());
+    if (!server) return base::Unexpected("--control: " + server.error().message());
     wiring->server_ = std::move(*server);
   }
   FaultWiring* observer = wiring.get();

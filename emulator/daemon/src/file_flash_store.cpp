@@ -10,11 +10,11 @@
 
 namespace ldoem::daemon {
 
-protocol::Expected<protocol::Bytes, std::string> FileFlashStore::read() const {
+base::Expected<protocol::Bytes, std::string> FileFlashStore::read() const {
   const int fd = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) {
     if (errno == ENOENT) return protocol::Bytes{};  // never saved: the scene's defaults (D4)
-    return protocol::Unexpected("cannot open: " + std::string(std::strerror(errno)));
+    return base::Unexpected("cannot open: " + std::string(std::strerror(errno)));
   }
   protocol::Bytes image;
   std::uint8_t buffer[4096];
@@ -24,13 +24,13 @@ protocol::Expected<protocol::Bytes, std::string> FileFlashStore::read() const {
     if (got < 0) {
       const std::string why = std::strerror(errno);
       ::close(fd);
-      return protocol::Unexpected("cannot read: " + why);
+      return base::Unexpected("cannot read: " + why);
     }
     if (got == 0) break;
     // A flash image is a few hundred bytes; a huge file is not one (and must not fill memory).
     if (image.size() + static_cast<std::size_t>(got) > kMaxImageBytes) {
       ::close(fd);
-      return protocol::Unexpected("larger than " + std::to_string(kMaxImageBytes) + " bytes: not a flash image");
+      return base::Unexpected("larger than " + std::to_string(kMaxImageBytes) + " bytes: not a flash image");
     }
     image.insert(image.end(), buffer, buffer + got);
   }

@@ -21,7 +21,7 @@ using nlohmann::json;
 
 namespace {
 
-double seconds(protocol::SimTime time) { return std::chrono::duration<double>(time).count(); }
+double seconds(base::SimTime time) { return std::chrono::duration<double>(time).count(); }
 
 CommandError refused(std::string desc) { return CommandError{std::string(control_socket::kGenericError), std::move(desc)}; }
 
@@ -44,7 +44,7 @@ CommandResult FaultWiring::move_object(const json& arguments) {
   auto parsed = parse_move_object(arguments);
   if (auto* problem = std::get_if<std::string>(&parsed)) return refused(*problem);
   const MoveObjectRequest& request = std::get<MoveObjectRequest>(parsed);
-  const protocol::SimTime now = scheduler_.now();
+  const base::SimTime now = scheduler_.now();
   auto at_s = command_time(request.at_s, seconds(now));
   if (auto* problem = std::get_if<std::string>(&at_s)) return refused("move-object: " + *problem);
   if (world_ == nullptr) return refused("move-object: this daemon has no scene world");
@@ -65,7 +65,7 @@ CommandResult FaultWiring::add_object(const json& arguments) {
   auto parsed = parse_add_object(arguments);
   if (auto* problem = std::get_if<std::string>(&parsed)) return refused(*problem);
   AddObjectRequest& request = std::get<AddObjectRequest>(parsed);
-  const protocol::SimTime now = scheduler_.now();
+  const base::SimTime now = scheduler_.now();
   auto at_s = command_time(request.at_s, seconds(now));
   if (auto* problem = std::get_if<std::string>(&at_s)) return refused("add-object: " + *problem);
   if (world_ == nullptr) return refused("add-object: this daemon has no scene world");
@@ -80,7 +80,7 @@ CommandResult FaultWiring::remove_object(const json& arguments) {
   auto parsed = parse_remove_object(arguments);
   if (auto* problem = std::get_if<std::string>(&parsed)) return refused(*problem);
   const RemoveObjectRequest& request = std::get<RemoveObjectRequest>(parsed);
-  const protocol::SimTime now = scheduler_.now();
+  const base::SimTime now = scheduler_.now();
   auto at_s = command_time(request.at_s, seconds(now));
   if (auto* problem = std::get_if<std::string>(&at_s)) return refused("remove-object: " + *problem);
   if (world_ == nullptr) return refused("remove-object: this daemon has no scene world");

@@ -12,8 +12,8 @@
 namespace ldoem::daemon {
 namespace {
 
-using protocol::Expected;
-using protocol::Unexpected;
+using base::Expected;
+using base::Unexpected;
 
 Unexpected<UsageError> usage_error(std::string_view option, std::string_view what) {
   return Unexpected(UsageError{std::string(option) + ": " + std::string(what)});

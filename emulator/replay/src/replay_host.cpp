@@ -118,16 +118,16 @@ ReplayHost::~ReplayHost() {
   for (auto& endpoint : impl_->endpoints) endpoint->close();
 }
 
-protocol::Expected<std::unique_ptr<ReplayHost>, ReplayStartFailure> ReplayHost::create(const ReplayOptions& options,
+base::Expected<std::unique_ptr<ReplayHost>, ReplayStartFailure> ReplayHost::create(const ReplayOptions& options,
                                                                                        ReplayDevice device,
                                                                                        std::ostream& out,
                                                                                        std::ostream& log) {
   auto impl = std::make_unique<Impl>(std::move(device), log, options);
   auto loop = io::EventLoop::create();
-  if (!loop) return protocol::Unexpected(ReplayStartFailure{1, "event loop: " + loop.error().message()});
+  if (!loop) return base::Unexpected(ReplayStartFailure{1, "event loop: " + loop.error().message()});
   impl->loop = std::move(*loop);
   if (auto signals = impl->loop->stop_on_termination_signals(); !signals) {
-    return protocol::Unexpected(ReplayStartFailure{1, "signals: " + signals.error().message()});
+    return base::Unexpected(ReplayStartFailure{1, "signals: " + signals.error().message()});
   }
   static const scene::Scene kNoScene{};  // the registry's CAN entry reads the scene's effects only
   const daemon::DeviceFacts facts{protocol::CanConfig{}, kNoScene};
@@ -138,7 +138,7 @@ protocol::Expected<std::unique_ptr<ReplayHost>, ReplayStartFailure> ReplayHost::
                                             impl->activity});
   for (auto& endpoint : impl->endpoints) {
     if (auto failure = endpoint->open(*impl->context)) {
-      return protocol::Unexpected(ReplayStartFailure{failure->usage_error ? 2 : 1, failure->message});
+      return base::Unexpected(ReplayStartFailure{failure->usage_error ? 2 : 1, failure->message});
     }
     if (auto kind = endpoint->transport()) impl->route[*kind] = endpoint.get();
   }

@@ -6,8 +6,8 @@
 namespace ldoem::replay {
 namespace {
 
-protocol::Unexpected<ReplayUsageError> usage(std::string message) {
-  return protocol::Unexpected(ReplayUsageError{std::move(message)});
+base::Unexpected<ReplayUsageError> usage(std::string message) {
+  return base::Unexpected(ReplayUsageError{std::move(message)});
 }
 
 std::optional<double> parse_positive(std::string_view text) {
@@ -21,7 +21,7 @@ std::optional<double> parse_positive(std::string_view text) {
 
 }  // namespace
 
-protocol::Expected<ReplayOptions, ReplayUsageError> parse_replay_options(std::span<const std::string_view> arguments) {
+base::Expected<ReplayOptions, ReplayUsageError> parse_replay_options(std::span<const std::string_view> arguments) {
   ReplayOptions options;
   options.endpoints.can_interface.reset();  // CAN only when asked for
   options.endpoints.flash_mode = daemon::FlashMode::memory;

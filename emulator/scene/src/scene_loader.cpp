@@ -343,35 +343,35 @@ SceneResult load_scene_from_string(std::string_view yaml, std::string_view displ
   try {
     const YAML::Node root = YAML::Load(std::string(yaml));
     if (!root.IsDefined() || root.IsNull()) {
-      return protocol::Unexpected(whole_file_error(context.file, SceneErrorKind::wrong_type, "empty scene: expected a map"));
+      return base::Unexpected(whole_file_error(context.file, SceneErrorKind::wrong_type, "empty scene: expected a map"));
     }
     return read_scene(context, root);
   } catch (const detail::LoadFailure& failure) {
-    return protocol::Unexpected(failure.error);
+    return base::Unexpected(failure.error);
   } catch (const YAML::Exception& yaml_error) {
     SceneError error = whole_file_error(context.file, SceneErrorKind::syntax, yaml_error.msg);
     if (yaml_error.mark.line >= 0) {
       error.line = yaml_error.mark.line + 1;
       error.column = yaml_error.mark.column + 1;
     }
-    return protocol::Unexpected(std::move(error));
+    return base::Unexpected(std::move(error));
   } catch (const std::exception& other) {
-    return protocol::Unexpected(whole_file_error(context.file, SceneErrorKind::internal, other.what()));
+    return base::Unexpected(whole_file_error(context.file, SceneErrorKind::internal, other.what()));
   }
 }
 
 SceneResult load_scene(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) return protocol::Unexpected(whole_file_error(path.string(), SceneErrorKind::io, "cannot open scene file"));
+  if (!in) return base::Unexpected(whole_file_error(path.string(), SceneErrorKind::io, "cannot open scene file"));
   std::error_code size_error;
   if (const auto bytes = std::filesystem::file_size(path, size_error); !size_error && bytes > kMaxSceneFileBytes) {
-    return protocol::Unexpected(whole_file_error(path.string(), SceneErrorKind::io,
+    return base::Unexpected(whole_file_error(path.string(), SceneErrorKind::io,
                                                  "scene file larger than " +
                                                      std::to_string(kMaxSceneFileBytes >> 20) + " MiB"));
   }
   std::ostringstream text;
   text << in.rdbuf();
-  if (in.bad()) return protocol::Unexpected(whole_file_error(path.string(), SceneErrorKind::io, "cannot read scene file"));
+  if (in.bad()) return base::Unexpected(whole_file_error(path.string(), SceneErrorKind::io, "cannot read scene file"));
   return load_scene_from_string(text.str(), path.string());
 }
 

@@ -15,7 +15,7 @@
 namespace ldoem::bench {
 namespace {
 
-using protocol::SimTime;
+using base::SimTime;
 using scene::Effect;
 
 SimTime from_seconds(double seconds) {

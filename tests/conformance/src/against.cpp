@@ -33,7 +33,7 @@ Split split(const std::vector<p::RecordedAnswer>& answers) {
 // How long to wait for an exchange's telegrams: the recorded spread on the live clock, plus the
 // reply timeout.
 std::chrono::milliseconds wait_for(const Options& options, const p::Exchange& exchange) {
-  p::SimTime last{};
+  base::SimTime last{};
   for (const auto& answer : exchange.answers) last = std::max(last, answer.delay);
   const double scale = options.virtual_time ? 1e6 : options.time_scale;
   const auto spread = std::chrono::milliseconds(

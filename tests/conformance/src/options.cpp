@@ -9,8 +9,8 @@
 namespace ldoem::conformance {
 namespace {
 
-using protocol::Expected;
-using protocol::Unexpected;
+using base::Expected;
+using base::Unexpected;
 
 Unexpected<UsageError> usage(std::string message) { return Unexpected<UsageError>(UsageError{std::move(message)}); }
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "ldoem/driver/endpoint.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 
 namespace ldoem::conformance {
 
@@ -53,7 +53,7 @@ struct UsageError {
 
 // `arguments` excludes argv[0]. Values follow their option as the next argument or after '='
 // (parsed with CLI11, base/command_line.hpp).
-[[nodiscard]] protocol::Expected<Options, UsageError> parse_options(std::span<const std::string_view> arguments);
+[[nodiscard]] base::Expected<Options, UsageError> parse_options(std::span<const std::string_view> arguments);
 
 std::string usage_text(std::string_view program_name);
 

@@ -17,8 +17,8 @@
 namespace ldoem::conformance {
 namespace {
 
-using protocol::Expected;
-using protocol::Unexpected;
+using base::Expected;
+using base::Unexpected;
 
 Unexpected<RawError> sys_error(const std::string& operation, const std::string& object, int error_number) {
   return Unexpected<RawError>(operation + " " + object + ": " + std::strerror(error_number));

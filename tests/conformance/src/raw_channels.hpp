@@ -16,7 +16,7 @@
 #include "ldoem/driver/endpoint.hpp"
 #include "ldoem/driver/transport.hpp"
 #include "ldoem/protocol/bytes.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 #include "ldoem/protocol/tcp_framing.hpp"
 
 namespace ldoem::conformance {
@@ -46,11 +46,11 @@ using RawError = std::string;
 
 class RawTcpSession {
  public:
-  static protocol::Expected<RawTcpSession, RawError> connect(const driver::TcpEndpoint& endpoint, Deadline deadline);
-  protocol::Expected<std::monostate, RawError> write(ByteView bytes);
+  static base::Expected<RawTcpSession, RawError> connect(const driver::TcpEndpoint& endpoint, Deadline deadline);
+  base::Expected<std::monostate, RawError> write(ByteView bytes);
   // The next well-formed telegram payload; nullopt at the deadline. Frames with a bad checksum
   // are dropped by the deframer (spec 4.1: as S1 does).
-  protocol::Expected<std::optional<Bytes>, RawError> receive(Deadline deadline);
+  base::Expected<std::optional<Bytes>, RawError> receive(Deadline deadline);
 
  private:
   explicit RawTcpSession(FileDescriptor fd) : fd_(std::move(fd)) {}
@@ -61,8 +61,8 @@ class RawTcpSession {
 
 class RawSerialWriter {
  public:
-  static protocol::Expected<RawSerialWriter, RawError> open(const driver::SerialEndpoint& endpoint);
-  protocol::Expected<std::monostate, RawError> write(ByteView bytes);
+  static base::Expected<RawSerialWriter, RawError> open(const driver::SerialEndpoint& endpoint);
+  base::Expected<std::monostate, RawError> write(ByteView bytes);
 
  private:
   explicit RawSerialWriter(FileDescriptor fd) : fd_(std::move(fd)) {}
@@ -71,9 +71,9 @@ class RawSerialWriter {
 
 class RawCanWriter {
  public:
-  static protocol::Expected<RawCanWriter, RawError> open(const driver::CanEndpoint& endpoint);
+  static base::Expected<RawCanWriter, RawError> open(const driver::CanEndpoint& endpoint);
   // One classic CAN frame on the endpoint's request id, DLC = data size (<= 8).
-  protocol::Expected<std::monostate, RawError> write_frame(ByteView data);
+  base::Expected<std::monostate, RawError> write_frame(ByteView data);
 
  private:
   RawCanWriter(FileDescriptor fd, std::uint32_t request_id) : fd_(std::move(fd)), request_id_(request_id) {}

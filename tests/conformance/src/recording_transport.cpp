@@ -26,7 +26,7 @@ struct RunRecording {
   void record(protocol::WireTransport transport, std::uint32_t connection, protocol::WireDirection direction,
               protocol::ByteView payload) {
     if (failed || !recorder) return;
-    const auto time = std::chrono::duration_cast<protocol::SimTime>(driver::Clock::now() - start);
+    const auto time = std::chrono::duration_cast<base::SimTime>(driver::Clock::now() - start);
     if (std::string error = recorder->record(time, transport, connection, direction, payload); !error.empty()) {
       std::cerr << "ldoem-conformance: --record: " << error << " (recording stopped)\n";
       failed = true;
@@ -49,7 +49,7 @@ class RecordingTransport final : public driver::Transport {
     if (sent) run_recording().record(transport_, connection_, protocol::WireDirection::host_to_device, payload);
     return sent;
   }
-  protocol::Expected<protocol::Bytes, driver::DriverError> receive(driver::Deadline deadline) override {
+  base::Expected<protocol::Bytes, driver::DriverError> receive(driver::Deadline deadline) override {
     auto received = inner_->receive(deadline);
     if (received) run_recording().record(transport_, connection_, protocol::WireDirection::device_to_host, *received);
     return received;
@@ -66,14 +66,14 @@ class RecordingTransport final : public driver::Transport {
 
 }  // namespace
 
-protocol::Expected<std::unique_ptr<driver::Transport>, std::string> open_suite_transport(const Options& options) {
+base::Expected<std::unique_ptr<driver::Transport>, std::string> open_suite_transport(const Options& options) {
   auto transport = driver::open_transport(*options.endpoint);
-  if (!transport) return protocol::Unexpected(driver::describe(transport.error()));
+  if (!transport) return base::Unexpected(driver::describe(transport.error()));
   if (!options.record) return std::move(*transport);
   RunRecording& recording = run_recording();
   if (!recording.writer) {
     auto writer = capture::CaptureWriter::open({*options.record, 0, 1, "ldoem-conformance"});
-    if (!writer) return protocol::Unexpected("--record: " + writer.error());
+    if (!writer) return base::Unexpected("--record: " + writer.error());
     recording.writer = std::move(*writer);
     capture::RecorderCanIds ids;
     if (const auto* can = std::get_if<driver::CanEndpoint>(&*options.endpoint)) ids = {can->request_id, can->response_id};

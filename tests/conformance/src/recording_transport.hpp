@@ -7,13 +7,13 @@
 #include <string>
 
 #include "ldoem/driver/transport.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 #include "options.hpp"
 
 namespace ldoem::conformance {
 
 // Opens the endpoint's transport; with options.record, wrapped so that it records. All
 // transports opened in one run write to the same file, each as its own connection.
-protocol::Expected<std::unique_ptr<driver::Transport>, std::string> open_suite_transport(const Options& options);
+base::Expected<std::unique_ptr<driver::Transport>, std::string> open_suite_transport(const Options& options);
 
 }  // namespace ldoem::conformance

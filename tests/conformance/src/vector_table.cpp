@@ -9,8 +9,8 @@
 namespace ldoem::conformance {
 namespace {
 
-using protocol::Expected;
-using protocol::Unexpected;
+using base::Expected;
+using base::Unexpected;
 
 Unexpected<std::string> error(std::string text) { return Unexpected<std::string>(std::move(text)); }
 

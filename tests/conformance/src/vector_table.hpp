@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "byte_pattern.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 
 namespace ldoem::conformance {
 
@@ -55,11 +55,11 @@ struct VectorTable {
 std::string_view embedded_vectors_yaml();
 
 // Errors name the row: "tcp_replies[3].frame: checksum 0x12 does not match payload XOR 0x34".
-protocol::Expected<VectorTable, std::string> load_vector_table(std::string_view yaml_text);
+base::Expected<VectorTable, std::string> load_vector_table(std::string_view yaml_text);
 
 // "payload[0..1], payload[5]", "idem", "+ payload[6..7]", "all", "structure only",
 // "all except SENSTAT bytes 0–2"; `previous` resolves "idem" and "+".
-protocol::Expected<AssertedPositions, std::string> parse_asserted(std::string_view text,
+base::Expected<AssertedPositions, std::string> parse_asserted(std::string_view text,
                                                                    const AssertedPositions& previous);
 
 }  // namespace ldoem::conformance

@@ -7,7 +7,7 @@
 namespace ldoem::conformance {
 namespace {
 
-protocol::Expected<Options, UsageError> parse(std::vector<std::string_view> arguments) { return parse_options(arguments); }
+base::Expected<Options, UsageError> parse(std::vector<std::string_view> arguments) { return parse_options(arguments); }
 
 TEST(Options, TcpEndpoint_ParsesHostAndPort) {
   auto options = parse({"--tcp", "127.0.0.1:5000"});

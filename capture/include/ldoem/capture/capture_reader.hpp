@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "ldoem/protocol/capture_conversation.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 
 namespace ldoem::capture {
 
@@ -29,7 +29,7 @@ struct CapturePackets {
 
 // Every packet of the file, decoded per link type, with its time. Errors name the file and
 // what was wrong ("capture.pcapng: block at byte 1234: file ends inside a block").
-[[nodiscard]] protocol::Expected<CapturePackets, std::string> read_capture_packets(const std::filesystem::path& path);
+[[nodiscard]] base::Expected<CapturePackets, std::string> read_capture_packets(const std::filesystem::path& path);
 
 struct CaptureConversation {
   CaptureFormat format = CaptureFormat::pcapng;
@@ -37,7 +37,7 @@ struct CaptureConversation {
 };
 
 // The telegrams of the file (protocol::extract_conversation), in capture order.
-[[nodiscard]] protocol::Expected<CaptureConversation, std::string> read_capture_conversation(
+[[nodiscard]] base::Expected<CaptureConversation, std::string> read_capture_conversation(
     const std::filesystem::path& path, protocol::ConversationConfig config = {});
 
 }  // namespace ldoem::capture

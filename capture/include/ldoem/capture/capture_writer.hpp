@@ -22,13 +22,13 @@
 #include "ldoem/protocol/bytes.hpp"
 #include "ldoem/protocol/can_frame.hpp"
 #include "ldoem/protocol/capture_packets.hpp"
-#include "ldoem/protocol/expected.hpp"
-#include "ldoem/protocol/sim_time.hpp"
+#include "ldoem/base/expected.hpp"
+#include "ldoem/base/sim_time.hpp"
 
 namespace ldoem::capture {
 
 using protocol::ByteView;
-using protocol::SimTime;
+using base::SimTime;
 using protocol::WireDirection;
 
 inline constexpr std::uint32_t kCaptureCanInterface = 0;
@@ -56,18 +56,18 @@ struct CaptureWriterCounters {
 class CaptureWriter {
  public:
   // Creates (truncates) the file and writes the section and interface blocks.
-  [[nodiscard]] static protocol::Expected<std::unique_ptr<CaptureWriter>, std::string> open(CaptureWriterOptions options);
+  [[nodiscard]] static base::Expected<std::unique_ptr<CaptureWriter>, std::string> open(CaptureWriterOptions options);
   ~CaptureWriter();
   CaptureWriter(const CaptureWriter&) = delete;
   CaptureWriter& operator=(const CaptureWriter&) = delete;
 
   // Each returns an error text ("write FILE: No space left on device") or an empty string.
-  [[nodiscard]] std::string write_can(SimTime time, const protocol::CanFrame& frame, WireDirection direction);
-  [[nodiscard]] std::string write_tcp(SimTime time, std::uint32_t connection, WireDirection direction, ByteView bytes);
+  [[nodiscard]] std::string write_can(base::SimTime time, const protocol::CanFrame& frame, WireDirection direction);
+  [[nodiscard]] std::string write_tcp(base::SimTime time, std::uint32_t connection, WireDirection direction, ByteView bytes);
   // FIN both ways: the connection ended. A later write on the same index starts a new one.
-  [[nodiscard]] std::string close_tcp(SimTime time, std::uint32_t connection);
-  [[nodiscard]] std::string write_serial(SimTime time, WireDirection direction, ByteView bytes);
-  [[nodiscard]] std::string write_lpt(SimTime time, ByteView values);
+  [[nodiscard]] std::string close_tcp(base::SimTime time, std::uint32_t connection);
+  [[nodiscard]] std::string write_serial(base::SimTime time, WireDirection direction, ByteView bytes);
+  [[nodiscard]] std::string write_lpt(base::SimTime time, ByteView values);
 
   const CaptureWriterCounters& counters() const { return counters_; }
   const std::filesystem::path& path() const { return options_.path; }
@@ -85,7 +85,7 @@ class CaptureWriter {
   std::string write_all(const protocol::Bytes& blocks);
   protocol::TcpSegment segment(std::uint32_t connection, WireDirection direction, std::uint8_t flags,
                                const TcpConnection& state) const;
-  void append_packet(protocol::Bytes& out, std::uint32_t interface, SimTime time, ByteView data,
+  void append_packet(protocol::Bytes& out, std::uint32_t interface, base::SimTime time, ByteView data,
                      WireDirection direction) const;
 
   CaptureWriterOptions options_;

@@ -28,13 +28,13 @@ class TelegramRecorder {
   TelegramRecorder(CaptureWriter& writer, RecorderCanIds ids = {}) : writer_(writer), ids_(ids) {}
 
   // Returns an error text, or an empty string.
-  [[nodiscard]] std::string record(SimTime time, protocol::WireTransport transport, std::uint32_t connection,
+  [[nodiscard]] std::string record(base::SimTime time, protocol::WireTransport transport, std::uint32_t connection,
                                    WireDirection direction, ByteView payload);
-  [[nodiscard]] std::string connection_closed(SimTime time, protocol::WireTransport transport, std::uint32_t connection);
+  [[nodiscard]] std::string connection_closed(base::SimTime time, protocol::WireTransport transport, std::uint32_t connection);
   void set_can_ids(RecorderCanIds ids) { ids_ = ids; }
 
  private:
-  std::string record_isotp(SimTime time, WireDirection direction, ByteView payload);
+  std::string record_isotp(base::SimTime time, WireDirection direction, ByteView payload);
 
   CaptureWriter& writer_;
   RecorderCanIds ids_;

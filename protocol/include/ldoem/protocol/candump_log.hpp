@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "ldoem/protocol/can_frame.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 
 namespace ldoem::protocol {
 
@@ -41,11 +41,11 @@ struct CandumpEntry {
 };
 
 // One line (without the newline). Blank lines are the caller's business.
-[[nodiscard]] Expected<CandumpEntry, CandumpError> parse_candump_line(std::string_view line);
+[[nodiscard]] base::Expected<CandumpEntry, CandumpError> parse_candump_line(std::string_view line);
 
 // Every line of a log; blank lines and lines starting with '#' are skipped. The first bad line
 // stops the parse and is reported with its number.
-[[nodiscard]] Expected<std::vector<CandumpEntry>, CandumpFailure> parse_candump_log(std::string_view text);
+[[nodiscard]] base::Expected<std::vector<CandumpEntry>, CandumpFailure> parse_candump_log(std::string_view text);
 
 // The line candump -l would print for a frame (11-bit identifiers only), e.g. for tests.
 std::string format_candump_line(std::uint64_t time_ns, std::string_view interface, const CanFrame& frame);

@@ -17,7 +17,7 @@
 #include "ldoem/protocol/capture_packets.hpp"
 #include "ldoem/protocol/isotp.hpp"
 #include "ldoem/protocol/serial_framing.hpp"
-#include "ldoem/protocol/sim_time.hpp"
+#include "ldoem/base/sim_time.hpp"
 #include "ldoem/protocol/tcp_framing.hpp"
 
 namespace ldoem::protocol {
@@ -26,7 +26,7 @@ enum class WireTransport : std::uint8_t { tcp, serial, can };
 std::string_view transport_name(WireTransport transport);
 
 struct CapturedTelegram {
-  SimTime time{};  // when its last byte or frame was captured
+  base::SimTime time{};  // when its last byte or frame was captured
   WireTransport transport = WireTransport::tcp;
   WireDirection direction = WireDirection::host_to_device;
   std::uint32_t stream = 0;  // TCP: connection index in order of appearance; serial, CAN: 0
@@ -43,7 +43,7 @@ struct ConversationConfig {
   // How long a recorded ISO-TP message may pause between frames. Not D1's N_Cr: a capture is
   // read after the fact, and a recording host that was briefly descheduled (a loaded CI
   // machine, UML) stamps late frames that the live receiver still took in time.
-  SimTime isotp_gap_limit = std::chrono::seconds(30);
+  base::SimTime isotp_gap_limit = std::chrono::seconds(30);
 };
 
 // What could not be turned into telegrams, so a user sees a capture's gaps instead of guessing.
@@ -62,7 +62,7 @@ class ConversationExtractor {
   ConversationExtractor(const ConversationExtractor&) = delete;
   ConversationExtractor& operator=(const ConversationExtractor&) = delete;
 
-  void add(SimTime time, const LinkPayload& payload);
+  void add(base::SimTime time, const LinkPayload& payload);
   // Telegrams completed so far, in capture order; the internal list is emptied.
   std::vector<CapturedTelegram> take();
   const ConversationCounters& counters() const { return counters_; }
@@ -70,10 +70,10 @@ class ConversationExtractor {
  private:
   struct TcpDirection;
   using FlowKey = std::tuple<std::uint32_t, std::uint16_t, std::uint32_t, std::uint16_t>;
-  void add_tcp(SimTime time, const TcpSegment& segment);
-  void add_can(SimTime time, const CanFrame& frame);
-  void add_serial(SimTime time, const SerialChunk& chunk);
-  void deliver(SimTime time, WireTransport transport, WireDirection direction, std::uint32_t stream,
+  void add_tcp(base::SimTime time, const TcpSegment& segment);
+  void add_can(base::SimTime time, const CanFrame& frame);
+  void add_serial(base::SimTime time, const SerialChunk& chunk);
+  void deliver(base::SimTime time, WireTransport transport, WireDirection direction, std::uint32_t stream,
                std::vector<DeframerEvent> events);
 
   ConversationConfig config_;
@@ -90,7 +90,7 @@ class ConversationExtractor {
 
 // All telegrams of a list of (time, payload) packets in one go.
 struct DecodedPacket {
-  SimTime time{};
+  base::SimTime time{};
   LinkPayload payload;
 };
 struct Conversation {
@@ -103,7 +103,7 @@ Conversation extract_conversation(const std::vector<DecodedPacket>& packets, Con
 // sent after it until the next request (its reply, and the profiles a GET_PROFILE streamed),
 // each with its delay after the request. Used by ldoem-replay and ldoem-conformance --against.
 struct RecordedAnswer {
-  SimTime delay{};
+  base::SimTime delay{};
   Bytes payload;
   bool operator==(const RecordedAnswer&) const = default;
 };

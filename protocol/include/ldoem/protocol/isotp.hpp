@@ -26,8 +26,8 @@
 
 #include "ldoem/protocol/bytes.hpp"
 #include "ldoem/protocol/can_frame.hpp"
-#include "ldoem/protocol/expected.hpp"
-#include "ldoem/protocol/sim_time.hpp"
+#include "ldoem/base/expected.hpp"
+#include "ldoem/base/sim_time.hpp"
 
 namespace ldoem::protocol {
 
@@ -35,7 +35,7 @@ namespace ldoem::protocol {
 inline constexpr std::uint32_t kIsoTpHostToDeviceId = 0x6C0;
 inline constexpr std::uint32_t kIsoTpDeviceToHostId = 0x6C1;
 inline constexpr std::uint8_t kIsoTpPaddingByte = 0xCC;
-inline constexpr SimTime kIsoTpDefaultTimeout = std::chrono::milliseconds(1000);  // N_Bs = N_Cr
+inline constexpr base::SimTime kIsoTpDefaultTimeout = std::chrono::milliseconds(1000);  // N_Bs = N_Cr
 
 // Our bound on a reassembled telegram. D3: ISO-TP has no protocol limit below 4 GiB, so this
 // is memory protection only; a 0.125 deg profile is about 5.8 kB.
@@ -49,7 +49,7 @@ inline constexpr std::size_t kIsoTpFlowControlBytes = 3;
 
 // STmin: 0x00..0x7F milliseconds, 0xF1..0xF9 100..900 microseconds; every other value is
 // reserved and a sender treats it as the longest time, 127 ms (ISO 15765-2).
-inline constexpr SimTime kIsoTpMaxStMin = std::chrono::milliseconds(127);
+inline constexpr base::SimTime kIsoTpMaxStMin = std::chrono::milliseconds(127);
 
 enum class IsoTpFrameType : std::uint8_t {
   single_frame = 0,
@@ -69,11 +69,11 @@ enum class IsoTpFlowStatus : std::uint8_t {
 std::optional<IsoTpFrameType> isotp_frame_type(const CanFrame& frame);
 
 // Separation time of a received STmin byte (reserved values: 127 ms, see kIsoTpMaxStMin).
-SimTime decode_st_min(std::uint8_t st_min_byte);
+base::SimTime decode_st_min(std::uint8_t st_min_byte);
 
 // The STmin byte for a wanted separation: the smallest encodable time not below `separation`,
 // so a peer never sends faster than asked; above 127 ms it is 127 ms.
-std::uint8_t encode_st_min(SimTime separation);
+std::uint8_t encode_st_min(base::SimTime separation);
 
 // A flow-control frame `3S BS ST`, 3 bytes long or padded to 8 with 0xCC.
 CanFrame make_flow_control_frame(std::uint32_t id, IsoTpFlowStatus status,
@@ -99,8 +99,8 @@ struct IsoTpReceiverConfig {
   std::uint32_t flow_control_id = kIsoTpDeviceToHostId;  // identifier of the FC frames we send
   std::size_t max_message_bytes = kIsoTpDefaultMaxMessageBytes;
   std::uint8_t block_size = 0;                   // our BS (D1: 0 unless configured)
-  SimTime st_min = SimTime::zero();              // our STmin, rounded up to an encodable value
-  SimTime n_cr_timeout = kIsoTpDefaultTimeout;   // D1
+  base::SimTime st_min = base::SimTime::zero();              // our STmin, rounded up to an encodable value
+  base::SimTime n_cr_timeout = kIsoTpDefaultTimeout;   // D1
   bool pad_frames = false;                       // pad our FC frames to 8 bytes with 0xCC
 };
 
@@ -137,13 +137,13 @@ class IsoTpReceiver {
   // One frame from the bus at `now`. A flow-control frame is not the receiver's business and
   // is ignored (nothing()). A reception whose N_Cr has expired is dropped first (timeout), and
   // a CF that arrives too late for it is then ignored.
-  [[nodiscard]] IsoTpReceiveResult on_frame(SimTime now, const CanFrame& frame);
+  [[nodiscard]] IsoTpReceiveResult on_frame(base::SimTime now, const CanFrame& frame);
 
   // Call at or after deadline(): drops the partial telegram with `timeout` when N_Cr expired.
-  [[nodiscard]] IsoTpReceiveResult on_timer(SimTime now);
+  [[nodiscard]] IsoTpReceiveResult on_timer(base::SimTime now);
 
   // When N_Cr expires, while a reception runs.
-  std::optional<SimTime> deadline() const;
+  std::optional<base::SimTime> deadline() const;
 
   // Forget any partial telegram without counting it (DO_RESET, closing the endpoint).
   void reset();
@@ -153,13 +153,13 @@ class IsoTpReceiver {
   const IsoTpReceiverConfig& config() const { return config_; }
 
  private:
-  void on_frame_idle(SimTime now, IsoTpFrameType type, const CanFrame& frame,
+  void on_frame_idle(base::SimTime now, IsoTpFrameType type, const CanFrame& frame,
                      IsoTpReceiveResult& result);
-  void on_frame_receiving(SimTime now, IsoTpFrameType type, const CanFrame& frame,
+  void on_frame_receiving(base::SimTime now, IsoTpFrameType type, const CanFrame& frame,
                           IsoTpReceiveResult& result);
   void accept_single_frame(const CanFrame& frame, IsoTpReceiveResult& result);
-  void accept_first_frame(SimTime now, const CanFrame& frame, IsoTpReceiveResult& result);
-  void accept_consecutive_frame(SimTime now, const CanFrame& frame, IsoTpReceiveResult& result);
+  void accept_first_frame(base::SimTime now, const CanFrame& frame, IsoTpReceiveResult& result);
+  void accept_consecutive_frame(base::SimTime now, const CanFrame& frame, IsoTpReceiveResult& result);
   void drop(IsoTpReceiveError error, IsoTpReceiveResult& result);
   void count(IsoTpReceiveError error, IsoTpReceiveResult& result);
   CanFrame flow_control(IsoTpFlowStatus status) const;
@@ -171,7 +171,7 @@ class IsoTpReceiver {
   std::size_t expected_length_ = 0;   // FF_DL of the running reception
   std::uint8_t next_sequence_ = 0;
   std::uint8_t frames_left_in_block_ = 0;  // only meaningful with block_size > 0
-  SimTime consecutive_frame_deadline_{};
+  base::SimTime consecutive_frame_deadline_{};
   IsoTpReceiverCounters counters_;
 };
 
@@ -197,7 +197,7 @@ inline constexpr std::uint32_t kIsoTpDefaultMaxWaitFrames = 10;
 struct IsoTpSenderConfig {
   std::uint32_t data_id = kIsoTpDeviceToHostId;  // identifier of SF/FF/CF frames
   bool pad_frames = false;                        // D1: unpadded unless configured
-  SimTime n_bs_timeout = kIsoTpDefaultTimeout;    // D1
+  base::SimTime n_bs_timeout = kIsoTpDefaultTimeout;    // D1
   // N_WFTmax (ISO 15765-2): FC WAITs accepted in a row before the message is given up
   // (IsoTpSendError::too_many_waits). Each WAIT restarts N_Bs, so without it a peer answering
   // WAIT forever held the sender forever (issue 11).
@@ -206,7 +206,7 @@ struct IsoTpSenderConfig {
 
 struct IsoTpSendPoll {
   std::vector<CanFrame> frames;    // put these on the bus now, in order
-  std::optional<SimTime> deadline; // call poll() again at this time (STmin or N_Bs)
+  std::optional<base::SimTime> deadline; // call poll() again at this time (STmin or N_Bs)
 };
 
 class IsoTpSender {
@@ -216,18 +216,18 @@ class IsoTpSender {
   explicit IsoTpSender(IsoTpSenderConfig config = {});
 
   // Takes a copy of `message`; the first frame is due at `now`. Refused while busy.
-  [[nodiscard]] Expected<std::monostate, IsoTpSendError> start(SimTime now, ByteView message);
+  [[nodiscard]] base::Expected<std::monostate, IsoTpSendError> start(base::SimTime now, ByteView message);
 
   // Frames due at `now`. With STmin > 0 at most one CF per call, so that the spacing counts
   // from the time the caller really sent the previous one. Also detects N_Bs expiry.
-  [[nodiscard]] IsoTpSendPoll poll(SimTime now);
+  [[nodiscard]] IsoTpSendPoll poll(base::SimTime now);
 
   // A flow-control frame from the peer. Ignored unless the sender waits for one, and when it
   // is shorter than 3 bytes or not an FC frame.
-  void on_flow_control(SimTime now, const CanFrame& frame);
+  void on_flow_control(base::SimTime now, const CanFrame& frame);
 
   // When poll() has work: the next CF's time, or N_Bs expiry while waiting for FC.
-  std::optional<SimTime> deadline() const;
+  std::optional<base::SimTime> deadline() const;
 
   // Abandon the message without an error (DO_RESET, closing the endpoint).
   void reset();
@@ -238,11 +238,11 @@ class IsoTpSender {
   const IsoTpSenderConfig& config() const { return config_; }
 
  private:
-  void send_due_frames(SimTime now, std::vector<CanFrame>& out);
+  void send_due_frames(base::SimTime now, std::vector<CanFrame>& out);
   CanFrame next_first_or_single_frame();
   CanFrame next_consecutive_frame();
   CanFrame finish_frame(CanFrame frame) const;
-  void wait_for_flow_control(SimTime now);
+  void wait_for_flow_control(base::SimTime now);
   void fail(IsoTpSendError error);
 
   IsoTpSenderConfig config_;
@@ -251,13 +251,13 @@ class IsoTpSender {
   Bytes message_;
   std::size_t next_offset_ = 0;      // 0: the SF or FF is still due
   std::uint8_t next_sequence_ = 1;
-  SimTime next_frame_due_{};
-  std::optional<SimTime> last_consecutive_sent_;
+  base::SimTime next_frame_due_{};
+  std::optional<base::SimTime> last_consecutive_sent_;
   std::uint32_t waits_in_a_row_ = 0;  // FC WAITs since the last CTS (N_WFTmax)
   std::uint8_t peer_block_size_ = 0;
   std::uint8_t frames_left_in_block_ = 0;
-  SimTime peer_st_min_{};
-  SimTime flow_control_deadline_{};
+  base::SimTime peer_st_min_{};
+  base::SimTime flow_control_deadline_{};
 };
 
 }  // namespace ldoem::protocol

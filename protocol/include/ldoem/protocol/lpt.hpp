@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <optional>
 
-#include "ldoem/protocol/sim_time.hpp"
+#include "ldoem/base/sim_time.hpp"
 
 namespace ldoem::protocol {
 
@@ -76,7 +76,7 @@ constexpr std::uint8_t encode_lpt(LptRegister lpt) {
 
 // One step of the motor, commanded by a rising clock edge.
 struct StepPulse {
-  SimTime at{};
+  base::SimTime at{};
   TiltDirection direction = TiltDirection::increasing;
   StepMode mode = StepMode::full_step;
 
@@ -94,7 +94,7 @@ class StepEdgeDetector {
   // `initial_register`: the register before the first write (0 after power-up).
   explicit StepEdgeDetector(std::uint8_t initial_register = 0);
 
-  [[nodiscard]] std::optional<StepPulse> on_write(SimTime at, std::uint8_t register_value);
+  [[nodiscard]] std::optional<StepPulse> on_write(base::SimTime at, std::uint8_t register_value);
 
   LptRegister current() const { return decode_lpt(last_register_); }
   std::uint64_t steps_seen() const { return steps_seen_; }

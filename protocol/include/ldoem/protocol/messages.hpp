@@ -13,7 +13,7 @@
 #include "ldoem/protocol/bytes.hpp"
 #include "ldoem/protocol/config.hpp"
 #include "ldoem/protocol/errors.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 #include "ldoem/protocol/profile.hpp"
 #include "ldoem/protocol/service_codes.hpp"
 #include "ldoem/protocol/status.hpp"
@@ -120,7 +120,7 @@ Bytes encode_request(const Request& request);
 // GET_FUNCTION sector > 7, SET_FILTER item != 1 or value > 1, DO_RESET level not 0/1/2/0x10,
 // GET_CONFIG / SET_CONFIG key without a layout. Wrong lengths give reason wrong_length, with
 // the one trailing 0x0000 WORD accepted on parameterless requests and on SET_CONFIG global (D2).
-Expected<Request, RequestError> decode_request(ByteView payload);
+base::Expected<Request, RequestError> decode_request(ByteView payload);
 
 // --------------------------------------------------------------------------------- responses
 
@@ -218,6 +218,6 @@ Bytes encode_response(const Response& response);
 // Decodes any reply the LD sends, including profile telegrams (0x8301) and SERVICE_FAILURE.
 // A request code (bit 15 clear) or a code of spec 3.2 without a reply layout is
 // unknown_service; a length that does not fit the layout is bad_length.
-Expected<Response, DecodeError> decode_response(ByteView payload);
+base::Expected<Response, DecodeError> decode_response(ByteView payload);
 
 }  // namespace ldoem::protocol

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "ldoem/protocol/bytes.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 
 namespace ldoem::protocol {
 
@@ -83,7 +83,7 @@ struct CapturePacket {
 
 // Every packet of a pcapng file's bytes, in file order. A later section header starts a new
 // set of interfaces (interface ids are per section).
-[[nodiscard]] Expected<std::vector<CapturePacket>, CaptureFormatFailure> decode_pcapng(ByteView file);
+[[nodiscard]] base::Expected<std::vector<CapturePacket>, CaptureFormatFailure> decode_pcapng(ByteView file);
 
 // True when the bytes start with a pcapng section header type.
 bool looks_like_pcapng(ByteView file);

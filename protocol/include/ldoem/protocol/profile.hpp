@@ -9,7 +9,7 @@
 
 #include "ldoem/protocol/bytes.hpp"
 #include "ldoem/protocol/errors.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 #include "ldoem/protocol/status.hpp"
 
 namespace ldoem::protocol {
@@ -90,6 +90,6 @@ Bytes encode_profile(const Profile& profile);
 // a single sector follows from the length; several sectors without POINTNUM is bad_length.
 // Never reserves more than the payload can hold (SECTORCOUNT <= 8, POINTNUM <= 2881 and,
 // when point fields are present, covered by the remaining bytes).
-Expected<Profile, DecodeError> decode_profile(ByteView payload);
+base::Expected<Profile, DecodeError> decode_profile(ByteView payload);
 
 }  // namespace ldoem::protocol

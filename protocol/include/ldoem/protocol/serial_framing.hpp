@@ -20,7 +20,7 @@
 
 #include "ldoem/protocol/bytes.hpp"
 #include "ldoem/protocol/errors.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 #include "ldoem/protocol/framing.hpp"
 #include "ldoem/protocol/profile.hpp"
 
@@ -45,7 +45,7 @@ std::uint16_t serial_crc(ByteView bytes);
 // Host -> LD telegram (what a host driver sends). An odd payload is padded with 0x00.
 // Writes into `out` and returns the size used, or too_large if `out` is too short.
 std::size_t serial_request_size(std::size_t payload_size);
-Expected<std::size_t, DecodeError> encode_serial_request_into(ByteView payload, std::span<std::uint8_t> out,
+base::Expected<std::size_t, DecodeError> encode_serial_request_into(ByteView payload, std::span<std::uint8_t> out,
                                                              std::uint16_t address = kHostToLdAddress);
 Bytes encode_serial_request(ByteView payload, std::uint16_t address = kHostToLdAddress);
 

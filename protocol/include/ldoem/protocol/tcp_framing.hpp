@@ -11,7 +11,7 @@
 
 #include "ldoem/protocol/bytes.hpp"
 #include "ldoem/protocol/errors.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 #include "ldoem/protocol/framing.hpp"
 #include "ldoem/protocol/profile.hpp"
 
@@ -31,7 +31,7 @@ std::uint8_t xor_checksum(ByteView payload);
 
 // Writes the frame into `out` and returns the number of bytes used, or too_large when `out`
 // is shorter than tcp_frame_size(payload.size()). Bytes of `out` past the frame are untouched.
-Expected<std::size_t, DecodeError> encode_tcp_frame_into(ByteView payload, std::span<std::uint8_t> out);
+base::Expected<std::size_t, DecodeError> encode_tcp_frame_into(ByteView payload, std::span<std::uint8_t> out);
 Bytes encode_tcp_frame(ByteView payload);
 
 // What the deframer does with the bytes of a frame it drops.

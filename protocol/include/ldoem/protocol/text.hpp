@@ -26,13 +26,13 @@
 
 #include "ldoem/protocol/bytes.hpp"
 #include "ldoem/protocol/errors.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 
 namespace ldoem::protocol {
 
 std::string format_telegram(ByteView payload);
 
 // bad_text for anything outside the grammar (unknown name, wrong digit count, double space).
-Expected<Bytes, DecodeError> parse_telegram(std::string_view text);
+base::Expected<Bytes, DecodeError> parse_telegram(std::string_view text);
 
 }  // namespace ldoem::protocol

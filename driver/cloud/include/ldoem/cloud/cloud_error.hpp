@@ -4,12 +4,12 @@
 #include <cstdint>
 #include <string_view>
 
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 
 namespace ldoem::cloud {
 
-using protocol::Expected;
-using protocol::Unexpected;
+using base::Expected;
+using base::Unexpected;
 
 enum class CloudIoError : std::uint8_t {
   too_many_points,      // more points than a 32-bit count holds (PLY/PCD counts)

@@ -11,7 +11,7 @@
 
 #include "ldoem/cloud/point_cloud.hpp"
 #include "ldoem/image/png.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 
 namespace ldoem::cloud {
 
@@ -35,11 +35,11 @@ struct RenderOptions {
   double horizontal_fov_deg = 70.0;
 };
 
-[[nodiscard]] protocol::Expected<image::RgbImage, RenderError> render_cloud(const PointCloud& cloud,
+[[nodiscard]] base::Expected<image::RgbImage, RenderError> render_cloud(const PointCloud& cloud,
                                                                            const RenderOptions& options = {});
 
 // render_cloud + image::encode_rgb_png + write; returns the number of bytes written.
-[[nodiscard]] protocol::Expected<std::size_t, RenderError> write_render_png(const std::filesystem::path& path,
+[[nodiscard]] base::Expected<std::size_t, RenderError> write_render_png(const std::filesystem::path& path,
                                                                            const PointCloud& cloud,
                                                                            const RenderOptions& options = {});
 

@@ -13,12 +13,12 @@
 #include <Eigen/Core>
 
 #include "ldoem/cloud/point_cloud.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 
 namespace ldoem::cloud {
 
-using protocol::Expected;
-using protocol::Unexpected;
+using base::Expected;
+using base::Unexpected;
 
 enum class FitError : std::uint8_t {
   too_few_points,          // fewer points than the model needs (plane 3, cylinder 5)

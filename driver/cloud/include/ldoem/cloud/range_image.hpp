@@ -12,7 +12,7 @@
 
 #include "ldoem/cloud/point_cloud.hpp"
 #include "ldoem/image/png.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 
 namespace ldoem::cloud {
 
@@ -43,11 +43,11 @@ struct RangeImageOptions {
 // Positions come from the image_position channel (size = max row/column + 1), else from the
 // organised layout; several points on one pixel keep the nearest; NaN points are no echo.
 // Pixels are row-major, 0 = no echo, 1..max = far..near (max 255 or 65535).
-[[nodiscard]] protocol::Expected<image::GrayImage, RangeImageError> make_range_image(
+[[nodiscard]] base::Expected<image::GrayImage, RangeImageError> make_range_image(
     const PointCloud& cloud, const RangeImageOptions& options = {});
 
 // make_range_image + image::encode_gray_png + write; returns the number of bytes written.
-[[nodiscard]] protocol::Expected<std::size_t, RangeImageError> write_range_image_png(
+[[nodiscard]] base::Expected<std::size_t, RangeImageError> write_range_image_png(
     const std::filesystem::path& path, const PointCloud& cloud, const RangeImageOptions& options = {});
 
 }  // namespace ldoem::cloud

@@ -23,7 +23,7 @@
 
 #include "ldoem/driver/endpoint.hpp"
 #include "ldoem/hub/scanner_device.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 
 namespace ldoem::hub {
 
@@ -38,7 +38,7 @@ struct ListenAddress {
 };
 
 // "HOST:PORT", "[v6]:PORT" or ":PORT" (loopback).
-protocol::Expected<ListenAddress, std::string> parse_listen_address(std::string_view text);
+base::Expected<ListenAddress, std::string> parse_listen_address(std::string_view text);
 
 struct DeviceConfig {
   std::string name;
@@ -57,6 +57,6 @@ struct HubConfig {
   bool operator==(const HubConfig&) const = default;
 };
 
-protocol::Expected<HubConfig, std::string> parse_hub_config(std::string_view yaml_text);
+base::Expected<HubConfig, std::string> parse_hub_config(std::string_view yaml_text);
 
 }  // namespace ldoem::hub

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "ldoem/hub/hub_config.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 
 namespace ldoem::hub {
 
@@ -34,7 +34,7 @@ struct HubCommandLine {
 
 // `args` without the program name (parsed with CLI11, base/command_line.hpp). The error is one
 // line for stderr.
-protocol::Expected<HubCommandLine, std::string> parse_hub_command_line(const std::vector<std::string_view>& args);
+base::Expected<HubCommandLine, std::string> parse_hub_command_line(const std::vector<std::string_view>& args);
 
 std::string hub_usage(std::string_view program);
 

@@ -30,7 +30,7 @@
 #include <vector>
 
 #include "ldoem/hub/device_vocabulary.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 
 namespace ldoem::hub {
 
@@ -77,7 +77,7 @@ struct RequestParseError {
   bool operator==(const RequestParseError&) const = default;
 };
 
-protocol::Expected<HubRequest, RequestParseError> parse_request(std::string_view line);
+base::Expected<HubRequest, RequestParseError> parse_request(std::string_view line);
 // Without the line feed.
 std::string format_request(const HubRequest& request);
 
@@ -101,7 +101,7 @@ struct ReplyParseError {
   bool operator==(const ReplyParseError&) const = default;
 };
 
-protocol::Expected<HubReply, ReplyParseError> parse_reply(std::string_view line);
+base::Expected<HubReply, ReplyParseError> parse_reply(std::string_view line);
 // Without the line feed; values are escaped, an error message has its line breaks replaced.
 std::string format_reply(const HubReply& reply);
 

@@ -7,7 +7,7 @@
 #include <string_view>
 #include <vector>
 
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 
 namespace ldoem::image {
 
@@ -34,7 +34,7 @@ struct GrayImage {
 };
 
 // The PNG file's bytes (colour type grey, 8 or 16 bits per sample).
-[[nodiscard]] protocol::Expected<std::string, PngError> encode_gray_png(const GrayImage& image);
+[[nodiscard]] base::Expected<std::string, PngError> encode_gray_png(const GrayImage& image);
 
 // Row-major 8-bit RGB, three bytes per pixel (renderings of a cloud).
 struct RgbImage {
@@ -44,6 +44,6 @@ struct RgbImage {
 };
 
 // The PNG file's bytes (colour type RGB, 8 bits per sample).
-[[nodiscard]] protocol::Expected<std::string, PngError> encode_rgb_png(const RgbImage& image);
+[[nodiscard]] base::Expected<std::string, PngError> encode_rgb_png(const RgbImage& image);
 
 }  // namespace ldoem::image

@@ -30,7 +30,7 @@ struct IsoTpOptions {
 };
 
 // Monotonic time as the ISO-TP state machines see it (they never read a clock themselves).
-protocol::SimTime monotonic_now();
+base::SimTime monotonic_now();
 
 class CanIsoTpTransport final : public Transport {
  public:

@@ -21,7 +21,7 @@
 #include <variant>
 
 #include "ldoem/base/device_constants.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 
 namespace ldoem::driver {
 
@@ -82,7 +82,7 @@ struct EndpointError {
 // One line: "endpoint `can:vcan0:800:6C1`: out of range: CAN request id `800` is above 0x7FF".
 std::string describe(const EndpointError& error);
 
-protocol::Expected<Endpoint, EndpointError> parse_endpoint(std::string_view text);
+base::Expected<Endpoint, EndpointError> parse_endpoint(std::string_view text);
 
 // The canonical text of an endpoint (parse_endpoint(format_endpoint(e)) == e); used as the
 // `object` of every DriverError about it.

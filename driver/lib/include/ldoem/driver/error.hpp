@@ -9,13 +9,13 @@
 #include <variant>
 
 #include "ldoem/protocol/errors.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 #include "ldoem/protocol/status.hpp"
 
 namespace ldoem::driver {
 
-using protocol::Expected;
-using protocol::Unexpected;
+using base::Expected;
+using base::Unexpected;
 
 enum class ErrorKind : std::uint8_t {
   // Retryable: the same call may succeed later (recovery_for says how: retry, or reconnect first).

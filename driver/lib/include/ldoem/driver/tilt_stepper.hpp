@@ -11,7 +11,7 @@
 #include "ldoem/driver/error.hpp"
 #include "ldoem/driver/lpt_port.hpp"
 #include "ldoem/protocol/lpt.hpp"
-#include "ldoem/protocol/sim_time.hpp"
+#include "ldoem/base/sim_time.hpp"
 
 namespace ldoem::driver {
 
@@ -22,9 +22,9 @@ using protocol::TiltDirection;
 class Sleeper {
  public:
   virtual ~Sleeper() = default;
-  virtual protocol::SimTime now() = 0;
+  virtual base::SimTime now() = 0;
   // Returns at or after `time` (immediately when it has passed), or early once interrupted.
-  virtual void sleep_until(protocol::SimTime time) = 0;
+  virtual void sleep_until(base::SimTime time) = 0;
   // Thread-safe: wakes a sleep in progress and makes every later one return at once.
   virtual void interrupt() {}
   virtual bool interrupted() const { return false; }
@@ -34,8 +34,8 @@ class Sleeper {
 // the writes take, waited for on a condition variable so that interrupt() ends a long move.
 class MonotonicSleeper final : public Sleeper {
  public:
-  protocol::SimTime now() override;
-  void sleep_until(protocol::SimTime time) override;
+  base::SimTime now() override;
+  void sleep_until(base::SimTime time) override;
   void interrupt() override;
   bool interrupted() const override;
 

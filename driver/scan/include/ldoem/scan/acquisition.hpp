@@ -69,7 +69,7 @@ struct AcquisitionError {
 std::string describe(const AcquisitionError& error);
 
 // The point cloud in the pivot frame; ring = layer, image position = (layer, beam).
-protocol::Expected<Scan, AcquisitionError> acquire(driver::Device& device, const AcquisitionPlan& plan,
+base::Expected<Scan, AcquisitionError> acquire(driver::Device& device, const AcquisitionPlan& plan,
                                                    const AcquisitionHooks& hooks = {});
 
 }  // namespace ldoem::scan

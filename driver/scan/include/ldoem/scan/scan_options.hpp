@@ -50,14 +50,14 @@ struct ScanOptions {
 
 // `args` without the program name (parsed with CLI11, base/command_line.hpp); the error is one
 // line for stderr (exit code 2).
-protocol::Expected<ScanOptions, std::string> parse_scan_options(const std::vector<std::string_view>& args);
+base::Expected<ScanOptions, std::string> parse_scan_options(const std::vector<std::string_view>& args);
 
 // .ply or .pcd (case-insensitive) with the encoding; nullopt for any other extension.
 std::optional<cloud::CloudFileFormat> output_format(std::string_view path, CloudEncoding encoding);
 
 // The sector table and the layers the options ask for, or the one-line reason they are not
 // possible (exit code 2).
-protocol::Expected<AcquisitionPlan, std::string> make_plan(const ScanOptions& options);
+base::Expected<AcquisitionPlan, std::string> make_plan(const ScanOptions& options);
 
 std::string scan_usage(std::string_view program);
 

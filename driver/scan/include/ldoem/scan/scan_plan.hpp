@@ -9,14 +9,14 @@
 
 #include "ldoem/base/device_constants.hpp"
 #include "ldoem/driver/scanner.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 #include "ldoem/protocol/lpt.hpp"
 
 namespace ldoem::scan {
 
 using base::kTicksPerDegree;
 using base::kTicksPerTurn;
-using protocol::Expected;
+using base::Expected;
 using protocol::StepMode;
 
 // Spec 5 (S1's rules, LD manual p. 22): pulse frequency limits checked by TRANS_MEASURE.

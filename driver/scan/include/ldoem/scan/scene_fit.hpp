@@ -17,7 +17,7 @@ struct SceneFit {
   std::size_t cylinder_inliers = 0;
 };
 
-protocol::Expected<SceneFit, std::string> fit_scene(const cloud::PointCloud& cloud);
+base::Expected<SceneFit, std::string> fit_scene(const cloud::PointCloud& cloud);
 
 // "wall distance 3.001 m (12000 points); cylinder diameter 0.400 m, length 1.20 m (800 points)"
 std::string describe(const SceneFit& fit);

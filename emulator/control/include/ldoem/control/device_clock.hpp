@@ -4,7 +4,7 @@
 
 #include <cstdint>
 
-#include "ldoem/protocol/sim_time.hpp"
+#include "ldoem/base/sim_time.hpp"
 
 namespace ldoem::control {
 
@@ -13,11 +13,11 @@ namespace ldoem::control {
 class DeviceClock {
  public:
   // A clock that reads `value_ms` at `now` (power-up and DO_RESET 0/1 use 0, D4).
-  static DeviceClock reading(protocol::SimTime now, std::uint16_t value_ms);
+  static DeviceClock reading(base::SimTime now, std::uint16_t value_ms);
 
-  std::uint16_t value_at(protocol::SimTime now) const;
+  std::uint16_t value_at(base::SimTime now) const;
   // SET_TIME_ABS: from `now` on the clock reads value_ms.
-  void set(protocol::SimTime now, std::uint16_t value_ms);
+  void set(base::SimTime now, std::uint16_t value_ms);
   // SET_TIME_REL: the signed delta wraps modulo 65536 (spec 3.3 [I]).
   void add(std::int16_t delta_ms);
 
@@ -29,6 +29,6 @@ class DeviceClock {
 };
 
 // floor(now / 1 ms), also for times before the epoch.
-std::int64_t floor_ms(protocol::SimTime now);
+std::int64_t floor_ms(base::SimTime now);
 
 }  // namespace ldoem::control

@@ -7,12 +7,12 @@
 #include <optional>
 #include <vector>
 
-#include "ldoem/protocol/sim_time.hpp"
+#include "ldoem/base/sim_time.hpp"
 #include "ldoem/protocol/status.hpp"
 
 namespace ldoem::control {
 
-using protocol::SimTime;
+using base::SimTime;
 
 // D11: motor_stall, motor_overspeed, encoder_error.
 enum class MotorFault : std::uint8_t { stall, overspeed, encoder };

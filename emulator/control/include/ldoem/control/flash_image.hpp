@@ -25,7 +25,7 @@
 
 #include "ldoem/control/device_config.hpp"
 #include "ldoem/protocol/bytes.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 
 namespace ldoem::control {
 
@@ -50,7 +50,7 @@ struct FlashError {
 std::string_view describe(FlashErrorKind kind);
 
 protocol::Bytes serialise_flash_image(const DeviceConfig& config);
-protocol::Expected<DeviceConfig, FlashError> parse_flash_image(protocol::ByteView image);
+base::Expected<DeviceConfig, FlashError> parse_flash_image(protocol::ByteView image);
 
 // Where the daemon keeps the image: a file beside the scene, or memory with --no-flash (D4).
 class FlashStore {

@@ -13,11 +13,11 @@
 
 #include "ldoem/protocol/bytes.hpp"
 #include "ldoem/protocol/config.hpp"
-#include "ldoem/protocol/sim_time.hpp"
+#include "ldoem/base/sim_time.hpp"
 
 namespace ldoem::control {
 
-using protocol::SimTime;
+using base::SimTime;
 
 // The transport a connection uses. TCP and serial telegrams are capped at 5816 payload bytes,
 // ISO-TP over CAN is not (D3).

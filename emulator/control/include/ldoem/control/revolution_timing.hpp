@@ -6,17 +6,17 @@
 
 #include <cstdint>
 
-#include "ldoem/protocol/sim_time.hpp"
+#include "ldoem/base/sim_time.hpp"
 
 namespace ldoem::control {
 
 // The time the head passes `angle_unwrapped_ticks` (may exceed 5760: the next revolution) in
 // revolution `revolution` of the epoch. Precondition: speed_hz > 0.
-protocol::SimTime revolution_time(protocol::SimTime epoch, std::uint16_t speed_hz, std::uint64_t revolution,
+base::SimTime revolution_time(base::SimTime epoch, std::uint16_t speed_hz, std::uint64_t revolution,
                                   std::uint32_t angle_unwrapped_ticks);
 
 // The first revolution of the epoch that starts at or after `t` (0 for t <= epoch).
-std::uint64_t first_revolution_starting_at_or_after(protocol::SimTime epoch, std::uint16_t speed_hz,
-                                                    protocol::SimTime t);
+std::uint64_t first_revolution_starting_at_or_after(base::SimTime epoch, std::uint16_t speed_hz,
+                                                    base::SimTime t);
 
 }  // namespace ldoem::control

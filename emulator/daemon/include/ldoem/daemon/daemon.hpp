@@ -17,7 +17,7 @@
 #include "ldoem/daemon/options.hpp"
 #include "ldoem/endpoints/counters.hpp"
 #include "ldoem/endpoints/host_endpoint.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 #include "ldoem/scene/scene.hpp"
 
 namespace ldoem::control_socket {
@@ -41,7 +41,7 @@ class Daemon {
   // Builds the scene's models, loads the flash, opens every endpoint the options name plus
   // `extra_endpoints` (tests: endpoints::MemoryEndpoint), prints one line per endpoint on `out`,
   // then "ready". `log` gets the diagnostics.
-  static protocol::Expected<std::unique_ptr<Daemon>, StartFailure> create(
+  static base::Expected<std::unique_ptr<Daemon>, StartFailure> create(
       Options options, scene::Scene scene, std::ostream& out, std::ostream& log,
       std::vector<std::unique_ptr<endpoints::HostEndpoint>> extra_endpoints = {});
   ~Daemon();
@@ -59,7 +59,7 @@ class Daemon {
   std::optional<std::uint16_t> tcp_port() const;
   DeviceInstance& device();
   // Simulated time now (D7).
-  protocol::SimTime now() const;
+  base::SimTime now() const;
   // What the control socket's commands act on (--control, --event-log or scene faults); null
   // otherwise. Tests call control_socket::handle_line on it between loop rounds.
   control_socket::ControlTarget* control_target();

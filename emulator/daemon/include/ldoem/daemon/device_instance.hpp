@@ -73,7 +73,7 @@ class DeviceInstance final : public endpoints::EndpointSink, public endpoints::L
   // The fault machinery (D11, fault_wiring.hpp) acts on the control unit directly and hands the
   // Actions it got back here, like any other event's.
   control::ControlUnit& unit_for_faults() { return *unit_; }
-  void perform_actions(protocol::SimTime at, const control::Actions& actions) { perform(at, actions); }
+  void perform_actions(base::SimTime at, const control::Actions& actions) { perform(at, actions); }
 
   // --- EndpointSink ---
   void on_telegram(control::ConnectionId from, protocol::Bytes payload) override;
@@ -84,16 +84,16 @@ class DeviceInstance final : public endpoints::EndpointSink, public endpoints::L
   using ConnectionObserver = std::function<void(bool opened, control::ConnectionId connection, std::string_view peer)>;
   void set_connection_observer(ConnectionObserver observer) { connection_observer_ = std::move(observer); }
   // --- LptSink ---
-  void on_register_write(protocol::SimTime at, std::uint8_t register_value) override;
+  void on_register_write(base::SimTime at, std::uint8_t register_value) override;
   void set_initial_register(std::uint8_t register_value) override { plant_.set_initial_register(register_value); }
-  void on_line_change(protocol::SimTime at, std::uint8_t bit, bool level) override;
+  void on_line_change(base::SimTime at, std::uint8_t bit, bool level) override;
   std::uint64_t steps_seen() const override;
 
  private:
   bool busy(control::ConnectionId connection) const override;  // D10, asked by the control unit
   // Runs `input` now, or after the Actions being performed when called from inside them.
   void accept_input(std::function<void()> input);
-  void perform(protocol::SimTime at, const control::Actions& actions);
+  void perform(base::SimTime at, const control::Actions& actions);
   void save_flash(protocol::ByteView image);
 
   endpoints::Scheduler& scheduler_;

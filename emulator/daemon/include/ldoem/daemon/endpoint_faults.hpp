@@ -27,16 +27,16 @@ class EndpointFaults final : public endpoints::WireFaultHook {
       : injector_(injector), publish_(std::move(publish)) {}
 
   endpoints::TelegramFaults on_outgoing_telegram(control::ConnectionId to, protocol::ByteView payload,
-                                                 protocol::SimTime now) override;
-  std::optional<protocol::SimTime> stalled_until(control::ConnectionId connection, protocol::SimTime now) override;
-  std::optional<std::uint32_t> bytes_per_second(control::ConnectionId connection, protocol::SimTime now) override;
-  endpoints::FirstFrameFault on_host_first_frame(control::ConnectionId from, protocol::SimTime now) override;
-  bool keeps_host_waiting(control::ConnectionId from, protocol::SimTime now) override;
-  bool loses_step(protocol::SimTime at) override;
+                                                 base::SimTime now) override;
+  std::optional<base::SimTime> stalled_until(control::ConnectionId connection, base::SimTime now) override;
+  std::optional<std::uint32_t> bytes_per_second(control::ConnectionId connection, base::SimTime now) override;
+  endpoints::FirstFrameFault on_host_first_frame(control::ConnectionId from, base::SimTime now) override;
+  bool keeps_host_waiting(control::ConnectionId from, base::SimTime now) override;
+  bool loses_step(base::SimTime at) override;
 
  private:
   // Takes one telegram's worth of `kind` (its count) and publishes what that used up.
-  std::optional<faults::ActiveFault> take(protocol::SimTime now, faults::FaultKind kind, faults::Transport transport,
+  std::optional<faults::ActiveFault> take(base::SimTime now, faults::FaultKind kind, faults::Transport transport,
                                           std::optional<std::uint16_t> service);
 
   fault_injection::FaultInjector& injector_;

@@ -33,7 +33,7 @@ class FaultWiring final : public endpoints::WireTap, public control_socket::Cont
     plant::SceneWorld* world = nullptr;  // for the object commands (object_control.cpp); must outlive it
   };
   // `device`, `scheduler`, `loop` and `logger` must outlive it. quit() calls `stop`.
-  static protocol::Expected<std::unique_ptr<FaultWiring>, std::string> create(
+  static base::Expected<std::unique_ptr<FaultWiring>, std::string> create(
       const scene::Scene& scene, DeviceInstance& device, endpoints::Scheduler& scheduler, io::EventLoop& loop,
       const endpoints::Logger& logger, Setup setup, std::function<void()> stop);
   ~FaultWiring() override;
@@ -72,7 +72,7 @@ class FaultWiring final : public endpoints::WireTap, public control_socket::Cont
   std::unique_ptr<control_socket::ControlServer> server_;
   std::ofstream event_log_;
   std::optional<endpoints::Scheduler::Key> deadline_;
-  std::optional<protocol::SimTime> deadline_at_;
+  std::optional<base::SimTime> deadline_at_;
   std::set<control::ConnectionId> connections_;  // seen from hosts; a power cycle drops them
   std::map<control::ConnectionId, std::string> peers_;  // open TCP connections' addresses
   plant::SceneWorld* world_ = nullptr;

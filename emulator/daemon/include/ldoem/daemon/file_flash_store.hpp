@@ -7,7 +7,7 @@
 #include <string>
 
 #include "ldoem/control/flash_image.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 
 namespace ldoem::daemon {
 
@@ -20,7 +20,7 @@ class FileFlashStore final : public control::FlashStore {
   // The image; empty when the file does not exist yet (first power-up). A file that exists but
   // cannot be read (permissions, a folder, an I/O error) is an error naming the path and errno:
   // the daemon refuses to start on it rather than overwrite it at exit (issue 11).
-  protocol::Expected<protocol::Bytes, std::string> read() const;
+  base::Expected<protocol::Bytes, std::string> read() const;
   // read(), with an unreadable file as empty (the FlashStore interface has no error channel).
   protocol::Bytes load() const override;
   // Failures are remembered in last_error() (the interface has no error channel).

@@ -14,7 +14,7 @@
 #include "ldoem/endpoints/can_id_pair.hpp"
 #include "ldoem/endpoints/host_limits.hpp"
 #include "ldoem/endpoints/logger.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 
 namespace ldoem::daemon {
 
@@ -101,14 +101,14 @@ struct UsageError {
 
 // `arguments` excludes argv[0]. Options take their value as the next argument or after '='
 // (parsed with CLI11, base/command_line.hpp); --help and --version win over any problem.
-[[nodiscard]] protocol::Expected<Command, UsageError> parse_command_line(
+[[nodiscard]] base::Expected<Command, UsageError> parse_command_line(
     std::span<const std::string_view> arguments);
 
 // "6C0:6C1" (hex, optional 0x) -> pair; both 11-bit (D1) and different.
-[[nodiscard]] protocol::Expected<CanIdPair, UsageError> parse_can_id_pair(std::string_view text);
+[[nodiscard]] base::Expected<CanIdPair, UsageError> parse_can_id_pair(std::string_view text);
 
 // "HOST[:PORT]" -> address and port (port 49152 when omitted, 0 = ephemeral).
-[[nodiscard]] protocol::Expected<TcpOption, UsageError> parse_tcp_option(std::string_view text);
+[[nodiscard]] base::Expected<TcpOption, UsageError> parse_tcp_option(std::string_view text);
 
 std::string usage_text(std::string_view program_name);
 std::string version_text();

@@ -16,11 +16,11 @@
 #include <optional>
 #include <utility>
 
-#include "ldoem/protocol/sim_time.hpp"
+#include "ldoem/base/sim_time.hpp"
 
 namespace ldoem::daemon {
 
-using protocol::SimTime;
+using base::SimTime;
 using WallTime = std::chrono::steady_clock::time_point;
 
 class SimClock {

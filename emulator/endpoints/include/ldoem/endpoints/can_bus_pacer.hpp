@@ -22,11 +22,11 @@
 #include <vector>
 
 #include "ldoem/protocol/can_frame.hpp"
-#include "ldoem/protocol/sim_time.hpp"
+#include "ldoem/base/sim_time.hpp"
 
 namespace ldoem::endpoints {
 
-using protocol::SimTime;
+using base::SimTime;
 
 inline constexpr std::uint32_t kCanFrameOverheadBits = 47;  // nominal, no stuff bits (see above)
 inline constexpr std::uint32_t kDefaultCanBitRateBps = 1'000'000;  // D1: the paper's set-up

@@ -21,7 +21,7 @@
 
 namespace ldoem::endpoints {
 
-using protocol::SimTime;
+using base::SimTime;
 
 inline constexpr std::size_t kIsoTpMaxQueuedTelegrams = 16;
 

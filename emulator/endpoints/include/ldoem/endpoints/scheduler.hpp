@@ -8,11 +8,11 @@
 #include <functional>
 #include <utility>
 
-#include "ldoem/protocol/sim_time.hpp"
+#include "ldoem/base/sim_time.hpp"
 
 namespace ldoem::endpoints {
 
-using protocol::SimTime;
+using base::SimTime;
 using WallTime = std::chrono::steady_clock::time_point;
 
 class Scheduler {

@@ -18,7 +18,7 @@
 
 #include "ldoem/control/ports.hpp"
 #include "ldoem/protocol/bytes.hpp"
-#include "ldoem/protocol/sim_time.hpp"
+#include "ldoem/base/sim_time.hpp"
 
 namespace ldoem::endpoints {
 
@@ -46,21 +46,21 @@ class WireFaultHook {
 
   // A telegram (payload: service WORD first) is about to be framed for `to`.
   virtual TelegramFaults on_outgoing_telegram(control::ConnectionId to, protocol::ByteView payload,
-                                              protocol::SimTime now) = 0;
+                                              base::SimTime now) = 0;
 
   // TCP: the connection neither reads nor writes before the returned time (tcp_stall). The time
   // may be a re-check point: asked again then, the hook answers again.
-  virtual std::optional<protocol::SimTime> stalled_until(control::ConnectionId connection, protocol::SimTime now) = 0;
+  virtual std::optional<base::SimTime> stalled_until(control::ConnectionId connection, base::SimTime now) = 0;
   // TCP: the connection's bytes leave at this many bytes per second (bandwidth).
-  virtual std::optional<std::uint32_t> bytes_per_second(control::ConnectionId connection, protocol::SimTime now) = 0;
+  virtual std::optional<std::uint32_t> bytes_per_second(control::ConnectionId connection, base::SimTime now) = 0;
 
   // CAN: a host's first frame arrived on `from`'s identifier pair.
-  virtual FirstFrameFault on_host_first_frame(control::ConnectionId from, protocol::SimTime now) = 0;
+  virtual FirstFrameFault on_host_first_frame(control::ConnectionId from, base::SimTime now) = 0;
   // CAN: a first frame held by isotp_fc_wait is still held (another FC WAIT is due).
-  virtual bool keeps_host_waiting(control::ConnectionId from, protocol::SimTime now) = 0;
+  virtual bool keeps_host_waiting(control::ConnectionId from, base::SimTime now) = 0;
 
   // LPT: a rising clock edge, one step; true when the plate does not follow it (lpt_lose_steps, lpt_jam).
-  virtual bool loses_step(protocol::SimTime at) = 0;
+  virtual bool loses_step(base::SimTime at) = 0;
 };
 
 }  // namespace ldoem::endpoints

@@ -15,7 +15,7 @@
 
 #include "ldoem/control/ports.hpp"
 #include "ldoem/protocol/bytes.hpp"
-#include "ldoem/protocol/sim_time.hpp"
+#include "ldoem/base/sim_time.hpp"
 
 namespace ldoem::endpoints {
 
@@ -24,7 +24,7 @@ enum class WireDirection : std::uint8_t { from_host, to_host };
 struct WireTelegram {
   WireDirection direction = WireDirection::from_host;
   control::ConnectionId connection;
-  protocol::SimTime at{};
+  base::SimTime at{};
   protocol::Bytes payload;  // service WORD first, no framing; the tap may alter it
   bool is_profile = false;  // to_host only: a 0x8301 profile of a running GET_PROFILE
 };

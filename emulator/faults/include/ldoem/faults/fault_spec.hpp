@@ -30,11 +30,11 @@
 #include <vector>
 
 #include "ldoem/faults/fault_kind.hpp"
-#include "ldoem/protocol/sim_time.hpp"
+#include "ldoem/base/sim_time.hpp"
 
 namespace ldoem::faults {
 
-using protocol::SimTime;
+using base::SimTime;
 
 struct TriggerNow {
   bool operator==(const TriggerNow&) const = default;

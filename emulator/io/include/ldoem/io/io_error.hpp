@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 
 namespace ldoem::io {
 
@@ -26,11 +26,11 @@ IoError last_system_error(std::string operation, std::string object = {});
 struct Done {};
 
 template <class T>
-using IoResult = protocol::Expected<T, IoError>;
+using IoResult = base::Expected<T, IoError>;
 using IoStatus = IoResult<Done>;
 
-inline protocol::Unexpected<IoError> io_failure(IoError error) {
-  return protocol::Unexpected<IoError>(std::move(error));
+inline base::Unexpected<IoError> io_failure(IoError error) {
+  return base::Unexpected<IoError>(std::move(error));
 }
 
 }  // namespace ldoem::io

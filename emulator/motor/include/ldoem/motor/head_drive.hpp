@@ -13,7 +13,7 @@
 // Times before the last set_target are answered as at that time.
 #pragma once
 
-#include <ldoem/protocol/sim_time.hpp>
+#include <ldoem/base/sim_time.hpp>
 #include <ldoem/scene/scene.hpp>
 
 #include <memory>
@@ -22,7 +22,7 @@
 
 namespace ldoem::motor {
 
-using protocol::SimTime;
+using base::SimTime;
 
 inline constexpr double kSpeedReachedTolerance = 0.01;  // D7: within 1 % of the target
 

@@ -6,7 +6,7 @@
 // nothing per time step (D9).
 #pragma once
 
-#include <ldoem/protocol/sim_time.hpp>
+#include <ldoem/base/sim_time.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -16,7 +16,7 @@
 
 namespace ldoem::motor {
 
-using protocol::SimTime;
+using base::SimTime;
 
 class TiltHistory {
  public:

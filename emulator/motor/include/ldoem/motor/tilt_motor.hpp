@@ -4,7 +4,7 @@
 #pragma once
 
 #include <ldoem/motor/tilt_history.hpp>
-#include <ldoem/protocol/sim_time.hpp>
+#include <ldoem/base/sim_time.hpp>
 #include <ldoem/scene/scene.hpp>
 
 #include <cstdint>
@@ -13,7 +13,7 @@
 
 namespace ldoem::motor {
 
-using protocol::SimTime;
+using base::SimTime;
 
 inline constexpr int kHalfStepsPerFullStep = 2;  // D8: full step = 200/turn, half step = 400/turn
 

@@ -21,7 +21,7 @@
 
 namespace ldoem::plant {
 
-using protocol::SimTime;
+using base::SimTime;
 
 // Head angle in encoder ticks (base::kTicksPerTurn per turn, spec 6) to radians.
 double head_ticks_to_rad(std::uint32_t angle_ticks);

@@ -13,11 +13,11 @@
 
 #include "ldoem/motor/tilt_motor.hpp"
 #include "ldoem/protocol/lpt.hpp"
-#include "ldoem/protocol/sim_time.hpp"
+#include "ldoem/base/sim_time.hpp"
 
 namespace ldoem::plant {
 
-using protocol::SimTime;
+using base::SimTime;
 
 // How far back tilt_at() can answer. A revolution lasts at most 200 ms (5 Hz, spec 6).
 inline constexpr SimTime kTiltHistorySpan = motor::TiltHistory::kDefaultSpan;

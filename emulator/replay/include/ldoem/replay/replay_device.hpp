@@ -20,12 +20,12 @@
 
 #include "ldoem/protocol/bytes.hpp"
 #include "ldoem/protocol/capture_conversation.hpp"
-#include "ldoem/protocol/sim_time.hpp"
+#include "ldoem/base/sim_time.hpp"
 
 namespace ldoem::replay {
 
 using protocol::Bytes;
-using protocol::SimTime;
+using base::SimTime;
 
 using protocol::Exchange;
 using protocol::RecordedAnswer;

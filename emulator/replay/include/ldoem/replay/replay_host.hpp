@@ -9,7 +9,7 @@
 #include <memory>
 #include <ostream>
 
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 #include "ldoem/replay/replay_device.hpp"
 #include "ldoem/replay/replay_options.hpp"
 
@@ -23,7 +23,7 @@ struct ReplayStartFailure {
 class ReplayHost {
  public:
   // Opens every endpoint the options name, prints their lines and `ready` on `out`.
-  static protocol::Expected<std::unique_ptr<ReplayHost>, ReplayStartFailure> create(
+  static base::Expected<std::unique_ptr<ReplayHost>, ReplayStartFailure> create(
       const ReplayOptions& options, ReplayDevice device, std::ostream& out, std::ostream& log);
   ~ReplayHost();
   ReplayHost(const ReplayHost&) = delete;

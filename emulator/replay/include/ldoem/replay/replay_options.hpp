@@ -11,7 +11,7 @@
 
 #include "ldoem/daemon/options.hpp"
 #include "ldoem/protocol/capture_conversation.hpp"
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 
 namespace ldoem::replay {
 
@@ -27,7 +27,7 @@ struct ReplayUsageError {
   std::string message;
 };
 
-[[nodiscard]] protocol::Expected<ReplayOptions, ReplayUsageError> parse_replay_options(
+[[nodiscard]] base::Expected<ReplayOptions, ReplayUsageError> parse_replay_options(
     std::span<const std::string_view> arguments);
 
 std::string replay_usage_text();

@@ -3,7 +3,7 @@
 // from yaml-cpp's Mark) and which key (`objects[2].box.size_m`). Nothing here throws.
 #pragma once
 
-#include "ldoem/protocol/expected.hpp"
+#include "ldoem/base/expected.hpp"
 #include "ldoem/scene/scene.hpp"
 
 #include <cstddef>
@@ -45,7 +45,7 @@ struct SceneError {
 
 std::string_view to_string(SceneErrorKind kind);
 
-using SceneResult = protocol::Expected<Scene, SceneError>;
+using SceneResult = base::Expected<Scene, SceneError>;
 
 // Limits on what one scene may ask for (docs/scenes.md): beyond them loading fails with
 // out_of_range (or io for the file size) instead of exhausting memory.

@@ -4,8 +4,8 @@
 
 #include <chrono>
 
-namespace ldoem::protocol {
+namespace ldoem::base {
 
 using SimTime = std::chrono::nanoseconds;
 
-}  // namespace ldoem::protocol
+}  // namespace ldoem::base

@@ -1,5 +1,6 @@
 // A value-or-error type shaped like C++23 std::expected, so that callers can switch to the
-// standard one later without rewriting. Decoders return it; nothing in protocol/ throws.
+// standard one later without rewriting. Decoders, parsers and the driver return it; nothing in
+// protocol/ throws.
 #pragma once
 
 #include <cassert>
@@ -7,7 +8,7 @@
 #include <utility>
 #include <variant>
 
-namespace ldoem::protocol {
+namespace ldoem::base {
 
 template <class E>
 class Unexpected {
@@ -55,4 +56,4 @@ class [[nodiscard]] Expected {
   std::variant<T, E> state_;
 };
 
-}  // namespace ldoem::protocol
+}  // namespace ldoem::base
