@@ -32,7 +32,7 @@ inline std::array<Eigen::Vector3d, 2> perpendicular_basis(const Eigen::Vector3d&
   return {first, direction.cross(first)};
 }
 
-// Casts one sub-ray per offset (at most kMaxSubrays) around `central` in one cast_many call.
+// Casts one sub-ray per offset (at most kMaxSubrays) around `central`, one RayCaster::cast each.
 inline void cast_footprint(const raycast::Ray& central, std::span<const Eigen::Vector2d> offsets,
                            const raycast::RayCaster& caster, FootprintCast& out) {
   out.count = std::min(offsets.size(), kMaxSubrays);
@@ -43,8 +43,7 @@ inline void cast_footprint(const raycast::Ray& central, std::span<const Eigen::V
     out.rays[i].direction =
         (central.direction + std::tan(offset.x()) * across + std::tan(offset.y()) * up).normalized();
   }
-  caster.cast_many(std::span<const raycast::Ray>(out.rays.data(), out.count),
-                   std::span<std::optional<raycast::Hit>>(out.hits.data(), out.count));
+  for (std::size_t i = 0; i < out.count; ++i) out.hits[i] = caster.cast(out.rays[i]);
 }
 
 }  // namespace ldoem::sensor::detail

@@ -7,7 +7,6 @@
 
 #include <cstdint>
 #include <optional>
-#include <span>
 
 namespace ldoem::raycast {
 
@@ -32,10 +31,6 @@ class RayCaster {
   virtual ~RayCaster() = default;
   // Nearest hit in (0, max_range_m], or nothing. Never NaN: invalid rays give nothing.
   virtual std::optional<Hit> cast(const Ray& ray) const = 0;
-  // Many rays at once; implementations may batch. Default: one by one.
-  virtual void cast_many(std::span<const Ray> rays, std::span<std::optional<Hit>> hits) const {
-    for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = cast(rays[i]);
-  }
 };
 
 }  // namespace ldoem::raycast
