@@ -1,7 +1,8 @@
 # ldoem_add_parts(): add every sub-folder of the current folder that has a CMakeLists.txt, in
 # name order. LDOEM_ONLY (a ;-list of paths relative to the top, e.g. "protocol;tests/protocol")
 # restricts the build to those folders and their parents: useful while one part is being worked
-# on and another one does not configure yet. Empty means everything.
+# on and another one does not configure yet. Empty means everything. Folders named in
+# LDOEM_PARTS_ALREADY_ADDED were added by the caller already.
 set(LDOEM_ONLY "" CACHE STRING "Build only these folders (paths relative to the source root)")
 
 function(ldoem_part_selected path out)
@@ -24,7 +25,7 @@ macro(ldoem_add_parts)
   file(GLOB _ldoem_children LIST_DIRECTORIES true RELATIVE ${CMAKE_CURRENT_SOURCE_DIR} ${CMAKE_CURRENT_SOURCE_DIR}/*)
   list(SORT _ldoem_children)
   foreach(_child ${_ldoem_children})
-    if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/${_child}/CMakeLists.txt)
+    if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/${_child}/CMakeLists.txt AND NOT _child IN_LIST LDOEM_PARTS_ALREADY_ADDED)
       file(RELATIVE_PATH _rel ${PROJECT_SOURCE_DIR} ${CMAKE_CURRENT_SOURCE_DIR}/${_child})
       ldoem_part_selected(${_rel} _selected)
       if(_selected)

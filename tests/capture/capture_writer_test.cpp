@@ -11,6 +11,7 @@
 #include "ldoem/capture/capture_writer.hpp"
 #include "ldoem/protocol/pcapng.hpp"
 #include "ldoem/protocol/tcp_framing.hpp"
+#include "ldoem/test_support/temp_dir.hpp"
 
 namespace ldoem::capture {
 namespace {
@@ -19,19 +20,7 @@ namespace fs = std::filesystem;
 using protocol::Bytes;
 using std::chrono::milliseconds;
 
-class TempDir {
- public:
-  TempDir() : path_(fs::temp_directory_path() / ("ldoem-capture-" + std::to_string(::getpid()) + "-" +
-                                                   ::testing::UnitTest::GetInstance()->current_test_info()->name())) {
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  fs::path operator/(const std::string& name) const { return path_ / name; }
-
- private:
-  fs::path path_;
-};
+using test_support::TempDir;
 
 Bytes file_bytes(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -46,14 +35,14 @@ Bytes profile_like_payload(std::size_t size) {
 
 TEST(CaptureWriter, EveryRecord_IsOnDiskWhenTheCallReturns) {
   TempDir dir;
-  auto writer = CaptureWriter::open({dir / "c.pcapng"});
+  auto writer = CaptureWriter::open({dir.folder() / "c.pcapng"});
   ASSERT_TRUE(writer.has_value()) << writer.error();
-  const auto header_size = file_bytes(dir / "c.pcapng").size();
+  const auto header_size = file_bytes(dir.folder() / "c.pcapng").size();
   EXPECT_GT(header_size, 0u);
   ASSERT_EQ((*writer)->write_can(milliseconds(5), *protocol::make_can_frame(0x6C0, Bytes{0x02, 0x01, 0x02}),
                                  WireDirection::host_to_device), "");
   // No close, no destructor: the bytes are already in the file (a crash loses nothing written).
-  const auto packets = protocol::decode_pcapng(file_bytes(dir / "c.pcapng"));
+  const auto packets = protocol::decode_pcapng(file_bytes(dir.folder() / "c.pcapng"));
   ASSERT_TRUE(packets.has_value());
   ASSERT_EQ(packets->size(), 1u);
   EXPECT_EQ((*packets)[0].link_type, protocol::LinkType::can_socketcan);
@@ -63,7 +52,7 @@ TEST(CaptureWriter, EveryRecord_IsOnDiskWhenTheCallReturns) {
 
 TEST(CaptureWriter, TcpTelegrams_AreSynthesizedSegmentsThatReassembleToTheSamePayloads) {
   TempDir dir;
-  auto writer = CaptureWriter::open({dir / "t.pcapng"});
+  auto writer = CaptureWriter::open({dir.folder() / "t.pcapng"});
   ASSERT_TRUE(writer.has_value());
   const Bytes request{0x03, 0x01, 0x00, 0x00, 0x39, 0xFF};
   const Bytes reply = profile_like_payload(5000);  // four segments of at most 1460 bytes
@@ -71,7 +60,7 @@ TEST(CaptureWriter, TcpTelegrams_AreSynthesizedSegmentsThatReassembleToTheSamePa
   ASSERT_EQ((*writer)->write_tcp(milliseconds(2), 0, WireDirection::device_to_host, protocol::encode_tcp_frame(reply)), "");
   ASSERT_EQ((*writer)->write_tcp(milliseconds(3), 1, WireDirection::host_to_device, protocol::encode_tcp_frame(request)), "");
   ASSERT_EQ((*writer)->close_tcp(milliseconds(4), 0), "");
-  const auto packets = read_capture_packets(dir / "t.pcapng");
+  const auto packets = read_capture_packets(dir.folder() / "t.pcapng");
   ASSERT_TRUE(packets.has_value()) << packets.error();
   // Handshake (3) + request (1) + reply (4) + second connection's handshake (3) + request (1) + FIN (2).
   EXPECT_EQ(packets->packets.size(), 14u);
@@ -79,7 +68,7 @@ TEST(CaptureWriter, TcpTelegrams_AreSynthesizedSegmentsThatReassembleToTheSamePa
     const auto& segment = std::get<protocol::TcpSegment>(packet.payload);
     EXPECT_LE(segment.payload.size(), kSynthesizedSegmentBytes);
   }
-  const auto conversation = read_capture_conversation(dir / "t.pcapng");
+  const auto conversation = read_capture_conversation(dir.folder() / "t.pcapng");
   ASSERT_TRUE(conversation.has_value());
   const auto& telegrams = conversation->conversation.telegrams;
   ASSERT_EQ(telegrams.size(), 3u);
@@ -93,38 +82,38 @@ TEST(CaptureWriter, TcpTelegrams_AreSynthesizedSegmentsThatReassembleToTheSamePa
 
 TEST(CaptureWriter, SizeCap_RotatesAndKeepsAtMostMaxFiles) {
   TempDir dir;
-  auto writer = CaptureWriter::open({dir / "r.pcapng", 4096, 3});
+  auto writer = CaptureWriter::open({dir.folder() / "r.pcapng", 4096, 3});
   ASSERT_TRUE(writer.has_value());
   const Bytes frame = protocol::encode_tcp_frame(profile_like_payload(1000));
   for (int i = 0; i < 20; ++i) {
     ASSERT_EQ((*writer)->write_tcp(milliseconds(i), 0, WireDirection::device_to_host, frame), "");
   }
   EXPECT_GT((*writer)->counters().rotations, 2u);
-  EXPECT_TRUE(fs::exists(dir / "r.pcapng"));
-  EXPECT_TRUE(fs::exists(dir / "r.pcapng.1"));
-  EXPECT_TRUE(fs::exists(dir / "r.pcapng.2"));
-  EXPECT_FALSE(fs::exists(dir / "r.pcapng.3"));
+  EXPECT_TRUE(fs::exists(dir.folder() / "r.pcapng"));
+  EXPECT_TRUE(fs::exists(dir.folder() / "r.pcapng.1"));
+  EXPECT_TRUE(fs::exists(dir.folder() / "r.pcapng.2"));
+  EXPECT_FALSE(fs::exists(dir.folder() / "r.pcapng.3"));
   for (const char* name : {"r.pcapng", "r.pcapng.1", "r.pcapng.2"}) {
-    EXPECT_LE(fs::file_size(dir / name), 4096u) << name;
+    EXPECT_LE(fs::file_size(dir.folder() / name), 4096u) << name;
     // Each file stands alone: its own header, a handshake, and whole telegrams.
-    const auto conversation = read_capture_conversation(dir / name);
+    const auto conversation = read_capture_conversation(dir.folder() / name);
     ASSERT_TRUE(conversation.has_value()) << name << ": " << conversation.error();
     EXPECT_FALSE(conversation->conversation.telegrams.empty()) << name;
     EXPECT_EQ(conversation->conversation.counters.tcp_gaps, 0u) << name;
   }
   // The newest file holds the newest record.
-  const auto newest = read_capture_conversation(dir / "r.pcapng");
+  const auto newest = read_capture_conversation(dir.folder() / "r.pcapng");
   EXPECT_EQ(newest->conversation.telegrams.back().time, milliseconds(19));
 }
 
 TEST(CaptureWriter, SerialAndLpt_RoundTripWithDirection) {
   TempDir dir;
-  auto writer = CaptureWriter::open({dir / "s.pcapng"});
+  auto writer = CaptureWriter::open({dir.folder() / "s.pcapng"});
   ASSERT_TRUE(writer.has_value());
   const Bytes line{0x02, 0x30, 0x03};
   ASSERT_EQ((*writer)->write_serial(milliseconds(1), WireDirection::device_to_host, line), "");
   ASSERT_EQ((*writer)->write_lpt(milliseconds(2), Bytes{0x02, 0x03}), "");
-  const auto packets = read_capture_packets(dir / "s.pcapng");
+  const auto packets = read_capture_packets(dir.folder() / "s.pcapng");
   ASSERT_TRUE(packets.has_value());
   ASSERT_EQ(packets->packets.size(), 2u);
   EXPECT_EQ(std::get<protocol::SerialChunk>(packets->packets[0].payload),
@@ -149,7 +138,7 @@ namespace {
 
 TEST(TelegramRecorder, EveryTransport_ReadsBackAsTheSameTelegrams) {
   TempDir dir;
-  auto writer = CaptureWriter::open({dir / "rec.pcapng"});
+  auto writer = CaptureWriter::open({dir.folder() / "rec.pcapng"});
   ASSERT_TRUE(writer.has_value());
   TelegramRecorder recorder(**writer);
   const Bytes request{0x03, 0x01, 0x00, 0x00, 0x3D, 0xFF};
@@ -159,7 +148,7 @@ TEST(TelegramRecorder, EveryTransport_ReadsBackAsTheSameTelegrams) {
     ASSERT_EQ(recorder.record(milliseconds(1), transport, 0, WireDirection::host_to_device, request), "");
     ASSERT_EQ(recorder.record(milliseconds(2), transport, 0, WireDirection::device_to_host, long_reply), "");
   }
-  const auto conversation = read_capture_conversation(dir / "rec.pcapng");
+  const auto conversation = read_capture_conversation(dir.folder() / "rec.pcapng");
   ASSERT_TRUE(conversation.has_value()) << conversation.error();
   const auto& telegrams = conversation->conversation.telegrams;
   ASSERT_EQ(telegrams.size(), 6u);

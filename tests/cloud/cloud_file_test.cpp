@@ -9,23 +9,18 @@
 #include <fstream>
 
 #include "ldoem/cloud/cloud_file.hpp"
+#include "ldoem/test_support/temp_dir.hpp"
 
 namespace ldoem::cloud {
 namespace {
 
 class CloudFileWrite : public ::testing::Test {
  protected:
-  void SetUp() override {
-    folder_ = std::filesystem::temp_directory_path() /
-              ("ldoem-cloud-file-" + std::to_string(::getpid()) + "-" +
-               ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::create_directories(folder_);
-  }
-  void TearDown() override { std::filesystem::remove_all(folder_); }
   std::size_t entries() const {
     return static_cast<std::size_t>(std::distance(std::filesystem::directory_iterator(folder_), {}));
   }
-  std::filesystem::path folder_;
+  test_support::TempDir dir_;
+  const std::filesystem::path folder_ = dir_.folder();
 };
 
 TEST_F(CloudFileWrite, ReplacesTheFileWithoutTruncatingItInPlace) {

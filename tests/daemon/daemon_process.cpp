@@ -136,22 +136,6 @@ std::string DaemonProcess::stderr_text() const {
   return text.str();
 }
 
-TempDir::TempDir() {
-  char name[] = "/tmp/ldoem-daemon-test-XXXXXX";
-  dir_ = ::mkdtemp(name) ? name : "/tmp";
-}
-
-TempDir::~TempDir() {
-  std::error_code ignored;
-  if (dir_ != "/tmp") std::filesystem::remove_all(dir_, ignored);
-}
-
-std::string TempDir::write(const std::string& name, const std::string& text) const {
-  const std::string file = path(name);
-  std::ofstream(file) << text;
-  return file;
-}
-
 std::string minimal_scene_text() {
   return "objects:\n"
          "  - name: wall\n"

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "ldoem/test_support/temp_dir.hpp"
+
 namespace ldoem::daemon::test {
 
 class DaemonProcess {
@@ -52,19 +54,8 @@ class DaemonProcess {
   std::optional<int> exit_status_;
 };
 
-// A scene file for a test: written into a fresh temporary folder that is removed at the end.
-class TempDir {
- public:
-  TempDir();
-  ~TempDir();
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  std::string path(const std::string& name) const { return dir_ + "/" + name; }
-  std::string write(const std::string& name, const std::string& text) const;
-
- private:
-  std::string dir_;
-};
+// Scene files for a test go into a fresh temporary folder that is removed at the end.
+using test_support::TempDir;
 
 // The minimal scene (one wall 5 m ahead, D9 no effects), as text.
 std::string minimal_scene_text();

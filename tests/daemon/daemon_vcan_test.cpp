@@ -11,6 +11,7 @@
 #include "isotp_host.hpp"
 #include "ldoem/endpoints/isotp_channel.hpp"
 #include "ldoem/io/can_interface.hpp"
+#include "ldoem/test_support/require_vcan.hpp"
 #include "ldoem/io/can_socket.hpp"
 #include "ldoem/io/event_loop.hpp"
 #include "ldoem/protocol/profile.hpp"
@@ -19,13 +20,6 @@ namespace ldoem::daemon::test {
 namespace {
 
 using namespace std::chrono_literals;
-
-#define LDOEM_REQUIRE_VCAN0()                                                                       \
-  do {                                                                                              \
-    auto vcan = io::check_can_interface("vcan0");                                                   \
-    ASSERT_TRUE(vcan) << vcan.error().message()                                                     \
-                      << " (vcan tests run inside UML: scripts/uml/run.sh -- ctest -L vcan)";       \
-  } while (false)
 
 struct CanDaemon {
   TempDir dir;

@@ -10,20 +10,15 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include "ldoem/test_support/temp_dir.hpp"
 
 namespace ldoem::daemon {
 namespace {
 
 class FlashFile : public ::testing::Test {
  protected:
-  void SetUp() override {
-    folder_ = std::filesystem::temp_directory_path() /
-              ("ldoem-flash-" + std::to_string(::getpid()) + "-" +
-               ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::create_directories(folder_);
-  }
-  void TearDown() override { std::filesystem::remove_all(folder_); }
-  std::filesystem::path folder_;
+  test_support::TempDir dir_;
+  const std::filesystem::path folder_ = dir_.folder();
 };
 
 TEST_F(FlashFile, SaveReplacesTheImageAndLeavesNoTemporaryFile) {

@@ -28,32 +28,6 @@ int exit_status_of(int wait_status) {
 
 }  // namespace
 
-TempDir::TempDir() {
-  std::string pattern = "/tmp/ldoem-e2e.XXXXXX";
-  if (mkdtemp(pattern.data()) == nullptr) {
-    throw std::runtime_error("mkdtemp failed");  // test set-up only: gtest reports it
-  }
-  dir_ = pattern;
-}
-
-TempDir::~TempDir() {
-  std::error_code ignored;
-  std::filesystem::remove_all(dir_, ignored);
-}
-
-std::string TempDir::write(const std::string& name, const std::string& text) const {
-  const std::string file = path(name);
-  std::ofstream(file, std::ios::binary) << text;
-  return file;
-}
-
-std::string read_file(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::ostringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
-
 std::optional<ChildProcess> ChildProcess::start(const std::string& program, const std::vector<std::string>& arguments,
                                                 const std::string& log_prefix,
                                                 const std::vector<std::string>& environment) {

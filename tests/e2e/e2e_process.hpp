@@ -11,22 +11,12 @@
 #include <string>
 #include <vector>
 
+#include "ldoem/test_support/temp_dir.hpp"
+
 namespace ldoem::e2e {
 
-// A fresh folder under /tmp, removed with everything in it at the end.
-class TempDir {
- public:
-  TempDir();
-  ~TempDir();
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  std::string path(const std::string& name) const { return dir_ + "/" + name; }
-  // Writes `text` to path(name) and returns that path.
-  std::string write(const std::string& name, const std::string& text) const;
-
- private:
-  std::string dir_;
-};
+using test_support::read_file;
+using test_support::TempDir;
 
 class ChildProcess {
  public:
@@ -61,8 +51,5 @@ class ChildProcess {
   std::string log_prefix_;
   std::optional<int> exit_status_;
 };
-
-// The whole text of a file (empty when it cannot be read).
-std::string read_file(const std::string& path);
 
 }  // namespace ldoem::e2e

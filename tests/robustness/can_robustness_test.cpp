@@ -8,19 +8,13 @@
 
 #include "isotp_host.hpp"
 #include "ldoem/io/can_interface.hpp"
+#include "ldoem/test_support/require_vcan.hpp"
 #include "robustness.hpp"
 
 namespace ldoem::daemon::test {
 namespace {
 
 using namespace std::chrono_literals;
-
-#define LDOEM_REQUIRE_VCAN0()                                                                 \
-  do {                                                                                        \
-    auto vcan = io::check_can_interface("vcan0");                                             \
-    ASSERT_TRUE(vcan) << vcan.error().message()                                               \
-                      << " (vcan tests run inside UML: scripts/uml/run.sh -- ctest -L vcan)"; \
-  } while (false)
 
 const Bytes kFirmwareName{0x81, 0x01, 'l', 'd', 'o', 'e', 'm', '-', 'e', 'm', 'u', 'd'};  // D3
 

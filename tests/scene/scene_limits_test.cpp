@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include <unistd.h>
+#include "ldoem/test_support/temp_dir.hpp"
 
 namespace ldoem::scene {
 namespace {
@@ -16,15 +17,9 @@ const std::filesystem::path kScenes = std::filesystem::path(LDOEM_SOURCE_DIR) / 
 
 class SceneLimits : public ::testing::Test {
  protected:
-  void SetUp() override {
-    folder_ = std::filesystem::temp_directory_path() /
-              ("ldoem-scene-limits-" + std::to_string(::getpid()) + "-" +
-               ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::create_directories(folder_);
-  }
-  void TearDown() override { std::filesystem::remove_all(folder_); }
   void write(const std::string& name, const std::string& text) { std::ofstream(folder_ / name) << text; }
-  std::filesystem::path folder_;
+  test_support::TempDir dir_;
+  const std::filesystem::path folder_ = dir_.folder();
 };
 
 TEST_F(SceneLimits, FaceIndexingAMissingVertex_IsAMeshError) {
