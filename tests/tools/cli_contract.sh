@@ -99,6 +99,22 @@ case $name in
     expect_exit 0 --list --tcp 127.0.0.1:1 --filter 'tcp/*' --filter 'x'
     expect_exit 1 --tcp 127.0.0.1:1 --timeout 1 --filter 'tcp/vectors/*'
     ;;
+  ldoem-replay)
+    expect_exit 2
+    expect_exit 2 --tcp
+    expect_exit 2 --tcp 127.0.0.1:0
+    expect_exit 2 scan.pcapng
+    expect_exit 2 a.pcapng b.pcapng --tcp 127.0.0.1:0
+    expect_exit 2 scan.pcapng --tcp 127.0.0.1:0 --speed 0
+    expect_exit 2 scan.pcapng --tcp=127.0.0.1:0 --timeout=-1
+    expect_exit 2 scan.pcapng --serial /dev/null
+    expect_exit 2 scan.pcapng --tcp 127.0.0.1:0 --can-ids 6C0:6C1
+    expect_exit 2 scan.pcapng --tcp 127.0.0.1:0 --transport usb
+    expect_exit 2 scan.pcapng --tcp h:70000
+    # A good command line, but the capture cannot be read: exit 2 with the file named.
+    expect_exit 2 "$work/missing.pcapng" --tcp 127.0.0.1:0 --timeout 1
+    grep -q "missing.pcapng" "$work/err" || fail "an unreadable capture is not named: $(cat "$work/err")"
+    ;;
   ldoem-emud)
     expect_exit 0 --version
     expect_exit 0 --help --time-scale 0  # --help and --version first win over later problems

@@ -15,6 +15,10 @@ int main(int argc, char** argv) {
     std::cerr << "ldoem-replay: " << options.error().message << '\n';
     return 2;
   }
+  if (options->completion_script) {
+    std::cout << *options->completion_script;
+    return 0;
+  }
   if (options->help) {
     std::cout << replay::replay_usage_text();
     return 0;

@@ -1,22 +1,84 @@
 #include "ldoem/replay/replay_options.hpp"
 
-#include <charconv>
-#include <cmath>
+#include "ldoem/base/command_line.hpp"
+#include "ldoem/base/numbers.hpp"
 
 namespace ldoem::replay {
 namespace {
 
-base::Unexpected<ReplayUsageError> usage(std::string message) {
-  return base::Unexpected(ReplayUsageError{std::move(message)});
+// A number of seconds or a speed factor: finite and above 0.
+std::optional<double> parse_positive(std::string_view text) {
+  const auto value = base::parse_double(text);
+  if (!value || *value <= 0) return std::nullopt;
+  return value;
 }
 
-std::optional<double> parse_positive(std::string_view text) {
-  double value = 0;
-  const auto result = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (result.ec != std::errc{} || result.ptr != text.data() + text.size() || !std::isfinite(value) || value <= 0) {
+// What one option does with one value; nothing when it is taken, else the reason ("--speed:
+// ..."). Runs once per occurrence, in command-line order.
+struct Reader {
+  ReplayOptions& options;
+  bool any_endpoint = false;
+
+  std::optional<std::string> apply(std::string_view name, const std::string& text) {
+    if (name == "--tcp") {
+      auto tcp = daemon::parse_tcp_option(text);
+      if (!tcp) return tcp.error().message;
+      options.endpoints.tcp = *tcp;
+      any_endpoint = true;
+    } else if (name == "--serial") {
+      if (!text.starts_with("pty:") || text.size() == 4) return "--serial: expected pty:PATH, got `" + text + "`";
+      options.endpoints.serial_pty = text.substr(4);
+      any_endpoint = true;
+    } else if (name == "--can") {
+      if (text.empty()) return std::string("--can: empty interface name");
+      options.endpoints.can_interface = text;
+      any_endpoint = true;
+    } else if (name == "--can-ids") {
+      auto pair = daemon::parse_can_id_pair(text);
+      if (!pair) return pair.error().message;
+      options.endpoints.can_id_pairs.push_back(*pair);
+    } else if (name == "--lpt") {
+      if (text.starts_with("pty:") && text.size() > 4) {
+        options.endpoints.lpt = daemon::LptOption{daemon::LptBackend::pty, text.substr(4)};
+      } else if (text.starts_with("gpio:") && text.size() > 5) {
+        options.endpoints.lpt = daemon::LptOption{daemon::LptBackend::gpio, text.substr(5)};
+      } else {
+        return "--lpt: expected pty:PATH or gpio:CHIP, got `" + text + "`";
+      }
+    } else if (name == "--speed") {
+      const auto speed = parse_positive(text);
+      // The daemon's --time-scale range: recorded delay / speed stays a representable int64 ns.
+      if (!speed || !(*speed >= daemon::kMinTimeScale && *speed <= daemon::kMaxTimeScale)) {
+        return "--speed: must be a number from 1e-6 to 1e6, got `" + text + "`";
+      }
+      options.speed = *speed;
+    } else if (name == "--transport") {
+      if (text == "tcp") options.transport = protocol::WireTransport::tcp;
+      else if (text == "serial") options.transport = protocol::WireTransport::serial;
+      else if (text == "can") options.transport = protocol::WireTransport::can;
+      else return "--transport: must be tcp, serial or can, got `" + text + "`";
+    } else if (name == "--timeout") {
+      const auto seconds = parse_positive(text);
+      if (!seconds || *seconds > daemon::kMaxTimeoutSeconds) {
+        return "--timeout: must be seconds > 0 and at most 1e9, got `" + text + "`";
+      }
+      options.endpoints.timeout_s = *seconds;
+    } else if (name == "--log-level") {
+      if (text == "error") options.endpoints.log_level = daemon::LogLevel::error;
+      else if (text == "warn") options.endpoints.log_level = daemon::LogLevel::warn;
+      else if (text == "info") options.endpoints.log_level = daemon::LogLevel::info;
+      else if (text == "debug") options.endpoints.log_level = daemon::LogLevel::debug;
+      else return "--log-level: must be error, warn, info or debug, got `" + text + "`";
+    }
     return std::nullopt;
   }
-  return value;
+};
+
+constexpr std::string_view kValueOptions[] = {"--tcp",   "--serial",    "--can",     "--can-ids",  "--lpt",
+                                             "--speed", "--transport", "--timeout", "--log-level"};
+
+base::Unexpected<ReplayUsageError> usage(std::string message) {
+  return base::Unexpected(ReplayUsageError{std::move(message)});
 }
 
 }  // namespace
@@ -25,85 +87,33 @@ base::Expected<ReplayOptions, ReplayUsageError> parse_replay_options(std::span<c
   ReplayOptions options;
   options.endpoints.can_interface.reset();  // CAN only when asked for
   options.endpoints.flash_mode = daemon::FlashMode::memory;
-  bool any_endpoint = false;
-  for (std::size_t i = 0; i < arguments.size(); ++i) {
-    std::string_view argument = arguments[i];
-    if (argument == "--help" || argument == "-h") {
-      options.help = true;
-      continue;
-    }
-    if (!argument.starts_with("-")) {
-      if (!options.capture.empty()) return usage("more than one CAPTURE given: `" + std::string(argument) + "`");
-      options.capture = std::string(argument);
-      continue;
-    }
-    std::string_view name = argument;
-    std::optional<std::string_view> value;
-    if (const std::size_t equals = argument.find('='); equals != std::string_view::npos) {
-      name = argument.substr(0, equals);
-      value = argument.substr(equals + 1);
-    }
-    if (!value) {
-      if (i + 1 >= arguments.size()) return usage(std::string(name) + ": needs a value");
-      value = arguments[++i];
-    }
-    const std::string text(*value);
-    if (name == "--tcp") {
-      auto tcp = daemon::parse_tcp_option(text);
-      if (!tcp) return usage(tcp.error().message);
-      options.endpoints.tcp = *tcp;
-      any_endpoint = true;
-    } else if (name == "--serial") {
-      if (!text.starts_with("pty:") || text.size() == 4) return usage("--serial: expected pty:PATH, got `" + text + "`");
-      options.endpoints.serial_pty = text.substr(4);
-      any_endpoint = true;
-    } else if (name == "--can") {
-      if (text.empty()) return usage("--can: empty interface name");
-      options.endpoints.can_interface = text;
-      any_endpoint = true;
-    } else if (name == "--can-ids") {
-      auto pair = daemon::parse_can_id_pair(text);
-      if (!pair) return usage(pair.error().message);
-      options.endpoints.can_id_pairs.push_back(*pair);
-    } else if (name == "--lpt") {
-      if (text.starts_with("pty:") && text.size() > 4) {
-        options.endpoints.lpt = daemon::LptOption{daemon::LptBackend::pty, text.substr(4)};
-      } else if (text.starts_with("gpio:") && text.size() > 5) {
-        options.endpoints.lpt = daemon::LptOption{daemon::LptBackend::gpio, text.substr(5)};
-      } else {
-        return usage("--lpt: expected pty:PATH or gpio:CHIP, got `" + text + "`");
-      }
-    } else if (name == "--speed") {
-      const auto speed = parse_positive(text);
-      // The daemon's --time-scale range: recorded delay / speed stays a representable int64 ns.
-      if (!speed || !(*speed >= daemon::kMinTimeScale && *speed <= daemon::kMaxTimeScale)) {
-        return usage("--speed: must be a number from 1e-6 to 1e6, got `" + text + "`");
-      }
-      options.speed = *speed;
-    } else if (name == "--transport") {
-      if (text == "tcp") options.transport = protocol::WireTransport::tcp;
-      else if (text == "serial") options.transport = protocol::WireTransport::serial;
-      else if (text == "can") options.transport = protocol::WireTransport::can;
-      else return usage("--transport: must be tcp, serial or can, got `" + text + "`");
-    } else if (name == "--timeout") {
-      const auto seconds = parse_positive(text);
-      if (!seconds || *seconds > daemon::kMaxTimeoutSeconds) {
-        return usage("--timeout: must be seconds > 0 and at most 1e9, got `" + text + "`");
-      }
-      options.endpoints.timeout_s = *seconds;
-    } else if (name == "--log-level") {
-      if (text == "error") options.endpoints.log_level = daemon::LogLevel::error;
-      else if (text == "warn") options.endpoints.log_level = daemon::LogLevel::warn;
-      else if (text == "info") options.endpoints.log_level = daemon::LogLevel::info;
-      else if (text == "debug") options.endpoints.log_level = daemon::LogLevel::debug;
-      else return usage("--log-level: must be error, warn, info or debug, got `" + text + "`");
-    } else {
-      return usage("unknown option `" + std::string(name) + "` (try --help)");
-    }
+  Reader reader{options};
+  base::CommandLine command_line("ldoem-replay");
+  CLI::App& app = command_line.app();
+  for (const std::string_view option : kValueOptions) {
+    // Every value is applied in turn: --can-ids adds a pair each time, the others keep the last.
+    const std::string name(option);
+    app.add_option_function<std::vector<std::string>>(name, [&reader, name](const std::vector<std::string>& values) {
+         for (const std::string& value : values) {
+           if (auto problem = reader.apply(name, value)) throw CLI::ValidationError(*problem);
+         }
+       })
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+        ->allow_extra_args(false);  // one value per occurrence
   }
+  std::vector<std::string> captures;
+  app.add_option("CAPTURE", captures)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  if (auto problem = command_line.parse(arguments)) return usage(*problem);
+  if (command_line.completion_requested()) {
+    options.completion_script = command_line.completion_script();
+    return options;
+  }
+  options.help = command_line.help_requested();
   if (options.help) return options;
-  if (options.capture.empty()) return usage("no CAPTURE given (try --help)");
-  if (!any_endpoint) return usage("no endpoint: give --tcp HOST[:PORT], --serial pty:PATH or --can IF");
+  if (captures.size() > 1) return usage("more than one CAPTURE given: `" + captures[1] + "`");
+  if (captures.empty()) return usage("no CAPTURE given (try --help)");
+  options.capture = captures.front();
+  if (!reader.any_endpoint) return usage("no endpoint: give --tcp HOST[:PORT], --serial pty:PATH or --can IF");
   if (!options.endpoints.can_id_pairs.empty() && !options.endpoints.can_interface) return usage("--can-ids: only with --can");
   return options;
 }

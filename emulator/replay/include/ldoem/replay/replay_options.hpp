@@ -1,6 +1,7 @@
-// The command line of ldoem-replay (docs/replay.md), parsed by a pure function. Endpoint options
-// are the daemon's (docs/emulator.md): --tcp HOST[:PORT], --serial pty:PATH, --can IF with
-// --can-ids REQ:RESP, --lpt pty:PATH | gpio:CHIP (writes accepted and counted, not replayed).
+// The command line of ldoem-replay (docs/replay.md), parsed by a pure function on CLI11
+// (base/command_line.hpp) like the other tools'. Endpoint options are the daemon's
+// (docs/emulator.md): --tcp HOST[:PORT], --serial pty:PATH, --can IF with --can-ids REQ:RESP,
+// --lpt pty:PATH | gpio:CHIP (writes accepted and counted, not replayed).
 #pragma once
 
 #include <filesystem>
@@ -21,6 +22,7 @@ struct ReplayOptions {
   double speed = 1.0;         // recorded seconds per replayed second
   std::optional<protocol::WireTransport> transport;  // which recorded transport; default: busiest
   bool help = false;
+  std::optional<std::string> completion_script;  // --completion bash (base/command_line.hpp)
 };
 
 struct ReplayUsageError {
