@@ -3,17 +3,20 @@
 #
 # Usage:
 #   run-against-daemon.sh --daemon EMUD --suite SUITE --scene FILE --transport tcp|serial|can
-#                         [--time-scale X] [--timeout SECONDS] [--can-if IF] [-- SUITE-ARGS...]
+#                         [--time-scale X | --virtual-time] [--timeout SECONDS] [--can-if IF]
+#                         [-- SUITE-ARGS...]
 #   tcp:    the daemon listens on 127.0.0.1, port 0 (a free port it prints), --no-can
 #   serial: the daemon's serial pty is symlinked in a temporary folder, --no-can
 #   can:    the daemon and the suite use IF (default vcan0): run inside scripts/uml/run.sh
 # The daemon always runs with --no-flash, so every run starts from the D4 power-up defaults.
+# --virtual-time runs the daemon's clock virtually (ldoem-emud --virtual-time) and tells the suite
+# so: device-clock values are then exact, and nothing is judged on the wall clock.
 # --timeout bounds the whole suite run (default 480 s); the daemon gets 10 s to say "ready".
 # Exit status: the suite's (0 all passed, 1 a case failed, 2 usage); 3 when the daemon did not
 # start; 124 when the suite timed out.
 set -uo pipefail
 
-daemon="" suite="" scene="" transport="" time_scale=10 timeout_s=480 can_if=vcan0
+daemon="" suite="" scene="" transport="" time_scale=10 timeout_s=480 can_if=vcan0 clock=()
 while (($#)); do
   case "$1" in
     --daemon) daemon=$2; shift 2 ;;
@@ -21,6 +24,7 @@ while (($#)); do
     --scene) scene=$2; shift 2 ;;
     --transport) transport=$2; shift 2 ;;
     --time-scale) time_scale=$2; shift 2 ;;
+    --virtual-time) clock=(--virtual-time); shift ;;
     --timeout) timeout_s=$2; shift 2 ;;
     --can-if) can_if=$2; shift 2 ;;
     --) shift; break ;;
@@ -44,7 +48,7 @@ trap stop_daemon EXIT
 trap 'exit 130' INT
 trap 'exit 143' TERM
 
-daemon_args=(--scene "$scene" --no-flash --time-scale "$time_scale")
+daemon_args=(--scene "$scene" --no-flash --time-scale "$time_scale" "${clock[@]}")
 case "$transport" in
   tcp) daemon_args+=(--no-can --tcp 127.0.0.1:0) ;;
   serial) daemon_args+=(--no-can --serial "pty:$work/serial") ;;
@@ -74,8 +78,9 @@ case "$transport" in
 esac
 
 echo "ldoem-emud ${daemon_args[*]}"
-echo "ldoem-conformance ${suite_args[*]} --target emulator --time-scale $time_scale $*"
-timeout --kill-after=5 "$timeout_s" "$suite" "${suite_args[@]}" --target emulator --time-scale "$time_scale" "$@"
+echo "ldoem-conformance ${suite_args[*]} --target emulator --time-scale $time_scale ${clock[*]} $*"
+timeout --kill-after=5 "$timeout_s" "$suite" "${suite_args[@]}" --target emulator --time-scale "$time_scale" \
+  "${clock[@]}" "$@"
 status=$?
 if ((status != 0)) && [[ -s $work/daemon.err ]]; then
   echo "--- ldoem-emud stderr (last 20 lines) ---"

@@ -26,6 +26,7 @@ std::vector<Case> all_cases(const VectorTable& vectors) {
   add_conversation_cases(cases);
   add_failure_cases(cases);
   add_state_cases(cases);
+  add_s1_cases(cases);
   add_timing_cases(cases);
   return cases;
 }

@@ -36,6 +36,7 @@ void add_vector_cases(std::vector<Case>& cases, const VectorTable& vectors);
 void add_conversation_cases(std::vector<Case>& cases);
 void add_failure_cases(std::vector<Case>& cases);
 void add_state_cases(std::vector<Case>& cases);
+void add_s1_cases(std::vector<Case>& cases);
 void add_timing_cases(std::vector<Case>& cases);
 
 std::vector<Case> all_cases(const VectorTable& vectors);
