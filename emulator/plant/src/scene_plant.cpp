@@ -46,8 +46,8 @@ std::variant<double, std::string> SceneWorld::remove_object(std::string_view nam
   return moving_caster_->remove_object(name, at_s);
 }
 
-ScenePlant::ScenePlant(const scene::Scene& scene, SceneWorld& world)
-    : sensor_(scene, world.caster()),
+ScenePlant::ScenePlant(const scene::Scene& scene, SceneWorld& world, std::optional<std::uint32_t> own_housing)
+    : sensor_(scene, world.caster(), own_housing.value_or(raycast::kNoObject)),
       tilt_(std::make_unique<TiltPlate>(motor::make_tilt_motor(scene))),
       head_(scene.scanner.head) {
   board_.emplace(*tilt_);

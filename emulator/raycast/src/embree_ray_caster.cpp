@@ -59,6 +59,7 @@ struct CastContext {
   RTCIntersectContext embree;
   const detail::CheckedRay* ray = nullptr;
   std::optional<detail::Contact> best;
+  unsigned ignored_primitive = RTC_INVALID_GEOMETRY_ID;  // the Embree primID of Ray::ignored_object
 };
 
 struct PrimitiveSet {
@@ -91,6 +92,7 @@ void primitive_bounds(const RTCBoundsFunctionArguments* args) {
 void primitive_intersect(const RTCIntersectFunctionNArguments* args) {
   if (args->N != 1 || args->valid[0] == 0) return;  // only rtcIntersect1 is used
   auto* context = reinterpret_cast<CastContext*>(args->context);
+  if (args->primID == context->ignored_primitive) return;
   const auto* set = static_cast<const PrimitiveSet*>(args->geometryUserPtr);
   const auto hit = detail::intersect(set->shapes[args->primID], *context->ray);
   if (!hit || (context->best && !detail::nearer(*hit, *context->best))) return;
@@ -139,6 +141,7 @@ struct EmbreeRayCaster::Impl {
   unsigned primitive_geom_id = RTC_INVALID_GEOMETRY_ID;
   std::vector<MeshRecord> meshes;
   std::vector<int> mesh_by_geom_id;  // Embree geomID -> index in meshes, or -1
+  std::vector<unsigned> primitive_by_object;  // Scene::objects index -> primID (invalid: not a primitive)
 
   explicit Impl(const OdeWorld& w) : world(w) {}
   ~Impl() {
@@ -177,6 +180,8 @@ Bounds EmbreeRayCaster::Impl::collect_geometry() {
     dGeomGetAABB(world.geom(i), aabb);
     scene_bounds.extend(Eigen::Vector3d(aabb[0], aabb[2], aabb[4]));
     scene_bounds.extend(Eigen::Vector3d(aabb[1], aabb[3], aabb[5]));
+    if (primitive_by_object.size() <= i) primitive_by_object.resize(i + 1, RTC_INVALID_GEOMETRY_ID);
+    primitive_by_object[i] = static_cast<unsigned>(primitives.object_indices.size());
     primitives.object_indices.push_back(i);
     primitives.shapes.push_back(detail::exact_primitive_of(world, i));
   }
@@ -303,6 +308,9 @@ std::optional<Hit> EmbreeRayCaster::cast(const Ray& ray) const {
   CastContext context;  // not value-initialised: zeroing Embree's part first cost ~10 % of a cast
   rtcInitIntersectContext(&context.embree);
   context.ray = &*checked;
+  if (checked->ignored_object < impl_->primitive_by_object.size()) {
+    context.ignored_primitive = impl_->primitive_by_object[checked->ignored_object];
+  }
   // Planes are unbounded, so they stay out of the BVH and only shorten the query.
   for (const detail::ExactPlane& plane : impl_->planes) {
     const auto contact = detail::intersect(plane, *checked);

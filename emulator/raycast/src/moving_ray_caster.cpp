@@ -110,6 +110,7 @@ void MovingRayCaster::Impl::build_embree() {
       auto* context = reinterpret_cast<MovingCastContext*>(args->context);
       auto* rayhit = reinterpret_cast<RTCRayHit*>(args->rayhit);
       const std::size_t k = args->primID;
+      if (context->caster->impl_->scene_indices[k] == context->ray->ignored_object) return;
       const double reach_m = context->best ? context->best->range_m : context->ray->max_range_m;
       const auto contact = context->caster->impl_->test(k, *context->ray, context->time_s, reach_m);
       if (!contact) return;
@@ -283,6 +284,7 @@ std::optional<Hit> MovingRayCaster::cast(const Ray& ray) const {
     best = context.best;
   } else {
     for (std::size_t k = 0; k < impl.scene_indices.size(); ++k) {
+      if (impl.scene_indices[k] == checked->ignored_object) continue;
       const auto contact = impl.test(k, *checked, ray.time_s, best ? best->range_m : checked->max_range_m);
       if (contact && (!best || detail::nearer(*contact, *best))) best = contact;
     }

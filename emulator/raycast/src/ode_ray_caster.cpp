@@ -14,6 +14,7 @@ std::optional<Hit> OdeRayCaster::cast(const Ray& ray) const {
   const dGeomID probe = detail::aim_thread_probe(*checked);
   std::optional<detail::Contact> nearest;
   for (std::size_t i = 0; i < world_.object_count(); ++i) {
+    if (i == checked->ignored_object) continue;
     const auto contact = detail::collide(probe, *checked, world_, i);
     if (contact && (!nearest || detail::nearer(*contact, *nearest))) nearest = contact;
   }

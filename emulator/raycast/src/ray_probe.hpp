@@ -19,6 +19,7 @@ struct CheckedRay {
   Eigen::Vector3d origin_m;
   Eigen::Vector3d direction;
   double max_range_m;
+  std::uint32_t ignored_object = kNoObject;  // Ray::ignored_object
 };
 
 // Origins farther out than this (any coordinate) give no hit; longer rays are shortened to it.
@@ -44,12 +45,12 @@ inline constexpr double kUnitSquaredLengthTolerance = 8.0 * std::numeric_limits<
   const double max_range_m = std::min(ray.max_range_m, kMaxCoordinate_m);
   // Unit to within the rounding of computing it (a few ulps): dividing by the square root would
   // move ranges by ~1e-16 of themselves at the price of a square root and a division per cast.
-  if (std::abs(squared_length - 1.0) <= kUnitSquaredLengthTolerance) return CheckedRay{o, ray.direction, max_range_m};
+  if (std::abs(squared_length - 1.0) <= kUnitSquaredLengthTolerance) return CheckedRay{o, ray.direction, max_range_m, ray.ignored_object};
   const double length = std::sqrt(squared_length);
   // Below this a direction carries no usable angle (and its square underflows). NaN or Inf
   // components give a NaN or infinite length.
   if (!(length > 1e-150) || !std::isfinite(length)) return std::nullopt;
-  return CheckedRay{o, ray.direction * (1.0 / length), max_range_m};
+  return CheckedRay{o, ray.direction * (1.0 / length), max_range_m, ray.ignored_object};
 }
 
 // The calling thread's ODE ray geom, aimed along `ray` (closest hit, both faces, for trimeshes).

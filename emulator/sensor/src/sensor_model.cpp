@@ -5,11 +5,12 @@
 
 namespace ldoem::sensor {
 
-SensorModel::SensorModel(const scene::Scene& scene, const raycast::RayCaster& caster)
+SensorModel::SensorModel(const scene::Scene& scene, const raycast::RayCaster& caster, std::uint32_t ignored_object)
     : scanner_(scene.scanner),
       seed_(scene.seed),
       caster_(caster),
-      pipeline_(EffectPipeline::build(scene.scanner, scene.effects)) {}
+      pipeline_(EffectPipeline::build(scene.scanner, scene.effects)),
+      ignored_object_(ignored_object) {}
 
 void SensorModel::measure(std::uint32_t revolution, std::span<const BeamRequest> beams,
                           std::span<BeamSample> out) const {
@@ -30,6 +31,7 @@ MeasureStats SensorModel::measure_counted(std::uint32_t revolution, std::span<co
                                       request.head_angle_rad, cast_range_m)
                            : beam_ray(scanner_, request.head_angle_rad, request.tilt_rad, cast_range_m);
     ray.time_s = request.time_s;
+    ray.ignored_object = ignored_object_;
     const BeamContext context{
         .caster = caster_, .seed = seed_, .revolution = revolution, .beam_index = request.beam_index};
     out[i] = pipeline_.run(ray, context, counters);

@@ -59,7 +59,14 @@ std::optional<raycast::Hit> SceneCaster::cast(const raycast::Ray& ray) const {
   }
   std::optional<raycast::Hit> fixed;
   if (epoch->caster) {
-    fixed = epoch->caster->cast(ray);
+    raycast::Ray local = ray;  // the epoch's caster numbers its objects in epoch->indices' (ascending) order
+    if (ray.ignored_object != raycast::kNoObject) {
+      const auto found = std::lower_bound(epoch->indices.begin(), epoch->indices.end(), ray.ignored_object);
+      local.ignored_object = found != epoch->indices.end() && *found == ray.ignored_object
+                                 ? static_cast<std::uint32_t>(found - epoch->indices.begin())
+                                 : raycast::kNoObject;
+    }
+    fixed = epoch->caster->cast(local);
     if (fixed) fixed->object_index = epoch->indices[fixed->object_index];
   }
   if (moving_caster_->object_count() == 0) return fixed;  // a static scene behind --control

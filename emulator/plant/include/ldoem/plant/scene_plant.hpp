@@ -57,8 +57,9 @@ class SceneWorld {
 
 class ScenePlant {
  public:
-  // `scene` and `world` must outlive the plant.
-  ScenePlant(const scene::Scene& scene, SceneWorld& world);
+  // `scene` and `world` must outlive the plant. The beams pass through `own_housing` (a Scene
+  // object index: the scanner's housing, which the other scanners see; issue 15).
+  ScenePlant(const scene::Scene& scene, SceneWorld& world, std::optional<std::uint32_t> own_housing = std::nullopt);
 
   const control::HeadModel& head_model() const { return head_; }
   control::MeasurementSource& measurement() { return *measurement_; }

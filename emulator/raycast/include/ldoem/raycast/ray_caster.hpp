@@ -10,6 +10,9 @@
 
 namespace ldoem::raycast {
 
+// No object: Ray::ignored_object's default.
+inline constexpr std::uint32_t kNoObject = 0xFFFFFFFFu;
+
 struct Ray {
   Eigen::Vector3d origin_m;
   Eigen::Vector3d direction;  // unit length; callers guarantee it, casters guard against others
@@ -17,6 +20,10 @@ struct Ray {
   // D12: the instant the beam fires, in device seconds. Only casters of a world that moves
   // read it; a static scene's casters ignore it.
   double time_s = 0.0;
+  // Issue 15: an object this ray passes through as if it were not there (Scene::objects index):
+  // a scanner's own housing, which its beams leave from inside. Honoured for primitives (box,
+  // sphere, cylinder, capsule) and moving objects, the shapes a housing takes.
+  std::uint32_t ignored_object = kNoObject;
 };
 
 struct Hit {

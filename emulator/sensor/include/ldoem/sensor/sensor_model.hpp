@@ -32,7 +32,9 @@ struct MeasureStats {
 class SensorModel {
  public:
   // Copies what it needs from the scene; keeps a reference to the caster, which must outlive it.
-  SensorModel(const scene::Scene& scene, const raycast::RayCaster& caster);
+  // Every ray passes through `ignored_object` (issue 15: the scanner's own housing).
+  SensorModel(const scene::Scene& scene, const raycast::RayCaster& caster,
+              std::uint32_t ignored_object = raycast::kNoObject);
 
   // Fills out[i] for beams[i]. Measures min(beams.size(), out.size()) beams; out entries beyond
   // beams.size() are set to "no echo". Same inputs -> identical samples, on any thread: const
@@ -50,6 +52,7 @@ class SensorModel {
   std::uint64_t seed_;
   const raycast::RayCaster& caster_;
   EffectPipeline pipeline_;
+  std::uint32_t ignored_object_;
 };
 
 }  // namespace ldoem::sensor
