@@ -128,7 +128,6 @@ TEST(Options, BadCommandLines_AreUsageErrorsNamingTheOption) {
       {{"--scene", "s", "--can-ids", "6C0:6C1", "--can-ids", "6C1:6C2"}, "--can-ids: every identifier"},
       {{"--scene", "s", "--no-can", "--can", "vcan0", "--tcp", "h"}, "--no-can: conflicts with --can"},
       {{"--scene", "s", "--no-can", "--can-ids", "6C0:6C1", "--tcp", "h"}, "--can-ids: needs CAN"},
-      {{"--scene", "s", "--no-can"}, "--no-can: no host transport left"},
       {{"--scene", "s", "--flash", "f", "--no-flash"}, "--no-flash: conflicts with --flash"},
       {{"--scene", "s", "--reset-flash", "--no-flash", "--tcp", "h"}, "--reset-flash: conflicts with --no-flash"},
       {{"--scene", "s", "--tcp", ":49152"}, "--tcp: expects HOST[:PORT]"},

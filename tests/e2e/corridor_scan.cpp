@@ -56,6 +56,8 @@ std::string hub_port(const ChildProcess& hub) {
 
 }  // namespace
 
+std::string lpt_path(const TempDir& dir, const std::string& name) { return dir.path(name + "-lpt"); }
+
 const char* to_string(Route route) {
   switch (route) {
     case Route::can: return "can";
@@ -69,11 +71,13 @@ const char* to_string(Route route) {
 
 ScanRun scan_corridor(const TempDir& dir, const std::string& name, Route route, const ScanSettings& settings) {
   ScanRun run;
-  const std::string lpt = dir.path(name + "-lpt");
+  const std::string lpt = lpt_path(dir, name);
   std::vector<std::string> daemon_args{"--scene", std::string(LDOEM_SOURCE_DIR) + "/scenes/corridor.yaml",
                                        "--lpt",   "pty:" + lpt,
                                        "--no-flash", "--timeout", kDaemonSelfStopS};
-  if (uses_can(route)) {
+  if (settings.scanners_scene) {
+    daemon_args = {"--scene", *settings.scanners_scene, "--no-flash", "--timeout", kDaemonSelfStopS, "--no-can"};
+  } else if (uses_can(route)) {
     daemon_args.insert(daemon_args.end(), {"--can", "vcan0"});
   } else {
     daemon_args.insert(daemon_args.end(), {"--no-can", "--tcp", "127.0.0.1:0"});

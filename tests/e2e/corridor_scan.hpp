@@ -42,7 +42,14 @@ struct ScanSettings {
   // Serve the scan from ldoem-replay of this capture instead of ldoem-emud (docs/replay.md).
   std::optional<std::string> replay_capture;
   std::vector<std::string> replay_args{"--speed", "50"};
+  // A scene with a `scanners:` list instead of scenes/corridor.yaml (issue 15): the daemon takes
+  // every endpoint from it (no --tcp, --lpt); its first scanner is scanned, over TCP, and must
+  // have its LPT at the path the scan uses (lpt_path(dir, name)).
+  std::optional<std::string> scanners_scene;
 };
+
+// Where scan_corridor puts (and expects) the scanned device's LPT pty for run `name`.
+std::string lpt_path(const TempDir& dir, const std::string& name);
 
 // tshark with tools/wireshark/*.lua on a capture (tests/wireshark/check_dissector.py): every
 // telegram ldoem's reader finds must decode, profile point counts included, nothing malformed.

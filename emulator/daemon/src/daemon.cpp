@@ -13,11 +13,13 @@
 #include "ldoem/daemon/endpoint_registry.hpp"
 #include "ldoem/daemon/fault_wiring.hpp"
 #include "ldoem/daemon/file_flash_store.hpp"
+#include "ldoem/daemon/scanner_options.hpp"
 #include "ldoem/daemon/sim_clock.hpp"
 #include "ldoem/endpoints/tcp_endpoint.hpp"
 #include "ldoem/io/event_loop.hpp"
 #include "ldoem/plant/scene_device_defaults.hpp"
 #include "ldoem/plant/scene_plant.hpp"
+#include "ldoem/scene/scanners.hpp"
 
 namespace ldoem::daemon {
 
@@ -48,9 +50,12 @@ struct Daemon::Impl final : endpoints::Scheduler {
   std::optional<SimTime> wall_timer_for;
 
   std::unique_ptr<plant::SceneWorld> world;  // shared by the device instances
-  std::unique_ptr<DeviceInstance> device;    // one scanner per daemon today
+  // Issue 15: with several scanners, what each device reads of the scene (scanner_view); with
+  // one, the device reads `scene` itself. Declared before the devices, which keep references.
+  std::vector<std::unique_ptr<scene::Scene>> views;
+  std::vector<std::unique_ptr<DeviceInstance>> devices;  // one per scanner, in the scene's order
   // D11: only when the scene names faults or --control/--event-log ask (D9: nothing otherwise).
-  // Declared after the device: it is the device's wire tap and goes first.
+  // Declared after the devices: it is the first device's wire tap and goes first.
   std::unique_ptr<FaultWiring> faults;
 
   std::uint64_t activity = 0;  // fd callbacks that did something (virtual time: is anything ready?)
@@ -67,37 +72,55 @@ struct Daemon::Impl final : endpoints::Scheduler {
   Key add(SimTime at, Action action) override { return deadlines.add(at, std::move(action)); }
   void cancel(const Key& key) override { deadlines.cancel(key); }
 
-  std::optional<StartFailure> build_device(std::vector<std::unique_ptr<endpoints::HostEndpoint>> extra);
-  base::Expected<std::unique_ptr<control::FlashStore>, StartFailure> open_flash();
-  base::Expected<control::DeviceConfig, StartFailure> load_flash(const control::FlashStore& flash);
+  std::optional<StartFailure> build_devices(const ExtraEndpoints& extra);
+  std::optional<StartFailure> build_device(const Options& device_options, const scene::Scene& view,
+                                           std::optional<std::uint32_t> own_housing);
+  std::optional<StartFailure> open_device(std::size_t index, const Options& device_options, const scene::Scene& view,
+                                          std::vector<std::unique_ptr<endpoints::HostEndpoint>> extra);
+  base::Expected<std::unique_ptr<control::FlashStore>, StartFailure> open_flash(const Options& device_options);
+  base::Expected<control::DeviceConfig, StartFailure> load_flash(const control::FlashStore& flash,
+                                                                    const Options& device_options,
+                                                                    const scene::Scene& view);
+  std::uint64_t profiles_sent() const {
+    std::uint64_t sent = 0;
+    for (const auto& device : devices) sent += device->unit().diagnostics().profiles_sent;
+    return sent;
+  }
+  bool waiting_for_host() const {
+    for (const auto& device : devices) {
+      if (device->waiting_for_host()) return true;
+    }
+    return false;
+  }
   std::optional<StartFailure> build_faults();
   void fire_due(SimTime at);
   void arm_wall_timer();
   void after_event();
   bool round();
   void on_signal(int signal_number);
-  endpoints::Counters counters() const {
-    endpoints::Counters all = device->counters();
-    if (faults) all.fault_injections = faults->injections();
-    return all;
-  }
+  endpoints::Counters counters() const;
   void fail(const io::IoError& error) {
     logger.log(endpoints::LogLevel::error, error.message());
     fatal = true;
   }
 };
 
-base::Expected<std::unique_ptr<control::FlashStore>, StartFailure> Daemon::Impl::open_flash() {
-  if (options.flash_mode == FlashMode::memory) return std::unique_ptr<control::FlashStore>(new control::MemoryFlashStore());
-  return std::unique_ptr<control::FlashStore>(new FileFlashStore(options.flash_path));
+base::Expected<std::unique_ptr<control::FlashStore>, StartFailure> Daemon::Impl::open_flash(
+    const Options& device_options) {
+  if (device_options.flash_mode == FlashMode::memory) {
+    return std::unique_ptr<control::FlashStore>(new control::MemoryFlashStore());
+  }
+  return std::unique_ptr<control::FlashStore>(new FileFlashStore(device_options.flash_path));
 }
 
 // Issue 11: a flash file that exists but cannot be read or parsed stops the start (exit 2): the
 // daemon would otherwise run on the scene's defaults and overwrite the file at the first flash
 // write or at exit, and whatever it held would be lost. --reset-flash asks for exactly that.
-base::Expected<control::DeviceConfig, StartFailure> Daemon::Impl::load_flash(const control::FlashStore& flash) {
-  const control::DeviceConfig defaults = plant::device_config_from(scene.scanner.flash);
-  const std::string where = "flash " + options.flash_path.string();
+base::Expected<control::DeviceConfig, StartFailure> Daemon::Impl::load_flash(const control::FlashStore& flash,
+                                                                                  const Options& device_options,
+                                                                                  const scene::Scene& view) {
+  const control::DeviceConfig defaults = plant::device_config_from(view.scanner.flash);
+  const std::string where = "flash " + device_options.flash_path.string();
   const std::string remedy = "; fix or remove the file, or start with --reset-flash to replace it with the scene's defaults (D4)";
   if (const auto* file = dynamic_cast<const FileFlashStore*>(&flash)) {
     if (auto image = file->read(); !image) {
@@ -115,18 +138,16 @@ base::Expected<control::DeviceConfig, StartFailure> Daemon::Impl::load_flash(con
   return defaults;
 }
 
-std::optional<StartFailure> Daemon::Impl::build_device(std::vector<std::unique_ptr<endpoints::HostEndpoint>> extra) {
+std::optional<StartFailure> Daemon::Impl::build_devices(const ExtraEndpoints& extra) {
+  auto per_scanner = scanner_options(options, scene);
+  if (!per_scanner) return StartFailure{kExitUsageError, per_scanner.error().message};
   if (options.seed) {
     scene.seed = *options.seed;
   }
+  // Issue 15: with two scanners or more, each one's housing is geometry the others see.
+  const std::vector<std::uint32_t> housings = scene::add_housings(scene);
   // With a control socket objects may be added, removed and moved (D12 runtime changes).
   world = std::make_unique<plant::SceneWorld>(scene, options.control_path.has_value());
-  auto flash = open_flash();
-  if (!flash) return std::move(flash.error());
-  auto loaded = load_flash(**flash);
-  if (!loaded) return std::move(loaded.error());
-  device = std::make_unique<DeviceInstance>(scene, *world, std::move(*flash), *loaded, *this, logger);
-
   auto created = io::EventLoop::create();
   if (!created) {
     return StartFailure{kExitRuntimeFailure, created.error().message()};
@@ -137,15 +158,52 @@ std::optional<StartFailure> Daemon::Impl::build_device(std::vector<std::unique_p
       !watched) {
     return StartFailure{kExitRuntimeFailure, watched.error().message()};
   }
-  const DeviceFacts facts{device->can_config(), scene};
-  for (const EndpointEntry& entry : endpoint_registry()) {
-    if (auto endpoint = entry.make(options, facts)) device->add_endpoint(std::move(endpoint));
+  const std::size_t count = per_scanner->size();
+  for (std::size_t i = 0; i < count; ++i) {
+    if (count > 1) views.push_back(std::make_unique<scene::Scene>(scene::scanner_view(scene, i)));
+    const scene::Scene& view = count > 1 ? *views.back() : scene;
+    const std::optional<std::uint32_t> own_housing = housings.empty() ? std::nullopt : std::optional(housings[i]);
+    if (auto failure = build_device((*per_scanner)[i], view, own_housing)) return failure;
+    if (count > 1) out << "scanner " << scene::scanner_name(scene, i) << "\n";
+    auto failure = open_device(i, (*per_scanner)[i], view,
+                               extra ? extra(i) : std::vector<std::unique_ptr<endpoints::HostEndpoint>>{});
+    if (failure) return failure;
   }
-  for (auto& endpoint : extra) device->add_endpoint(std::move(endpoint));
-  if (auto failure = device->open_endpoints(*loop, out, activity)) {
+  return std::nullopt;
+}
+
+std::optional<StartFailure> Daemon::Impl::build_device(const Options& device_options, const scene::Scene& view,
+                                                       std::optional<std::uint32_t> own_housing) {
+  auto flash = open_flash(device_options);
+  if (!flash) return std::move(flash.error());
+  auto loaded = load_flash(**flash, device_options, view);
+  if (!loaded) return std::move(loaded.error());
+  devices.push_back(
+      std::make_unique<DeviceInstance>(view, *world, std::move(*flash), *loaded, *this, logger, own_housing));
+  return std::nullopt;
+}
+
+std::optional<StartFailure> Daemon::Impl::open_device(std::size_t index, const Options& device_options,
+                                                      const scene::Scene& view,
+                                                      std::vector<std::unique_ptr<endpoints::HostEndpoint>> extra) {
+  DeviceInstance& device = *devices.at(index);
+  const DeviceFacts facts{device.can_config(), view};
+  for (const EndpointEntry& entry : endpoint_registry()) {
+    if (auto endpoint = entry.make(device_options, facts)) device.add_endpoint(std::move(endpoint));
+  }
+  for (auto& endpoint : extra) device.add_endpoint(std::move(endpoint));
+  if (!device.has_host_transport()) return StartFailure{kExitUsageError, no_host_transport_error(scene, index)};
+  if (auto failure = device.open_endpoints(*loop, out, activity)) {
     return StartFailure{failure->usage_error ? kExitUsageError : kExitRuntimeFailure, failure->message};
   }
   return std::nullopt;
+}
+
+endpoints::Counters Daemon::Impl::counters() const {
+  endpoints::Counters all;
+  for (const auto& device : devices) all += device->counters();
+  if (faults) all.fault_injections = faults->injections();
+  return all;
 }
 
 std::optional<StartFailure> Daemon::Impl::build_faults() {
@@ -155,10 +213,10 @@ std::optional<StartFailure> Daemon::Impl::build_faults() {
   if (options.event_log_path) setup.event_log_path = options.event_log_path->string();
   setup.version = LDOEM_VERSION;
   setup.world = world.get();
-  auto wiring = FaultWiring::create(scene, *device, *this, *loop, logger, std::move(setup), [this] { loop->stop(); });
+  auto wiring = FaultWiring::create(scene, *devices.front(), *this, *loop, logger, std::move(setup), [this] { loop->stop(); });
   if (!wiring) return StartFailure{kExitUsageError, wiring.error()};
   faults = std::move(*wiring);
-  device->set_wire_tap(faults.get());
+  devices.front()->set_wire_tap(faults.get());
   if (options.control_path) out << "control " << options.control_path->string() << "\n";
   return std::nullopt;
 }
@@ -188,7 +246,7 @@ void Daemon::Impl::arm_wall_timer() {
 }
 
 void Daemon::Impl::after_event() {
-  if (options.count_profiles && device->unit().diagnostics().profiles_sent >= *options.count_profiles) {
+  if (options.count_profiles && profiles_sent() >= *options.count_profiles) {
     loop->stop();
   }
   if (!clock.is_virtual()) {
@@ -216,7 +274,7 @@ bool Daemon::Impl::round() {
   if (activity != before) {
     last_activity_wall = io::EventLoop::now();
   } else if (!loop->stop_requested()) {
-    const bool host_grace = device->waiting_for_host() && io::EventLoop::now() - last_activity_wall < kVirtualHostGrace;
+    const bool host_grace = waiting_for_host() && io::EventLoop::now() - last_activity_wall < kVirtualHostGrace;
     if (const auto earliest = deadlines.earliest(); earliest && !host_grace) {
       clock.advance_to(*earliest);  // D7 virtual clock: nothing is ready, jump ahead
       fire_due(now());
@@ -251,6 +309,15 @@ Daemon::~Daemon() = default;
 base::Expected<std::unique_ptr<Daemon>, StartFailure> Daemon::create(
     Options options, scene::Scene scene, std::ostream& out, std::ostream& log,
     std::vector<std::unique_ptr<endpoints::HostEndpoint>> extra_endpoints) {
+  // std::function needs a copyable callable: the endpoints wait in a shared vector.
+  auto first = std::make_shared<std::vector<std::unique_ptr<endpoints::HostEndpoint>>>(std::move(extra_endpoints));
+  return create_with_endpoints(std::move(options), std::move(scene), out, log, [first](std::size_t scanner) {
+    return scanner == 0 ? std::move(*first) : std::vector<std::unique_ptr<endpoints::HostEndpoint>>{};
+  });
+}
+
+base::Expected<std::unique_ptr<Daemon>, StartFailure> Daemon::create_with_endpoints(
+    Options options, scene::Scene scene, std::ostream& out, std::ostream& log, const ExtraEndpoints& extra_endpoints) {
   // Block the daemon's signals before any thread exists (Embree and TBB start workers while the
   // scene is built): threads inherit the mask, so the signals reach only the loop's signalfd and
   // never kill the process before the flash is saved.
@@ -264,7 +331,7 @@ base::Expected<std::unique_ptr<Daemon>, StartFailure> Daemon::create(
   // memory, or an Embree error, is a start failure with a message (exit 1), never an abort.
   try {
     auto impl = std::make_unique<Impl>(std::move(options), std::move(scene), out, log);
-    if (auto failure = impl->build_device(std::move(extra_endpoints))) return Unexpected(std::move(*failure));
+    if (auto failure = impl->build_devices(extra_endpoints)) return Unexpected(std::move(*failure));
     // Simulated time 0 = power-up (D4) = the moment the endpoints are open.
     impl->clock = impl->options.virtual_time ? SimClock::virtual_clock()
                                              : SimClock::scaled(io::EventLoop::now(), impl->options.time_scale);
@@ -303,7 +370,7 @@ int Daemon::run() {
   while (!d.loop->stop_requested() && d.round()) {
   }
   sd_notify(0, "STOPPING=1");
-  d.device->close();
+  for (const auto& device : d.devices) device->close();
   d.logger.log(endpoints::LogLevel::info, format_counters(d.counters()));
   if (d.stop_signal) return kExitSignalBase + *d.stop_signal;
   return d.fatal ? kExitRuntimeFailure : kExitOk;
@@ -318,12 +385,15 @@ bool Daemon::run_until(const std::function<bool()>& done, std::chrono::milliseco
 
 DaemonCounters Daemon::counters() const { return impl_->counters(); }
 
-std::optional<std::uint16_t> Daemon::tcp_port() const {
-  const auto* tcp = dynamic_cast<const endpoints::TcpEndpoint*>(impl_->device->endpoint("tcp"));
+std::optional<std::uint16_t> Daemon::tcp_port(std::size_t scanner) const {
+  if (scanner >= impl_->devices.size()) return std::nullopt;
+  const auto* tcp = dynamic_cast<const endpoints::TcpEndpoint*>(impl_->devices[scanner]->endpoint("tcp"));
   return tcp != nullptr ? tcp->port() : std::nullopt;
 }
 
-DeviceInstance& Daemon::device() { return *impl_->device; }
+DeviceInstance& Daemon::device(std::size_t scanner) { return *impl_->devices.at(scanner); }
+
+std::size_t Daemon::device_count() const { return impl_->devices.size(); }
 
 SimTime Daemon::now() const { return impl_->now(); }
 

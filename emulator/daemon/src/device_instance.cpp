@@ -12,8 +12,9 @@ using base::SimTime;
 
 DeviceInstance::DeviceInstance(const scene::Scene& scene, plant::SceneWorld& world,
                                std::unique_ptr<control::FlashStore> flash, const control::DeviceConfig& flash_config,
-                               endpoints::Scheduler& scheduler, const endpoints::Logger& logger)
-    : scheduler_(scheduler), logger_(logger), plant_(scene, world), flash_(std::move(flash)) {
+                               endpoints::Scheduler& scheduler, const endpoints::Logger& logger,
+                               std::optional<std::uint32_t> own_housing)
+    : scheduler_(scheduler), logger_(logger), plant_(scene, world, own_housing), flash_(std::move(flash)) {
   control::ControlUnit::Setup setup;
   setup.flash = flash_config;
   setup.identification = plant::identification_from(scene.scanner.identification);
@@ -39,6 +40,13 @@ std::optional<endpoints::OpenFailure> DeviceInstance::open_endpoints(io::EventLo
     if (auto failure = endpoint->open(*context_)) return failure;
   }
   return std::nullopt;
+}
+
+bool DeviceInstance::has_host_transport() const {
+  for (const auto& endpoint : endpoints_) {
+    if (endpoint->transport()) return true;
+  }
+  return false;
 }
 
 HostEndpoint* DeviceInstance::endpoint(std::string_view name) const {

@@ -241,9 +241,7 @@ std::optional<UsageError> check_combination(Options& options, const Seen& seen) 
       return UsageError{"--can-ids: every identifier may be used by one pair only"};
     }
   }
-  if (!options.can_interface && !options.tcp && !options.serial_pty) {
-    return UsageError{"--no-can: no host transport left (add --tcp or --serial)"};
-  }
+  // "No host transport left" needs the scene (its scanners may name endpoints): scanner_options.hpp.
   if (options.flash_mode == FlashMode::file && !seen.flash) {
     options.flash_path = options.scene_path;
     options.flash_path += std::string(kFlashFileSuffix);
@@ -377,6 +375,10 @@ std::string usage_text(std::string_view program_name) {
          "\n"
          "On start the daemon prints one line per endpoint on stdout (\"tcp 127.0.0.1:49152\",\n"
          "\"serial /dev/pts/4\", \"lpt /dev/pts/5\", \"can vcan0 6C0:6C1\"), then \"ready\".\n"
+         "A scene with a scanners: list runs several scanners in one daemon: each one's TCP port,\n"
+         "CAN ids, serial, LPT and flash file come from the scene, --tcp, --can-ids, --serial,\n"
+         "--lpt, --flash and --record are errors then, and \"scanner NAME\" comes before each\n"
+         "scanner's endpoint lines (docs/scenes.md \"Several scanners\").\n"
          "SIGUSR1 writes the counters (framing errors, ISO-TP drops, skipped profiles) to stderr.\n"
          "\n"
          "Exit status:\n"

@@ -4,6 +4,23 @@
 
 namespace ldoem::endpoints {
 
+Counters& Counters::operator+=(const Counters& o) {
+  telegrams_received += o.telegrams_received;
+  framing_errors += o.framing_errors;
+  isotp_receive_errors += o.isotp_receive_errors;
+  isotp_send_failures += o.isotp_send_failures;
+  isotp_queue_overflows += o.isotp_queue_overflows;
+  can_frames_backlogged += o.can_frames_backlogged;
+  skipped_profiles += o.skipped_profiles;
+  profiles_sent += o.profiles_sent;
+  tcp_connections += o.tcp_connections;
+  tcp_dropped_slow += o.tcp_dropped_slow;
+  serial_overflows += o.serial_overflows;
+  lpt_steps += o.lpt_steps;
+  fault_injections += o.fault_injections;
+  return *this;
+}
+
 std::string format_counters(const Counters& c) {
   std::ostringstream out;
   out << "counters: telegrams_received=" << c.telegrams_received << " framing_errors=" << c.framing_errors

@@ -227,11 +227,27 @@ void read_ranges(MapReader& map, ScannerConfig& scanner) {
   }
 }
 
+void read_housing(const std::string& file, const YAML::Node& node, const std::string& path,
+                  HousingConfig& housing) {
+  MapReader map(file, node, path);
+  read_field(map, "radius_m", housing.radius_m, Constraint::positive);
+  read_field(map, "height_m", housing.height_m, Constraint::positive);
+  read_field(map, "reflectance", housing.reflectance, Constraint::unit_interval);
+  map.finish();
+}
+
 }  // namespace
 
 ScannerConfig read_scanner(const std::string& file, const YAML::Node& node, const std::string& path) {
-  ScannerConfig scanner;
   MapReader map(file, node, path);
+  ScannerConfig scanner = read_scanner_fields(map);
+  map.finish();
+  return scanner;
+}
+
+ScannerConfig read_scanner_fields(MapReader& map) {
+  ScannerConfig scanner;
+  const std::string& file = map.file();
   if (auto pose = map.get("pivot_pose")) scanner.pivot_pose = read_pose(file, *pose, map.child_path("pivot_pose"));
   if (auto motion = map.get("pivot_motion")) {  // D12: the platform carrying the scanner
     scanner.pivot_motion = read_motion(file, *motion, map.child_path("pivot_motion"));
@@ -272,7 +288,7 @@ ScannerConfig read_scanner(const std::string& file, const YAML::Node& node, cons
   if (auto id = map.get("identification")) {
     read_identification(file, *id, map.child_path("identification"), scanner.identification);
   }
-  map.finish();
+  if (auto housing = map.get("housing")) read_housing(file, *housing, map.child_path("housing"), scanner.housing);
   return scanner;
 }
 

@@ -8,6 +8,7 @@
 #include "motion_reader.hpp"
 #include "pose_reader.hpp"
 #include "scanner_reader.hpp"
+#include "scanners_reader.hpp"
 #include "yaml_fields.hpp"
 
 #include <array>
@@ -199,7 +200,8 @@ SceneObject read_object(LoadContext& context, const YAML::Node& node, std::size_
 
 // Effects that only make sense together: a combination that would silently do nothing, or two
 // that model the same thing, is a located error.
-void check_effect_combinations(const std::string& file, const YAML::Node& node, const EffectSet& effects) {
+void check_effect_combinations(const std::string& file, const YAML::Node& node, const std::string& path,
+                               const EffectSet& effects) {
   const auto position_of = [&](Effect effect) {
     for (std::size_t i = 0; i < node.size(); ++i) {
       if (node[i].IsScalar() && node[i].Scalar() == effect_name(effect)) return i;
@@ -210,45 +212,45 @@ void check_effect_combinations(const std::string& file, const YAML::Node& node, 
                                effects.has(Effect::waveform) || effects.has(Effect::snr_noise);
   if (effects.has(Effect::incidence) && !uses_irradiance) {
     const std::size_t i = position_of(Effect::incidence);
-    fail(file, SceneErrorKind::conflicting_keys, node[i], "effects[" + std::to_string(i) + "]",
+    fail(file, SceneErrorKind::conflicting_keys, node[i], path + "[" + std::to_string(i) + "]",
          "incidence scales the received power, so alone it changes nothing: name intensity too "
          "(or mixed_pixels, waveform or snr_noise)");
   }
   if (effects.has(Effect::atmosphere) && !uses_irradiance) {
     const std::size_t i = position_of(Effect::atmosphere);
-    fail(file, SceneErrorKind::conflicting_keys, node[i], "effects[" + std::to_string(i) + "]",
+    fail(file, SceneErrorKind::conflicting_keys, node[i], path + "[" + std::to_string(i) + "]",
          "atmosphere attenuates the received power, so alone it changes nothing: name intensity too "
          "(or mixed_pixels, waveform or snr_noise)");
   }
   if (effects.has(Effect::noise) && effects.has(Effect::snr_noise)) {
     const std::size_t i = position_of(Effect::snr_noise);
-    fail(file, SceneErrorKind::conflicting_keys, node[i], "effects[" + std::to_string(i) + "]",
+    fail(file, SceneErrorKind::conflicting_keys, node[i], path + "[" + std::to_string(i) + "]",
          "snr_noise already adds noise's constant sigma (as its floor): name one of noise and snr_noise");
   }
 }
 
-EffectSet read_effects(const std::string& file, const YAML::Node& node) {
-  detail::require_sequence(file, node, "effects");
+EffectSet read_effects_at(const std::string& file, const YAML::Node& node, const std::string& path) {
+  detail::require_sequence(file, node, path);
   EffectSet effects;
   for (std::size_t i = 0; i < node.size(); ++i) {
-    const std::string path = "effects[" + std::to_string(i) + "]";
-    const std::string name = detail::read_string(file, node[i], path);
+    const std::string item_path = path + "[" + std::to_string(i) + "]";
+    const std::string name = detail::read_string(file, node[i], item_path);
     bool known = false;
     for (std::size_t e = 0; e < kEffectNames.size(); ++e) {
       if (name != kEffectNames[e]) continue;
       const auto effect = static_cast<Effect>(e);
-      if (effects.has(effect)) fail(file, SceneErrorKind::duplicate_key, node[i], path, "effect named twice");
+      if (effects.has(effect)) fail(file, SceneErrorKind::duplicate_key, node[i], item_path, "effect named twice");
       effects.add(effect);
       known = true;
     }
     if (!known) {
-      fail(file, SceneErrorKind::unknown_effect, node[i], path,
+      fail(file, SceneErrorKind::unknown_effect, node[i], item_path,
            "unknown effect '" + name + "' (D9: noise, intensity, incidence, mixed_pixels, "
            "motor_dynamics, head_dynamics, sweep_motion, bus_timing; D13: waveform, snr_noise, "
            "atmosphere)");
     }
   }
-  check_effect_combinations(file, node, effects);
+  check_effect_combinations(file, node, path, effects);
   return effects;
 }
 
@@ -259,7 +261,7 @@ Scene read_scene(LoadContext& context, const YAML::Node& root) {
   detail::read_field(map, "seed", scene.seed, 0, UINT64_MAX);
   std::string description;  // free text for people; not used by the emulator
   detail::read_field(map, "description", description);
-  if (auto effects = map.get("effects")) scene.effects = read_effects(context.file, *effects);
+  if (auto effects = map.get("effects")) scene.effects = read_effects_at(context.file, *effects, "effects");
   // D3 calls the section `device`, the issue `scanner`: both spellings, never both at once.
   if (map.has("scanner") && map.has("device")) {
     fail(context.file, SceneErrorKind::conflicting_keys, root, "device", "give either scanner or device, not both");
@@ -267,14 +269,20 @@ Scene read_scene(LoadContext& context, const YAML::Node& root) {
   for (std::string_view key : {"scanner", "device"}) {
     if (auto section = map.get(key)) {
       scene.scanner = detail::read_scanner(context.file, *section, std::string(key));
-      // Fog's returns are a pulse in the received waveform, attenuated like every other.
-      const bool fog_can_return = scene.effects.has(Effect::waveform) && scene.effects.has(Effect::atmosphere);
-      if (scene.scanner.atmosphere.fog_returns && !fog_can_return) {
-        fail(context.file, SceneErrorKind::conflicting_keys, (*section)["atmosphere"]["fog_returns"],
-             std::string(key) + ".atmosphere.fog_returns",
-             "fog's returns are pulses in the received waveform: name the effects waveform and atmosphere");
+      detail::check_fog_returns(context.file, *section, std::string(key), scene.scanner, scene.effects);
+    }
+  }
+  // Issue 15: several scanners, each a `scanner:` section with a name and its endpoints.
+  if (auto list = map.get("scanners")) {
+    for (std::string_view key : {"scanner", "device"}) {
+      if (map.has(key)) {
+        fail(context.file, SceneErrorKind::conflicting_keys, *list, "scanners",
+             "give either scanners or " + std::string(key) + ", not both");
       }
     }
+    scene.scanners = detail::read_scanners(context.file, *list, scene.effects);
+    scene.scanner = scene.scanners.front().config;
+    scene.effects = scene.scanners.front().effects;
   }
   if (auto world = map.get("world")) scene.world = detail::read_world(context.file, *world, "world");
   if (auto faults = map.get("faults")) scene.faults = detail::read_faults(context.file, *faults);
@@ -301,6 +309,12 @@ SceneError whole_file_error(std::string file, SceneErrorKind kind, std::string d
 }
 
 }  // namespace
+
+namespace detail {
+EffectSet read_effects(const std::string& file, const YAML::Node& node, const std::string& path) {
+  return read_effects_at(file, node, path);
+}
+}  // namespace detail
 
 std::string SceneError::message() const {
   // Appended piece by piece: g++ 12 at -O3 warns (-Wrestrict) on `text += ":" + ...` here.

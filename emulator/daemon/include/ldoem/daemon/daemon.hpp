@@ -6,6 +6,7 @@
 #pragma once
 
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -34,16 +35,23 @@ struct StartFailure {
 };
 
 using DaemonCounters = endpoints::Counters;
+// Endpoints a test or benchmark adds to scanner i (endpoints::MemoryEndpoint), beside the options'.
+using ExtraEndpoints = std::function<std::vector<std::unique_ptr<endpoints::HostEndpoint>>(std::size_t scanner)>;
 using endpoints::format_counters;
 
 class Daemon {
  public:
   // Builds the scene's models, loads the flash, opens every endpoint the options name plus
   // `extra_endpoints` (tests: endpoints::MemoryEndpoint), prints one line per endpoint on `out`,
-  // then "ready". `log` gets the diagnostics.
+  // then "ready". `log` gets the diagnostics. With several scanners (issue 15) each one's
+  // endpoints come from the scene (scanner_options.hpp), a line "scanner NAME" comes before its
+  // endpoints' lines, and `extra_endpoints` go to the first.
   static base::Expected<std::unique_ptr<Daemon>, StartFailure> create(
       Options options, scene::Scene scene, std::ostream& out, std::ostream& log,
       std::vector<std::unique_ptr<endpoints::HostEndpoint>> extra_endpoints = {});
+  // The same with extra endpoints for every scanner.
+  static base::Expected<std::unique_ptr<Daemon>, StartFailure> create_with_endpoints(
+      Options options, scene::Scene scene, std::ostream& out, std::ostream& log, const ExtraEndpoints& extra_endpoints);
   ~Daemon();
   Daemon(const Daemon&) = delete;
   Daemon& operator=(const Daemon&) = delete;
@@ -55,9 +63,12 @@ class Daemon {
   // clock; returns done(). For tests that drive a MemoryEndpoint between rounds.
   bool run_until(const std::function<bool()>& done, std::chrono::milliseconds wall_limit);
 
+  // Summed over the scanners.
   DaemonCounters counters() const;
-  std::optional<std::uint16_t> tcp_port() const;
-  DeviceInstance& device();
+  // Issue 15: one device instance per scanner of the scene, in its order (one for `scanner:`).
+  std::optional<std::uint16_t> tcp_port(std::size_t scanner = 0) const;
+  DeviceInstance& device(std::size_t scanner = 0);
+  std::size_t device_count() const;
   // Simulated time now (D7).
   base::SimTime now() const;
   // What the control socket's commands act on (--control, --event-log or scene faults); null

@@ -36,10 +36,10 @@ class DeviceInstance final : public endpoints::EndpointSink, public endpoints::L
  public:
   // Builds the plant on `world` and the control unit powered up with `flash_config` (what
   // `flash` holds, or the scene's defaults, D4). `scene`, `world`, `scheduler` and `logger` must
-  // outlive the instance.
+  // outlive the instance. Its beams pass through `own_housing` (issue 15, scene/scanners.hpp).
   DeviceInstance(const scene::Scene& scene, plant::SceneWorld& world, std::unique_ptr<control::FlashStore> flash,
                  const control::DeviceConfig& flash_config, endpoints::Scheduler& scheduler,
-                 const endpoints::Logger& logger);
+                 const endpoints::Logger& logger, std::optional<std::uint32_t> own_housing = std::nullopt);
   ~DeviceInstance() override;
 
   // The CAN configuration in RAM at power-up, for the CAN endpoint's first pair (D1).
@@ -49,6 +49,8 @@ class DeviceInstance final : public endpoints::EndpointSink, public endpoints::L
   void add_endpoint(std::unique_ptr<HostEndpoint> endpoint);
   [[nodiscard]] std::optional<endpoints::OpenFailure> open_endpoints(io::EventLoop& loop, std::ostream& out,
                                                                      std::uint64_t& activity);
+  // Whether a host can reach the device: some endpoint carries telegrams (the LPT does not).
+  bool has_host_transport() const;
   // The first endpoint called `name` ("tcp", "can", "memory", ...), or null.
   HostEndpoint* endpoint(std::string_view name) const;
 

@@ -23,6 +23,9 @@ struct Counters {
   std::uint64_t serial_overflows = 0;      // serial output discarded: nobody reads the pty
   std::uint64_t lpt_steps = 0;
   std::uint64_t fault_injections = 0;      // D11: faults that became active (scene or control socket)
+
+  // Field by field (a daemon with several scanners sums its devices').
+  Counters& operator+=(const Counters& other);
 };
 
 // One line, "counters: telegrams_received=N framing_errors=N ...".

@@ -177,6 +177,15 @@ struct Identification {
   std::string application_version = "0000000";
 };
 
+// Issue 15: the LD-OEM's head as the other scanners of a `scanners:` scene see it, a cylinder
+// about the pivot's z axis, centred on the pivot. The spec, D1..D13 and the docs give no size for
+// the head; the defaults are an assumption (docs/scenes.md "Several scanners"), per scanner.
+struct HousingConfig {
+  double radius_m = 0.06;
+  double height_m = 0.16;
+  double reflectance = 0.3;  // a dark grey housing (Lambertian r, D6)
+};
+
 struct ScannerConfig {
   Pose pivot_pose;                                           // T_world_pivot (D5)
   std::optional<Motion> pivot_motion;  // D12: the platform carrying the scanner moves
@@ -194,6 +203,7 @@ struct ScannerConfig {
   TiltMotorConfig tilt_motor;
   FlashDefaults flash;
   Identification identification;
+  HousingConfig housing;  // only built when the scene has two scanners or more
 };
 
 // D9: the effects a scene may name. Nothing else is simulated.
@@ -213,6 +223,37 @@ class EffectSet {
   std::bitset<kEffectCount> bits_;
 };
 
+// Where hosts reach one scanner of a `scanners:` scene: the command line's per-device options,
+// written in the scene (docs/scenes.md "Several scanners").
+struct TcpEndpointConfig {
+  std::string address;
+  std::uint16_t port = 0;  // 0: any free port
+};
+struct LptEndpointConfig {
+  bool gpio = false;   // false: a pty symlinked at `target`; true: the gpio chip `target`
+  std::string target;
+};
+struct ScannerEndpoints {
+  std::optional<TcpEndpointConfig> tcp;
+  // The scanner's CAN identifiers (request, response); else its flash's (D1).
+  std::optional<std::array<std::uint16_t, 2>> can_ids;
+  std::optional<std::string> serial_pty;  // symlink path of the serial pty
+  std::optional<LptEndpointConfig> lpt;
+};
+
+// One entry of `scanners:`: its own name, configuration, effects (the scene's unless it names
+// its own), flash file and endpoints.
+struct ScannerEntry {
+  std::string name;
+  ScannerConfig config;
+  EffectSet effects;
+  std::optional<std::string> flash_file;  // as written; relative to the scene's folder
+  ScannerEndpoints endpoints;
+};
+
+// More scanners than this in one scene is an error (each is a device with its own endpoints).
+inline constexpr std::size_t kMaxSceneScanners = 1024;
+
 struct Scene {
   std::string source_path;
   std::vector<SceneObject> objects;
@@ -222,10 +263,18 @@ struct Scene {
   WorldConfig world;  // D12: used only when something moves
   // D11: faults the scene injects (empty: none, and the daemon builds no fault machinery).
   std::vector<faults::FaultSpec> faults;
+  // Issue 15: the `scanners:` list. Empty for a one-scanner scene (`scanner:`); otherwise
+  // `scanner` and `effects` above are its first entry's.
+  std::vector<ScannerEntry> scanners;
+
+  std::size_t scanner_count() const { return scanners.empty() ? 1 : scanners.size(); }
 
   // D12 effects on demand: false means the scene builds no per-beam time machinery.
   bool moves() const {
     if (scanner.pivot_motion) return true;
+    for (const ScannerEntry& entry : scanners) {
+      if (entry.config.pivot_motion) return true;
+    }
     for (const SceneObject& object : objects) {
       if (object.moves()) return true;
     }
