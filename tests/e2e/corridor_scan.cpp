@@ -42,6 +42,11 @@ std::string tcp_address(const ChildProcess& daemon) {
 }
 
 // std::regex is avoided here: g++ 12 raises -Wmaybe-uninitialized inside it under ASan at -O1.
+
+}  // namespace
+
+std::string lpt_path(const TempDir& dir, const std::string& name) { return dir.path(name + "-lpt"); }
+
 std::string hub_port(const ChildProcess& hub) {
   const std::string text = hub.stderr_text();
   const std::size_t start = text.find("listening on ");
@@ -54,9 +59,6 @@ std::string hub_port(const ChildProcess& hub) {
   return text.substr(colon + 1, digits - colon - 1);
 }
 
-}  // namespace
-
-std::string lpt_path(const TempDir& dir, const std::string& name) { return dir.path(name + "-lpt"); }
 
 const char* to_string(Route route) {
   switch (route) {

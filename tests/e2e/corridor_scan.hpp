@@ -51,6 +51,9 @@ struct ScanSettings {
 // Where scan_corridor puts (and expects) the scanned device's LPT pty for run `name`.
 std::string lpt_path(const TempDir& dir, const std::string& name);
 
+// The port in ldoem-hub's "listening on HOST:PORT" line, or empty.
+std::string hub_port(const ChildProcess& hub);
+
 // tshark with tools/wireshark/*.lua on a capture (tests/wireshark/check_dissector.py): every
 // telegram ldoem's reader finds must decode, profile point counts included, nothing malformed.
 // Returns the checker's output; `ok` tells whether it passed.

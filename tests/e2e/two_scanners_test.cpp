@@ -6,7 +6,6 @@
 
 #include <cmath>
 #include <map>
-#include <regex>
 #include <sstream>
 
 #include "corridor_expectations.hpp"
@@ -144,10 +143,8 @@ TEST(TwoScanners, HubWithTwoDevicesOfOneDaemon_ScansEachAndSideSeesPapersHousing
                                                    "    lpt: lpt:pty:" + dir.path("hub-side-lpt") + "\n");
   auto hub = ChildProcess::start(LDOEM_HUB_PATH, {"--config", config, "--listen", "127.0.0.1:0"}, dir.path("hub"));
   ASSERT_TRUE(hub && hub->wait_for_line("listening on", true, 60s)) << (hub ? hub->stderr_text() : "");
-  std::smatch match;
-  const std::string hub_text = hub->stderr_text();
-  ASSERT_TRUE(std::regex_search(hub_text, match, std::regex(R"(listening on [^ ]*:([0-9]+))")));
-  const std::string hub_address = "127.0.0.1:" + match[1].str();
+  ASSERT_FALSE(hub_port(*hub).empty()) << hub->stderr_text();
+  const std::string hub_address = "127.0.0.1:" + hub_port(*hub);
 
   const auto scan_through_hub = [&](const std::string& device) {
     const std::string ply = dir.path("hub-" + device + ".ply");
