@@ -1,5 +1,6 @@
 #include "ldoem/daemon/daemon.hpp"
 
+#include <algorithm>
 #include <csignal>
 #include <cstring>
 #include <iterator>
@@ -87,10 +88,7 @@ struct Daemon::Impl final : endpoints::Scheduler {
     return sent;
   }
   bool waiting_for_host() const {
-    for (const auto& device : devices) {
-      if (device->waiting_for_host()) return true;
-    }
-    return false;
+    return std::any_of(devices.begin(), devices.end(), [](const auto& device) { return device->waiting_for_host(); });
   }
   std::optional<StartFailure> build_faults();
   void fire_due(SimTime at);
