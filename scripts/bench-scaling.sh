@@ -91,9 +91,10 @@ together; scanners per core = scanners / that.
 What this does not include, and why: it runs below the daemon. The control unit's telegram
 encoding and the socket writes per profile are not in it (for scale: one whole daemon, measuring
 included, streams about 4000 profiles/s of 540 points over TCP in virtual time,
-[latency.md](latency.md)), and every scanner stands at the scene's pivot. A daemon with a
-`scanners:` list (issue 15 item 1) is not built yet, so this is the sharing it would do, measured
-on the pieces it would share.
+[latency.md](latency.md)), and every scanner stands at the scene's pivot. One `ldoem-emud` now
+holds several scanners (a `scanners:` list, docs/scenes.md "Several scanners");
+`ldoem_bench_daemon_scaling` measures that whole daemon on its loop thread, but this report does
+not run it yet, so the table below is the sharing measured on the pieces a daemon shares.
 
 @SUMMARY@
 
