@@ -45,51 +45,20 @@ variants=new
 emud_of() { if [ "$1" = old ]; then echo "$old_emud"; else echo "$new_emud"; fi; }
 emud=$new_emud
 
-work=$(mktemp -d /tmp/ldoem-latency.XXXXXX)
-daemon_pid=
-cleanup() {
-  if [ -n "$daemon_pid" ]; then kill "$daemon_pid" 2>/dev/null || true; wait "$daemon_pid" 2>/dev/null || true; fi
-  rm -rf "$work"
-}
-trap cleanup EXIT
-
-# The minimal scene at 20 Hz and 0.5 deg (D4 flash defaults otherwise).
+tool=bench-latency.sh
+# shellcheck source=scripts/lib/latency-daemon.sh
+source "$root/scripts/lib/latency-daemon.sh"
 scene=$work/scene-20hz.yaml
-cat > "$scene" <<'YAML'
-scanner:
-  flash: {motor_speed_hz: 20, angle_step_ticks: 8}
-objects:
-  - name: wall
-    box: {size_m: [0.2, 20, 6]}
-    pose: {position_m: [5.1, 0, 0]}
-    reflectance: 0.8
-YAML
-
-# start_daemon ARGS...: runs ldoem-emud, waits for "ready", sets daemon_pid and tcp_port.
-start_daemon() {
-  local out=$work/daemon.out
-  "$emud" --scene "$scene" --no-flash --timeout 600 "$@" > "$out" 2> "$work/daemon.err" &
-  daemon_pid=$!
-  # Up to 30 s: a loaded machine (or UML) can take a while to build even a small scene.
-  for _ in $(seq 1 600); do
-    grep -q '^ready$' "$out" 2>/dev/null && break
-    kill -0 "$daemon_pid" 2>/dev/null || break
-    sleep 0.05
-  done
-  grep -q '^ready$' "$out" ||
-    { echo "bench-latency.sh: $emud $* not ready: $(cat "$work/daemon.err")" >&2; exit 1; }
-  tcp_port=$(sed -n 's/^tcp .*:\([0-9]*\)$/\1/p' "$out")
-}
-stop_daemon() { kill "$daemon_pid" 2>/dev/null || true; wait "$daemon_pid" 2>/dev/null || true; daemon_pid=; }
+write_wall_scene "$scene"
 
 # measure LABEL TRANSPORT_ARGS DAEMON_ARGS: one ldoem-latency run against a fresh daemon.
 measure() {
   local label=$1 link=$2; shift 2
-  start_daemon "$@"
+  start_daemon "$scene" "$@"
   # shellcheck disable=SC2086
   "$client" $link --requests "$requests" | sed "s/^/label=$label-requests /"
   stop_daemon
-  start_daemon "$@"
+  start_daemon "$scene" "$@"
   # shellcheck disable=SC2086
   "$client" $link --profiles "$seconds" | sed "s/^/label=$label-profiles /"
   stop_daemon
@@ -116,10 +85,10 @@ for mode in virtual scale1; do
   [ $mode = scale1 ] && time_arguments="--time-scale 1"
   for variant in $variants; do
     emud=$(emud_of $variant)
-    start_daemon --no-can --tcp 127.0.0.1:0 $time_arguments
+    start_daemon "$scene" --no-can --tcp 127.0.0.1:0 $time_arguments
     "$client" --tcp "127.0.0.1:$tcp_port" --requests "$requests" | sed "s/^/label=$variant-tcp-$mode-requests /" >> "$results"
     stop_daemon
-    start_daemon --no-can --tcp 127.0.0.1:0 $time_arguments
+    start_daemon "$scene" --no-can --tcp 127.0.0.1:0 $time_arguments
     "$client" --tcp "127.0.0.1:$tcp_port" --profiles "$seconds" | sed "s/^/label=$variant-tcp-$mode-profiles /" >> "$results"
     stop_daemon
   done
@@ -133,7 +102,6 @@ fi
 
 # key=value lines -> one table.
 field() { sed -n "s/.*[ ^]$1=\([^ ]*\).*/\1/p" <<< "$2"; }
-ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (a == "" || b == "" || b == 0) print "-"; else printf "%.3f", a / b }'; }
 emud_column=
 [ -n "$old_emud" ] && emud_column=" ldoem-emud |"
 echo "| transport | time |$emud_column GET_STATUS median (us) | GET_STATUS p99 (us) | profiles/s | bytes/s |"

@@ -33,23 +33,10 @@ for program in "$emud" "$client"; do
   [ -x "$program" ] || { echo "bench-wire-fault-hook.sh: $program missing (build ldoem-emud and ldoem-latency)" >&2; exit 2; }
 done
 
-work=$(mktemp -d /tmp/ldoem-hook-cost.XXXXXX)
-daemon_pid=
-cleanup() {
-  if [ -n "$daemon_pid" ]; then kill "$daemon_pid" 2>/dev/null || true; wait "$daemon_pid" 2>/dev/null || true; fi
-  rm -rf "$work"
-}
-trap cleanup EXIT
-
-cat > "$work/without.yaml" <<'YAML'
-scanner:
-  flash: {motor_speed_hz: 20, angle_step_ticks: 8}
-objects:
-  - name: wall
-    box: {size_m: [0.2, 20, 6]}
-    pose: {position_m: [5.1, 0, 0]}
-    reflectance: 0.8
-YAML
+tool=bench-wire-fault-hook.sh
+# shellcheck source=scripts/lib/latency-daemon.sh
+source "$root/scripts/lib/latency-daemon.sh"
+write_wall_scene "$work/without.yaml"
 # Endpoint faults that are in the scene but never act: triggered by a service nobody asks for.
 cp "$work/without.yaml" "$work/with.yaml"
 cat >> "$work/with.yaml" <<'YAML'
@@ -60,28 +47,14 @@ faults:
   - {kind: tcp_stall, on: {service: GET_SYNC_CLOCK, nth: 1}}
 YAML
 
-start_daemon() {
-  local out=$work/daemon.out
-  "$emud" --scene "$1" --no-flash --no-can --tcp 127.0.0.1:0 --virtual-time --timeout 600 > "$out" 2> "$work/daemon.err" &
-  daemon_pid=$!
-  for _ in $(seq 1 600); do
-    grep -q '^ready$' "$out" 2>/dev/null && break
-    kill -0 "$daemon_pid" 2>/dev/null || break
-    sleep 0.05
-  done
-  grep -q '^ready$' "$out" || { echo "bench-wire-fault-hook.sh: not ready: $(cat "$work/daemon.err")" >&2; exit 1; }
-  tcp_port=$(sed -n 's/^tcp .*:\([0-9]*\)$/\1/p' "$out")
-}
-stop_daemon() { kill "$daemon_pid" 2>/dev/null || true; wait "$daemon_pid" 2>/dev/null || true; daemon_pid=; }
-
 results=$work/results.txt
 : > "$results"
 for round in $(seq 1 "$rounds"); do
   for variant in without with; do
-    start_daemon "$work/$variant.yaml"
+    start_daemon "$work/$variant.yaml" --no-can --tcp 127.0.0.1:0 --virtual-time
     "$client" --tcp "127.0.0.1:$tcp_port" --requests "$requests" | sed "s/^/variant=$variant round=$round /" >> "$results"
     stop_daemon
-    start_daemon "$work/$variant.yaml"
+    start_daemon "$work/$variant.yaml" --no-can --tcp 127.0.0.1:0 --virtual-time
     "$client" --tcp "127.0.0.1:$tcp_port" --profiles "$seconds" | sed "s/^/variant=$variant round=$round /" >> "$results"
     stop_daemon
   done
@@ -92,7 +65,6 @@ median_of() {
   grep "^variant=$1 " "$results" | sed -n "s/.* $2=\([^ ]*\).*/\1/p" | sort -g |
     awk '{ v[NR] = $1 } END { if (NR == 0) print ""; else if (NR % 2) print v[(NR + 1) / 2]; else printf "%.1f\n", (v[NR / 2] + v[NR / 2 + 1]) / 2 }'
 }
-ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (a == "" || b == "" || b == 0) print "-"; else printf "%.3f", a / b }'; }
 echo "| scene | GET_STATUS median (us) | GET_STATUS p99 (us) | profiles/s | bytes/s |"
 echo "|---|---|---|---|---|"
 for variant in without with; do
