@@ -20,24 +20,24 @@
 //                           minus the same before the daemon existed (scene loaded)
 // Memory per added scanner is the difference of two runs (1 and N scanners) in the script.
 #include "support/bench_scenes.hpp"
+#include "support/process_meters.hpp"
 
 #include <ldoem/daemon/daemon.hpp>
 #include <ldoem/endpoints/memory_endpoint.hpp>
 #include <ldoem/protocol/text.hpp>
 
-#include <malloc.h>
-#include <time.h>
-#include <unistd.h>
-
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
 
 namespace {
+
+using ldoem::bench::current_rss_mib;
+using ldoem::bench::heap_in_use_mib;
+using ldoem::bench::thread_cpu_s;
 
 using namespace ldoem;
 using namespace std::chrono_literals;
@@ -47,24 +47,6 @@ constexpr double kRevolutionHz = 20.0;
 constexpr double kBeamsPerRevolution = 540.0;  // 270 deg at 0.5 deg
 constexpr double kGridStep_m = 0.5;
 constexpr int kGridSide = 21;  // 21 x 21 places: up to 441 scanners
-
-double thread_cpu_s() {
-  timespec now{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
-  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
-}
-
-double current_rss_mib() {
-  std::ifstream statm("/proc/self/statm");
-  long total_pages = 0, resident_pages = 0;
-  statm >> total_pages >> resident_pages;
-  return static_cast<double>(resident_pages) * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
-}
-
-double heap_in_use_mib() {
-  const struct mallinfo2 info = mallinfo2();
-  return static_cast<double>(info.uordblks + info.hblkhd) / (1024.0 * 1024.0);
-}
 
 // The scene's scanner, `count` times: 20 Hz, 0.5 deg, D4's sectors (270 deg measured), each on
 // its own grid place and CAN identifier pair (no CAN here; the loader's rule is kept).

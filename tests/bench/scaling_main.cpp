@@ -14,21 +14,21 @@
 // Measured below the daemon: no control unit, telegram encoding or socket writes (their cost
 // per profile is in docs/latency.md); every scanner stands at the scene's pivot.
 #include "support/bench_scenes.hpp"
+#include "support/process_meters.hpp"
 
 #include <ldoem/plant/scene_plant.hpp>
 
-#include <malloc.h>
-#include <time.h>
-#include <unistd.h>
-
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <memory>
 #include <string>
 #include <vector>
 
 namespace {
+
+using ldoem::bench::current_rss_mib;
+using ldoem::bench::heap_in_use_mib;
+using ldoem::bench::thread_cpu_s;
 
 using namespace ldoem;
 
@@ -36,27 +36,6 @@ constexpr double kRevolutionHz = 20.0;
 constexpr int kBeamsPerRevolution = 720;  // 0.5 deg over 360 deg
 constexpr std::uint16_t kTicksPerBeam = 8;  // 0.5 deg in 1/16 deg (D5)
 constexpr double kSimulatedSeconds = 2.0;
-
-double thread_cpu_s() {
-  timespec now{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
-  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
-}
-
-// Current (not peak) resident set, from /proc/self/statm, in MiB.
-double current_rss_mib() {
-  std::ifstream statm("/proc/self/statm");
-  long total_pages = 0, resident_pages = 0;
-  statm >> total_pages >> resident_pages;
-  return static_cast<double>(resident_pages) * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
-}
-
-// Bytes the heap has handed out and not taken back: unlike RSS, this sees a scanner's objects
-// even when they land in pages the scene's loading touched and freed before.
-double heap_in_use_mib() {
-  const struct mallinfo2 info = mallinfo2();
-  return static_cast<double>(info.uordblks + info.hblkhd) / (1024.0 * 1024.0);
-}
 
 }  // namespace
 
