@@ -3,7 +3,6 @@
 // the LPT pty moving the tilt, exit codes, SIGTERM saving the flash, SIGUSR1 counters.
 #include <fcntl.h>
 #include <signal.h>
-#include <termios.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -16,11 +15,13 @@
 #include "daemon_process.hpp"
 #include "host_link.hpp"
 #include "ldoem/protocol/profile.hpp"
+#include "ldoem/test_support/raw_tty.hpp"
 
 namespace ldoem::daemon::test {
 namespace {
 
 using namespace std::chrono_literals;
+using test_support::open_raw;
 
 // A daemon on an ephemeral TCP port, no CAN, flash in memory unless the test names one.
 struct Running {
@@ -224,16 +225,6 @@ TEST(DaemonTcp, TwoConnections_ProfilesGoOnlyToTheOneThatAsked) {
 }
 
 // --------------------------------------------------------------------------------------- serial
-
-int open_raw(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_CLOEXEC);
-  if (fd < 0) return fd;
-  termios settings{};
-  ::tcgetattr(fd, &settings);
-  ::cfmakeraw(&settings);
-  ::tcsetattr(fd, TCSANOW, &settings);
-  return fd;
-}
 
 TEST(DaemonSerial, S2GetStatus_IsAnsweredAsOnePackage) {
   TempDir dir;

@@ -3,8 +3,7 @@
 // daemon's CAN endpoint on vcan: tests/wire_faults/can_wire_faults_test.cpp, label vcan.)
 #include <gtest/gtest.h>
 
-#include <numeric>
-
+#include "isotp_test_frames.hpp"
 #include "ldoem/endpoints/isotp_channel.hpp"
 
 namespace ldoem::endpoints {
@@ -14,13 +13,8 @@ using namespace std::chrono_literals;
 using protocol::Bytes;
 using protocol::CanFrame;
 
-CanFrame frame(std::uint32_t id, Bytes bytes) { return *protocol::make_can_frame(id, bytes); }
-
-Bytes counting_bytes(std::size_t count) {
-  Bytes bytes(count);
-  std::iota(bytes.begin(), bytes.end(), std::uint8_t{1});
-  return bytes;
-}
+using test::counting_bytes;
+using test::frame;
 
 // A 20-byte message: FF, then after the host's FC two CFs. Returns every frame that went out.
 std::vector<CanFrame> send_twenty_bytes(TelegramFaults faults) {

@@ -2,8 +2,7 @@
 // flow control pacing our sender, one message per telegram, a bounded queue behind it.
 #include <gtest/gtest.h>
 
-#include <numeric>
-
+#include "isotp_test_frames.hpp"
 #include "ldoem/endpoints/isotp_channel.hpp"
 
 namespace ldoem::endpoints {
@@ -13,13 +12,8 @@ using namespace std::chrono_literals;
 using protocol::Bytes;
 using protocol::CanFrame;
 
-CanFrame frame(std::uint32_t id, Bytes bytes) { return *protocol::make_can_frame(id, bytes); }
-
-Bytes counting_bytes(std::size_t count) {
-  Bytes bytes(count);
-  std::iota(bytes.begin(), bytes.end(), std::uint8_t{1});
-  return bytes;
-}
+using test::counting_bytes;
+using test::frame;
 
 IsoTpChannel default_channel() { return IsoTpChannel(IsoTpChannelConfig{}); }
 

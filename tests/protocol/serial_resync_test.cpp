@@ -11,18 +11,11 @@ namespace {
 
 using test::concat;
 using test::hex;
+using test::telegrams_of;
 
 const Bytes kStatusReply = hex("81 02 00 00 00 01");
 const Bytes kIdleReply = hex("84 02 00 00 00 01");
 const Bytes kClockReply = hex("82 05 12 34");
-
-std::vector<Bytes> telegrams_of(const std::vector<DeframerEvent>& events) {
-  std::vector<Bytes> payloads;
-  for (const auto& event : events) {
-    if (const auto* telegram = std::get_if<Telegram>(&event)) payloads.push_back(telegram->payload);
-  }
-  return payloads;
-}
 
 // good, cut short (no CRC, no ETX), good, garbage, bad CRC, good.
 Bytes faulty_stream() {

@@ -11,6 +11,7 @@ namespace {
 
 using test::concat;
 using test::hex;
+using test::telegrams_of;
 
 const Bytes kStatusReply = hex("81 02 00 00 00 01");
 const Bytes kIdleReply = hex("84 02 00 00 00 01");
@@ -31,14 +32,6 @@ Bytes corrupted_frame(const Bytes& payload) {
   Bytes frame = encode_tcp_frame(payload);
   frame.back() ^= 0x5A;  // D11 corrupt_checksum: the XOR byte is wrong
   return frame;
-}
-
-std::vector<Bytes> telegrams_of(const std::vector<DeframerEvent>& events) {
-  std::vector<Bytes> payloads;
-  for (const auto& event : events) {
-    if (const auto* telegram = std::get_if<Telegram>(&event)) payloads.push_back(telegram->payload);
-  }
-  return payloads;
 }
 
 // good, cut (claims 20 bytes, has 3), good, good, garbage, corrupted, good.

@@ -8,6 +8,7 @@
 #include <ostream>
 #include <string>
 #include <string_view>
+#include <variant>
 #include <vector>
 
 #include "ldoem/protocol/framing.hpp"
@@ -81,6 +82,15 @@ inline Bytes concat(std::initializer_list<Bytes> parts) {
   Bytes all;
   for (const auto& part : parts) all.insert(all.end(), part.begin(), part.end());
   return all;
+}
+
+// The payloads of the telegrams among a deframer's events, in order (framing errors left out).
+inline std::vector<Bytes> telegrams_of(const std::vector<DeframerEvent>& events) {
+  std::vector<Bytes> payloads;
+  for (const auto& event : events) {
+    if (const auto* telegram = std::get_if<Telegram>(&event)) payloads.push_back(telegram->payload);
+  }
+  return payloads;
 }
 
 // Runs a fresh decoder from `make()` over `stream` whole, byte by byte, and split in two at

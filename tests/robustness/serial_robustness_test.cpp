@@ -2,25 +2,15 @@
 // ETX, endless hex. The daemon stays up, its memory bounded, and the next correct S2 request
 // (spec 7.4) gets its exact one-package reply.
 #include <fcntl.h>
-#include <termios.h>
 #include <unistd.h>
 
+#include "ldoem/test_support/raw_tty.hpp"
 #include "robustness.hpp"
 
 namespace ldoem::daemon::test {
 namespace {
 
 using namespace std::chrono_literals;
-
-int open_raw_pty(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) return -1;
-  termios settings{};
-  ::tcgetattr(fd, &settings);
-  ::cfmakeraw(&settings);
-  ::tcsetattr(fd, TCSANOW, &settings);
-  return fd;
-}
 
 // Writes everything, reading (and keeping) whatever the daemon answers meanwhile, so that
 // neither side of the pty blocks on a full buffer.
@@ -40,7 +30,7 @@ TEST(SerialRobustness, NoiseOnTheLine_ThenTheNextRequestGetsItsExactReply) {
   TempDir pty_dir;
   HostileRun daemon({"--no-can", "--serial", "pty:" + pty_dir.path("serial"), "--virtual-time"});
   ASSERT_TRUE(daemon.ready());
-  const int fd = open_raw_pty(pty_dir.path("serial"));
+  const int fd = test_support::open_raw(pty_dir.path("serial"), O_NONBLOCK);
   ASSERT_GE(fd, 0);
   std::mt19937_64 generator(0x5EED0002);
   Bytes replies;

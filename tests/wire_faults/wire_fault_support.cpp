@@ -3,7 +3,6 @@
 #include <fcntl.h>
 #include <sys/socket.h>
 #include <sys/un.h>
-#include <termios.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -80,16 +79,6 @@ std::optional<nlohmann::json> control_request(const std::string& path, const nlo
   }
   ::close(fd);
   return answer;
-}
-
-int open_raw(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_CLOEXEC);
-  if (fd < 0) return fd;
-  termios settings{};
-  ::tcgetattr(fd, &settings);
-  ::cfmakeraw(&settings);
-  ::tcsetattr(fd, TCSANOW, &settings);
-  return fd;
 }
 
 InProcessTcp::InProcessTcp(const std::string& scene_text) {

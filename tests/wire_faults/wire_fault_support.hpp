@@ -15,11 +15,13 @@
 #include "daemon_process.hpp"
 #include "host_link.hpp"
 #include "ldoem/daemon/daemon.hpp"
+#include "ldoem/test_support/raw_tty.hpp"
 
 namespace ldoem::wire_faults::test {
 
 using daemon::test::DaemonProcess;
 using daemon::test::TempDir;
+using test_support::open_raw;
 using protocol::Bytes;
 
 // ldoem-emud on `scene_text` with TCP on a free port (and no CAN unless `extra` says --can),
@@ -46,8 +48,6 @@ std::optional<nlohmann::json> control_request(const std::string& path, const nlo
 
 // Reads until `count` bytes came or `limit` passed; what came.
 Bytes read_bytes(int fd, std::size_t count, std::chrono::milliseconds limit = std::chrono::seconds(5));
-// A pty peer (or any tty) in raw mode; -1 on failure.
-int open_raw(const std::string& path);
 
 // The daemon in this process, TCP on a free port, virtual time: the test runs the loop and reads
 // simulated time when its bytes arrive.
