@@ -4,7 +4,12 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <signal.h>
+
+#include <algorithm>
 #include <thread>
+
+#include "ldoem/faults/fault_scheduler.hpp"
 
 #include "ldoem/protocol/lpt.hpp"
 #include "wire_fault_support.hpp"
@@ -14,6 +19,9 @@ namespace {
 
 using namespace std::chrono_literals;
 using daemon::test::minimal_scene_text;
+using daemon::test::TcpHost;
+using daemon::test::telegram;
+using daemon::test::to_hex;
 using nlohmann::json;
 
 struct LptDaemon {
@@ -22,8 +30,9 @@ struct LptDaemon {
   FaultyDaemon daemon;
   int lpt = -1;
 
-  explicit LptDaemon(const std::string& faults)
-      : daemon(minimal_scene_text() + "faults:\n" + faults, {"--lpt", "pty:" + pty_dir.path("lpt"), "--control", control}) {
+  explicit LptDaemon(const std::string& faults, std::uint64_t seed = 0)
+      : daemon(minimal_scene_text() + "seed: " + std::to_string(seed) + "\nfaults:\n" + faults,
+               {"--lpt", "pty:" + pty_dir.path("lpt"), "--control", control}) {
     if (daemon.ready()) lpt = open_raw(pty_dir.path("lpt"));
   }
   ~LptDaemon() {
@@ -74,6 +83,66 @@ TEST(WireFaultsLpt, Jam_ThePlateFollowsNoPulseUntilCleared) {
   ASSERT_TRUE(cleared && cleared->contains("return")) << (cleared ? cleared->dump() : "no answer");
   d.pulse(4);
   EXPECT_EQ(d.tilt_steps_when(4), std::optional<std::uint64_t>(4));
+}
+
+// Same scene, seed and conversation: the same steps lost, the same replies and the same event log,
+// twice. Lost steps are started by a probability trigger (D11: counter-based draws from the seed)
+// and by a counted one, both on GET_STATUS over TCP; between two requests the host pulses 5 steps.
+TEST(WireFaultsLpt, SameSeedAndConversationGiveTheSameStepsAndEventsTwice) {
+  constexpr std::uint64_t kSeed = 23;
+  constexpr double kProbability = 0.4;
+  constexpr int kRounds = 12;
+  constexpr int kPulses = 5;
+  const std::string faults = "  - {kind: lpt_lose_steps, count: 2, probability: 0.4, service: GET_STATUS}\n"
+                             "  - {kind: lpt_lose_steps, count: 3, every: {service: GET_STATUS, count: 4}}\n";
+  // What the scheduler must do, worked out apart from it: the n-th GET_STATUS (from 0) starts the
+  // first entry when fault_draw(seed, 0, n) < p, the second on every 4th; each activation loses
+  // its count of the next steps.
+  std::vector<std::uint64_t> expected_steps;
+  {
+    std::uint64_t pending = 0;
+    std::uint64_t steps = 0;
+    for (int n = 0; n < kRounds; ++n) {
+      if (faults::fault_draw(kSeed, 0, static_cast<std::uint64_t>(n)) < kProbability) pending += 2;
+      if ((n + 1) % 4 == 0) pending += 3;
+      const std::uint64_t lost = std::min<std::uint64_t>(pending, kPulses);
+      pending -= lost;
+      steps += kPulses - lost;
+      expected_steps.push_back(steps);
+    }
+  }
+  ASSERT_LT(expected_steps.back(), static_cast<std::uint64_t>(kRounds * kPulses));  // some steps are lost
+  auto run = [&] {
+    LptDaemon d(faults, kSeed);
+    EXPECT_GE(d.lpt, 0) << d.daemon.diagnostics();
+    std::string transcript;
+    auto host = TcpHost::connect(d.daemon.process->tcp_port());
+    if (d.lpt < 0 || !host) return std::pair<std::string, std::string>{};
+    for (int round = 0; round < kRounds; ++round) {
+      host->send(telegram("GET_STATUS"));
+      const auto reply = host->next_frame(5s);
+      d.pulse(kPulses);
+      const auto steps = d.tilt_steps_when(expected_steps[static_cast<std::size_t>(round)]);
+      transcript += (reply ? to_hex(*reply) : std::string("(nothing)")) + " steps " +
+                    (steps ? std::to_string(*steps) : std::string("(no answer)")) + "\n";
+    }
+    d.daemon.process->signal(SIGTERM);
+    d.daemon.process->wait();
+    return std::pair{transcript, d.daemon.events()};
+  };
+  const auto first = run();
+  const auto second = run();
+  EXPECT_EQ(first.first, second.first);
+  EXPECT_EQ(first.second, second.second);
+  std::string expected_tail;
+  for (const std::uint64_t steps : expected_steps) expected_tail += " steps " + std::to_string(steps) + "\n";
+  std::string steps_seen;
+  for (std::size_t at = first.first.find(" steps "); at != std::string::npos; at = first.first.find(" steps ", at + 1)) {
+    steps_seen += first.first.substr(at, first.first.find('\n', at) + 1 - at);
+  }
+  EXPECT_EQ(steps_seen, expected_tail) << first.first;
+  EXPECT_NE(first.second.find("probability"), std::string::npos) << first.second;
+  EXPECT_NE(first.second.find("\"reason\":\"count used\""), std::string::npos) << first.second;
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 
 #include "ldoem/driver/transport.hpp"
 #include "ldoem/faults/fault_scheduler.hpp"
+#include "ldoem/protocol/serial_framing.hpp"
 #include "ldoem/protocol/wire_corruption.hpp"
 #include "wire_fault_support.hpp"
 
@@ -256,6 +257,70 @@ TEST(WireFaultsTcp, SameSeedAndConversationGiveTheSameBytesAndEventsTwice) {
   EXPECT_GT(garbled, 0u) << first.first;
   EXPECT_LT(garbled, 16u) << first.first;
   EXPECT_NE(first.second.find("\"kind\":\"garbage\""), std::string::npos) << first.second;
+}
+
+// The same on serial: probability-triggered and counted faults in the endpoint (garbage,
+// corrupt_checksum) and in the wire tap (drop_reply), the bytes read off the pty and the event
+// log, twice.
+TEST(WireFaultsSerial, SameSeedAndConversationGiveTheSameBytesAndEventsTwice) {
+  const std::string scene = minimal_scene_text() + "seed: 41\nfaults:\n"
+                            "  - {kind: garbage, bytes: 6, probability: 0.3, service: GET_STATUS}\n"
+                            "  - {kind: corrupt_checksum, count: 2, every: {service: GET_CONFIG, count: 3}}\n"
+                            "  - {kind: drop_reply, probability: 0.2, service: GET_STATUS}\n";
+  auto run = [&scene] {
+    TempDir pty_dir;
+    FaultyDaemon d(scene, {"--serial", "pty:" + pty_dir.path("serial")});
+    EXPECT_TRUE(d.ready()) << d.diagnostics();
+    std::string transcript;
+    const int fd = open_raw(pty_dir.path("serial"));
+    if (fd < 0) return std::pair<std::string, std::string>{};
+    auto ask = [&](std::string_view request) {
+      const Bytes package = protocol::encode_serial_request(telegram(request));
+      EXPECT_EQ(::write(fd, package.data(), package.size()), static_cast<ssize_t>(package.size()));
+      // A reply is garbage (never STX) then STX .. ETX; a dropped one is nothing.
+      Bytes bytes;
+      for (Bytes more = read_bytes(fd, 1, 300ms); !more.empty(); more = read_bytes(fd, 1, 300ms)) {
+        bytes.insert(bytes.end(), more.begin(), more.end());
+        const auto stx = std::find(bytes.begin(), bytes.end(), std::uint8_t{0x02});
+        if (stx != bytes.end() && std::find(stx, bytes.end(), std::uint8_t{0x03}) != bytes.end()) break;
+        if (bytes.size() > 256) break;
+      }
+      transcript += std::string(request) + " -> " + (bytes.empty() ? std::string("(nothing)") : to_hex(bytes)) + "\n";
+    };
+    for (int i = 0; i < 16; ++i) ask("GET_STATUS");
+    for (int i = 0; i < 6; ++i) ask("GET_CONFIG 0010");
+    ::close(fd);
+    d.process->signal(SIGTERM);
+    d.process->wait();
+    return std::pair{transcript, d.events()};
+  };
+  const auto first = run();
+  const auto second = run();
+  EXPECT_EQ(first.first, second.first);
+  EXPECT_EQ(first.second, second.second);
+  const std::string good = "GET_STATUS -> " + to_hex(as_bytes(kSerialStatusReply)) + "\n";
+  EXPECT_NE(first.first.find(good), std::string::npos) << first.first;
+  EXPECT_NE(first.first.find("GET_STATUS -> (nothing)"), std::string::npos) << first.first;  // dropped
+  std::size_t garbled = 0;  // GET_STATUS replies with bytes before their STX
+  for (std::size_t at = first.first.find("GET_STATUS -> "); at != std::string::npos; at = first.first.find("GET_STATUS -> ", at + 1)) {
+    if (first.first.compare(at + 14, 2, "02") != 0 && first.first.compare(at + 14, 9, "(nothing)") != 0) ++garbled;
+  }
+  EXPECT_GT(garbled, 0u) << first.first;
+  EXPECT_LT(garbled, 16u) << first.first;
+  // every: GET_CONFIG 3 and 6 start a corrupt_checksum with count 2: replies 3, 4 and 6 are corrupted.
+  std::vector<std::string> config_replies;
+  for (std::size_t at = first.first.find("GET_CONFIG 0010 -> "); at != std::string::npos;
+       at = first.first.find("GET_CONFIG 0010 -> ", at + 1)) {
+    config_replies.push_back(first.first.substr(at, first.first.find('\n', at) - at));
+  }
+  ASSERT_EQ(config_replies.size(), 6u) << first.first;
+  for (const std::size_t healthy : {1u, 4u}) EXPECT_EQ(config_replies[healthy], config_replies[0]);
+  for (const std::size_t corrupted : {2u, 3u, 5u}) {
+    EXPECT_NE(config_replies[corrupted], config_replies[0]);
+    EXPECT_EQ(config_replies[corrupted].size(), config_replies[0].size());  // only the CRC differs
+  }
+  EXPECT_NE(first.second.find("\"reason\":\"count used\""), std::string::npos) << first.second;
+  EXPECT_NE(first.second.find("\"kind\":\"drop_reply\""), std::string::npos) << first.second;
 }
 
 // D9's rule for the endpoint hook: a scene whose faults never act gives the bytes of a scene
