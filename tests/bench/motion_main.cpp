@@ -28,7 +28,7 @@ namespace ldoem::bench {
 namespace {
 
 constexpr int kRounds = 5;
-constexpr int kMovingRounds = 15;
+constexpr int kMovingRounds = 41;
 constexpr double kRevolution_s = 0.1;  // 10 Hz head
 constexpr int kBeamsPerRevolution = 1440;  // 0.25 deg
 
@@ -84,6 +84,17 @@ double cast_revolutions(const raycast::RayCaster& caster, world::SceneCaster* mo
   return sum;
 }
 
+// Counters for a ratio taken round by round: its median, quartiles and extremes.
+void set_ratio_counters(benchmark::State& state, const std::string& name, const std::vector<double>& ratios) {
+  const Spread spread = spread_of(ratios);
+  state.counters[name] = spread.median;
+  state.counters[name + "_q1"] = spread.lower_quartile;
+  state.counters[name + "_q3"] = spread.upper_quartile;
+  state.counters[name + "_min"] = spread.min;
+  state.counters[name + "_max"] = spread.max;
+  state.counters[name + "_rounds"] = static_cast<double>(ratios.size());
+}
+
 void bm_moving_objects(benchmark::State& state, raycast::MovingCasterOptions options) {
   const scene::Scene moving = moving_field(100);
   const scene::Scene frozen = random_primitive_scene(100);
@@ -94,8 +105,9 @@ void bm_moving_objects(benchmark::State& state, raycast::MovingCasterOptions opt
   std::size_t rays = 0;
   for (const auto& r : revolutions) rays += r.size();
   // Whole scans (31 revolutions in time order, so that a window reused across revolutions is
-  // paid for as it would be), many rounds: the machine is shared, each side keeps its fastest.
-  std::vector<double> fastest;
+  // paid for as it would be), moving then frozen in each short round (a few ms each); the ratio
+  // is taken round by round, of the two runs made back to back, and its median reported.
+  std::vector<std::vector<double>> times;
   for (auto _ : state) {
     const std::function<void()> jobs[] = {
         [&] { benchmark::DoNotOptimize(cast_revolutions(moving_caster, &moving_caster, revolutions)); },
@@ -104,14 +116,14 @@ void bm_moving_objects(benchmark::State& state, raycast::MovingCasterOptions opt
           for (const auto& r : revolutions) moving_caster.prepare(r.front().time_s, r.back().time_s);
         },
     };
-    fastest = fastest_interleaved(jobs, kMovingRounds);
+    times = interleaved_rounds(jobs, kMovingRounds);
   }
   state.counters["moving_objects"] = static_cast<double>(moving_caster.motion().scene_indices().size());
   state.counters["rays"] = static_cast<double>(rays);
-  state.counters["moving_rays_s"] = static_cast<double>(rays) / fastest[0];
-  state.counters["frozen_rays_s"] = static_cast<double>(rays) / fastest[1];
-  state.counters["ratio_moving_vs_frozen"] = fastest[1] / fastest[0];
-  state.counters["prepare_us_per_revolution"] = 1e6 * fastest[2] / static_cast<double>(revolutions.size());
+  state.counters["moving_rays_s"] = static_cast<double>(rays) / spread_of(times[0]).median;
+  state.counters["frozen_rays_s"] = static_cast<double>(rays) / spread_of(times[1]).median;
+  set_ratio_counters(state, "ratio_moving_vs_frozen", round_ratios(times[1], times[0]));
+  state.counters["prepare_us_per_revolution"] = 1e6 * spread_of(times[2]).median / static_cast<double>(revolutions.size());
 }
 
 // --- A static scene costs what it cost before D12 -------------------------------------------------
@@ -144,18 +156,18 @@ void bm_static_scene_cost(benchmark::State& state, const std::string& path) {
   }
   std::vector<sensor::BeamSample> now(beams.size());
   std::vector<sensor::BeamSample> before(beams.size());
-  std::vector<double> fastest;
+  std::vector<std::vector<double>> times;
   for (auto _ : state) {
     const std::function<void()> jobs[] = {
         [&] { model.measure(3, beams, now); },
         [&] { measure_before_d12(scene, model, caster, 3, beams, before); },
     };
-    fastest = fastest_interleaved(jobs, 21);
+    times = interleaved_rounds(jobs, 31);
   }
   std::size_t differ = 0;
   for (std::size_t i = 0; i < now.size(); ++i) differ += now[i].distance != before[i].distance || now[i].echo != before[i].echo;
   state.counters["beams"] = static_cast<double>(beams.size());
-  state.counters["ratio_now_vs_before"] = fastest[0] / fastest[1];
+  set_ratio_counters(state, "ratio_now_vs_before", round_ratios(times[0], times[1]));
   state.counters["samples_that_differ"] = static_cast<double>(differ);
 }
 
@@ -183,7 +195,7 @@ void bm_editable_scene(benchmark::State& state, const std::string& path) {
   }
   std::vector<sensor::BeamSample> out(revolutions.front().size());
   std::vector<std::vector<sensor::BeamSample>> with(revolutions.size()), without(revolutions.size());
-  std::vector<double> fastest;
+  std::vector<std::vector<double>> times;
   for (auto _ : state) {
     const std::function<void()> jobs[] = {
         [&] {
@@ -200,7 +212,7 @@ void bm_editable_scene(benchmark::State& state, const std::string& path) {
           }
         },
     };
-    fastest = fastest_interleaved(jobs, 11);
+    times = interleaved_rounds(jobs, 15);
   }
   std::size_t differ = 0;
   for (std::size_t r = 0; r < with.size(); ++r) {
@@ -232,7 +244,7 @@ void bm_editable_scene(benchmark::State& state, const std::string& path) {
       timed_ms([&] { (void)editable_caster.remove_object(scene_object, at_s + 3); });
   state.counters["static_epochs"] = static_cast<double>(editable_caster.static_epochs());
   state.counters["beams"] = static_cast<double>(out.size() * revolutions.size());
-  state.counters["ratio_editable_vs_plain"] = fastest[0] / fastest[1];
+  set_ratio_counters(state, "ratio_editable_vs_plain", round_ratios(times[0], times[1]));
   state.counters["samples_that_differ"] = static_cast<double>(differ);
 }
 
@@ -338,13 +350,17 @@ void bm_world_step(benchmark::State& state, double step_s) {
 
 void register_all() {
   using raycast::MovingIndex;
+  // <slices>_<window>, "refit": the BVH refitted instead of built afresh per window.
   const std::pair<const char*, raycast::MovingCasterOptions> indices[] = {
-      {"refit_1", {MovingIndex::refit_slices, 1, 0.0}},   {"refit_4", {MovingIndex::refit_slices, 4, 0.0}},
-      {"refit_16", {MovingIndex::refit_slices, 16, 0.0}}, {"refit_64", {MovingIndex::refit_slices, 64, 0.0}},
-      {"blur_4", {MovingIndex::motion_blur, 4, 0.0}},     {"blur_16", {MovingIndex::motion_blur, 16, 0.0}},
-      {"refit_1_window_0.3s", {MovingIndex::refit_slices, 1, 0.3}},
-      {"refit_1_window_0.5s", {MovingIndex::refit_slices, 1, 0.5}},
-      {"refit_4_window_0.5s", {MovingIndex::refit_slices, 4, 0.5}},
+      {"slices_1_window_0.3s", {MovingIndex::swept_slices, 1, 0.3, false}},  // the default
+      {"slices_1_window_0.3s_refit", {MovingIndex::swept_slices, 1, 0.3, true}},
+      {"slices_1_revolution", {MovingIndex::swept_slices, 1, 0.0, false}},
+      {"slices_1_revolution_refit", {MovingIndex::swept_slices, 1, 0.0, true}},
+      {"slices_1_window_0.5s", {MovingIndex::swept_slices, 1, 0.5, false}},
+      {"slices_4_revolution", {MovingIndex::swept_slices, 4, 0.0, false}},
+      {"slices_16_revolution", {MovingIndex::swept_slices, 16, 0.0, false}},
+      {"blur_4_revolution", {MovingIndex::motion_blur, 4, 0.0, false}},
+      {"blur_16_revolution", {MovingIndex::motion_blur, 16, 0.0, false}},
   };
   for (const auto& [name, options] : indices) {
     benchmark::RegisterBenchmark((std::string("BM_MovingObjects/") + name).c_str(), bm_moving_objects, options)

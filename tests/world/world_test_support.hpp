@@ -48,8 +48,9 @@ class RecordingCaster final : public raycast::RayCaster {
 };
 
 inline const raycast::MovingCasterOptions kIndexOptions[] = {
-    {raycast::MovingIndex::refit_slices, 1},
-    {raycast::MovingIndex::refit_slices, 16},
+    {raycast::MovingIndex::swept_slices, 1},
+    {raycast::MovingIndex::swept_slices, 16},
+    {raycast::MovingIndex::swept_slices, 4, 0.3, true},  // refitted rather than built per window
     {raycast::MovingIndex::motion_blur, 4},
 };
 

@@ -15,8 +15,9 @@
 namespace ldoem::raycast {
 namespace {
 
-// A refitted BVH keeps the tree of its last full build; objects that wander far apart make
-// that tree slow (never wrong). A full build every this many windows keeps it fresh.
+// With MovingCasterOptions::refit, a refitted BVH keeps the tree of its last full build; objects
+// that wander far apart make that tree slow (never wrong). A full build every this many windows
+// keeps it fresh.
 constexpr unsigned kWindowsPerFullBuild = 64;
 
 struct MovingCastContext {
@@ -59,7 +60,7 @@ struct MovingRayCaster::Impl {
 
   std::string device_error;
   RTCDevice device = nullptr;
-  std::vector<RTCScene> scenes;           // one per slice (refit_slices) or one (motion_blur)
+  std::vector<RTCScene> scenes;           // one per slice (swept_slices) or one (motion_blur)
   std::vector<RTCGeometry> geometries;
   std::vector<std::vector<RTCBounds>> boxes;  // [slice or time step][moving index]
   std::vector<TimeSpan> presence;             // empty: every object always exists
@@ -228,7 +229,7 @@ void MovingRayCaster::prepare(double t0_s, double t1_s) {
   // its object in the box of either neighbour.
   const double overlap_s = 1e-6 * span_s;
   const auto edge = [&](unsigned i) { return i == n ? t1_s : t0_s + span_s * i / n; };
-  if (impl.options.index == MovingIndex::refit_slices) {
+  if (impl.options.index == MovingIndex::swept_slices) {
     for (unsigned s = 0; s < n; ++s) impl.fill_boxes(impl.boxes[s], edge(s) - overlap_s, edge(s + 1) + overlap_s);
   } else {
     // Embree interpolates linearly between step boxes: each step's box holds the object over
@@ -237,7 +238,7 @@ void MovingRayCaster::prepare(double t0_s, double t1_s) {
       impl.fill_boxes(impl.boxes[s], edge(s == 0 ? 0 : s - 1) - overlap_s, edge(s == n ? n : s + 1) + overlap_s);
     }
   }
-  const bool full_build = impl.windows % kWindowsPerFullBuild == 0;
+  const bool full_build = !impl.options.refit || impl.windows % kWindowsPerFullBuild == 0;
   for (std::size_t s = 0; s < impl.scenes.size(); ++s) {
     rtcSetGeometryBuildQuality(impl.geometries[s], full_build ? RTC_BUILD_QUALITY_LOW : RTC_BUILD_QUALITY_REFIT);
     rtcCommitGeometry(impl.geometries[s]);

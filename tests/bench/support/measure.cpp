@@ -35,4 +35,39 @@ std::vector<double> fastest_interleaved(std::span<const std::function<void()>> j
   return fastest;
 }
 
+std::vector<std::vector<double>> interleaved_rounds(std::span<const std::function<void()>> jobs, int rounds) {
+  for (const auto& job : jobs) job();  // warm-up: caches, lazily built indices, page faults
+  std::vector<std::vector<double>> times(jobs.size());
+  for (int round = 0; round < rounds; ++round) {
+    for (std::size_t j = 0; j < jobs.size(); ++j) {
+      const double start_s = thread_cpu_seconds();
+      jobs[j]();
+      times[j].push_back(thread_cpu_seconds() - start_s);
+    }
+  }
+  return times;
+}
+
+Spread spread_of(std::vector<double> values) {
+  if (values.empty()) return {};
+  std::sort(values.begin(), values.end());
+  // Linear interpolation between the closest ranks.
+  const auto quantile = [&](double q) {
+    const double position = q * static_cast<double>(values.size() - 1);
+    const auto below = static_cast<std::size_t>(position);
+    const std::size_t above = std::min(below + 1, values.size() - 1);
+    const double fraction = position - static_cast<double>(below);
+    return values[below] + fraction * (values[above] - values[below]);
+  };
+  return {quantile(0.5), quantile(0.25), quantile(0.75), values.front(), values.back()};
+}
+
+std::vector<double> round_ratios(std::span<const double> numerator, std::span<const double> denominator) {
+  std::vector<double> ratios;
+  for (std::size_t r = 0; r < std::min(numerator.size(), denominator.size()); ++r) {
+    ratios.push_back(numerator[r] / denominator[r]);
+  }
+  return ratios;
+}
+
 }  // namespace ldoem::bench

@@ -16,4 +16,23 @@ namespace ldoem::bench {
 // Thread CPU seconds of each job's fastest round.
 [[nodiscard]] std::vector<double> fastest_interleaved(std::span<const std::function<void()>> jobs, int rounds);
 
+// Thread CPU seconds of every round of each job ([job][round]), the jobs run in turn round after
+// round, after one warm-up round that is not kept. A ratio taken round by round compares two
+// jobs that ran back to back, in the same phase of a shared machine.
+[[nodiscard]] std::vector<std::vector<double>> interleaved_rounds(std::span<const std::function<void()>> jobs,
+                                                                  int rounds);
+
+// The median of some values and how far they spread: quartiles and extremes.
+struct Spread {
+  double median = 0.0;
+  double lower_quartile = 0.0;
+  double upper_quartile = 0.0;
+  double min = 0.0;
+  double max = 0.0;
+};
+[[nodiscard]] Spread spread_of(std::vector<double> values);
+
+// numerator[r] / denominator[r] for every round r.
+[[nodiscard]] std::vector<double> round_ratios(std::span<const double> numerator, std::span<const double> denominator);
+
 }  // namespace ldoem::bench

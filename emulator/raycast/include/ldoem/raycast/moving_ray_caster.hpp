@@ -1,12 +1,13 @@
 // D12: the caster for objects that move. Each ray carries its instant (Ray::time_s) and meets
 // every moving object at its pose of that instant, exactly (ODE's dCollide on the object's shape,
 // the ray taken into the object's frame). An Embree index over boxes that hold each object for a
-// whole time window finds the candidates; it is updated once per window (prepare), never per
+// whole time window finds the candidates; it is built once per window (prepare), never per
 // beam. Static objects stay in EmbreeRayCaster; world::SceneCaster combines the two.
 //
 // Two indices, chosen by MovingCasterOptions (docs/dynamic-scenes.md has the measurements):
-// - refit_slices: the window is cut into `slices` equal slices, each with its own BVH of boxes
-//   swept over that slice, refitted on prepare; a ray uses the slice of its time.
+// - swept_slices: the window is cut into `slices` equal slices, each with its own BVH of boxes
+//   swept over that slice, built afresh (or refitted, `refit`) on prepare; a ray uses the slice
+//   of its time.
 // - motion_blur: one Embree BVH with `slices` + 1 motion-blur time steps, the ray's time
 //   normalised over the window; Embree interpolates the boxes between steps.
 #pragma once
@@ -44,18 +45,24 @@ struct TimeSpan {
   double until_s = INFINITY;
 };
 
-enum class MovingIndex : std::uint8_t { refit_slices, motion_blur };
+enum class MovingIndex : std::uint8_t { swept_slices, motion_blur };
 
 struct MovingCasterOptions {
-  MovingIndex index = MovingIndex::refit_slices;
+  MovingIndex index = MovingIndex::swept_slices;
   // One slice: chosen by BM_MovingObjects (docs/dynamic-scenes.md "Cost"); more slices give
   // tighter boxes but each costs a refit per window, which outweighed the saving.
-  unsigned slices = 1;  // slices per window (refit_slices) or motion-blur segments (motion_blur)
+  unsigned slices = 1;  // slices per window (swept_slices) or motion-blur segments (motion_blur)
   // prepare() readies at least this long a window and is free while later batches fall inside
   // it: an Embree commit costs about 0.1 ms however few the boxes, so covering several
   // revolutions with one (looser) index can pay. 0: exactly the window asked for. The default,
   // three revolutions at 10 Hz, measured best (docs/dynamic-scenes.md "Cost").
   double min_window_s = 0.3;
+  // Refit the BVH of the last full build on prepare (a full build every 64 windows) instead of
+  // building it afresh. A refit is a little cheaper per window, but it keeps the tree's leaves,
+  // and Embree hands every box of a leaf it reaches to the intersect callback without testing
+  // the box: with boxes that moved since the build, a ray meets several times as many candidates
+  // as after a fresh build, which costs more than the build saves (docs/dynamic-scenes.md "Cost").
+  bool refit = false;
 };
 
 class MovingRayCaster final : public RayCaster {
