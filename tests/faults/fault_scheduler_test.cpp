@@ -160,5 +160,37 @@ TEST(FaultScheduler, OneShotActsThenClears) {
   EXPECT_EQ(events.back().reason, "acted");
 }
 
+// A multi-frame ISO-TP request is seen at its first frame and again once complete; each trigger
+// counts it once: isotp_fc_overflow's and isotp_fc_wait's at the first frame (they act there,
+// on that very request), every other kind's when it is complete.
+TEST(FaultScheduler, AMultiFrameRequestCountsOnceForEachTrigger) {
+  constexpr std::uint16_t kSetFunction = 0x020A;
+  FaultScheduler scheduler({spec_of(FaultKind::isotp_fc_overflow, TriggerOnNth{kSetFunction, 2}),
+                            spec_of(FaultKind::drop_reply, TriggerOnNth{kSetFunction, 2})},
+                           1);
+  std::vector<FaultEvent> events;
+  scheduler.on_request(0s, kSetFunction, Transport::can, events, RequestSeen::first_frame);
+  scheduler.on_request(0s, kSetFunction, Transport::can, events, RequestSeen::rest_of_multi_frame);
+  EXPECT_TRUE(events.empty());
+  scheduler.on_request(1s, kSetFunction, Transport::can, events, RequestSeen::first_frame);
+  ASSERT_EQ(events.size(), 1u);  // the second request's first frame: the overflow, for that frame
+  EXPECT_EQ(events[0].kind, FaultKind::isotp_fc_overflow);
+  // It acts on first frames of its trigger's service only.
+  EXPECT_FALSE(scheduler.take_wire_fault(1s, FaultKind::isotp_fc_overflow, Transport::can, kGetStatus, events));
+  EXPECT_TRUE(scheduler.take_wire_fault(1s, FaultKind::isotp_fc_overflow, Transport::can, kSetFunction, events));
+  scheduler.on_request(2s, kSetFunction, Transport::can, events, RequestSeen::rest_of_multi_frame);
+  ASSERT_EQ(events.size(), 3u);  // its one telegram used, then drop_reply when the request is complete
+  EXPECT_EQ(events[1].reason, "count used");
+  EXPECT_EQ(events[2].kind, FaultKind::drop_reply);
+  EXPECT_EQ(events[2].what, FaultEventKind::injected);
+  // A request in one piece counts for both.
+  FaultScheduler whole({spec_of(FaultKind::isotp_fc_wait, TriggerOnNth{kSetFunction, 1}),
+                        spec_of(FaultKind::drop_reply, TriggerOnNth{kSetFunction, 1})},
+                       1);
+  std::vector<FaultEvent> whole_events;
+  whole.on_request(0s, kSetFunction, Transport::tcp, whole_events);
+  EXPECT_EQ(whole_events.size(), 2u);
+}
+
 }  // namespace
 }  // namespace ldoem::faults

@@ -206,23 +206,21 @@ TEST(WireFaultsCan, IsotpFcOverflow_TheHostsFirstFrameIsAnswered3200_LibldoemSay
 
 TEST(WireFaultsCan, IsotpFcWait_WaitEveryHalfSecondWhileActiveThenContinueToSend) {
   LDOEM_REQUIRE_VCAN0();
-  CanFaultyDaemon d(scene_with("  - {kind: isotp_fc_wait, duration_s: 1.2, on: {service: GET_STATUS, nth: 1}}\n"));
+  CanFaultyDaemon d(scene_with("  - {kind: isotp_fc_wait, duration_s: 1.2, on: {service: SET_FUNCTION, nth: 1}}\n"));
   ASSERT_TRUE(d.ready()) << d.diagnostics();
   RawHost host;
-  host.send({0x02, 0x01, 0x02});  // starts the fault (0 .. 1.2 s)
-  host.send(kLongRequestFirstFrame);
+  host.send(kLongRequestFirstFrame);  // starts the fault (0 .. 1.2 s) and is held by it
   // Held with WAIT at once, 0.5 and 1.0 s later; at 1.5 s the fault is over: continue to send.
-  EXPECT_EQ(text(host.collect(1500ms)), "06 81 02 00 00 00 01\n31 00 00\n31 00 00\n31 00 00\n30 00 00\n");
+  EXPECT_EQ(text(host.collect(1500ms)), "31 00 00\n31 00 00\n31 00 00\n30 00 00\n");
 }
 
 TEST(WireFaultsCan, IsotpFcWait_LibldoemWaitsItOutAndGetsTheReply) {
   LDOEM_REQUIRE_VCAN0();
-  CanFaultyDaemon d(scene_with("  - {kind: isotp_fc_wait, duration_s: 1.2, on: {service: GET_STATUS, nth: 1}}\n"));
+  CanFaultyDaemon d(scene_with("  - {kind: isotp_fc_wait, duration_s: 1.2, on: {service: SET_FUNCTION, nth: 1}}\n"));
   ASSERT_TRUE(d.ready()) << d.diagnostics();
   auto transport = driver::open_transport(*driver::parse_endpoint("can:vcan0"));
   ASSERT_TRUE(transport);
-  ASSERT_TRUE((*transport)->send(telegram("GET_STATUS"), driver::Clock::now() + 2s));  // starts the fault
-  ASSERT_TRUE((*transport)->receive(driver::Clock::now() + 5s));
+  // The first frame starts the fault and is held by it.
   ASSERT_TRUE((*transport)->send(telegram("SET_FUNCTION 0001 0001 0e10"), driver::Clock::now() + 10s));
   EXPECT_TRUE((*transport)->receive(driver::Clock::now() + 5s));
 }
@@ -241,6 +239,51 @@ TEST(WireFaultsCan, IsotpFcWait_EndlessUntilTheHostGivesUp_LibldoemTimesOut) {
   const auto reply = (*transport)->receive(driver::Clock::now() + 5s);
   ASSERT_TRUE(reply);
   EXPECT_EQ(protocol::format_telegram(*reply), "GET_STATUS reply 0000 0001");
+}
+
+// ------------------------------------------------------------- the service of a multi-frame request
+
+// SET_FUNCTION 0001 0001 0e10's consecutive frame, after kLongRequestFirstFrame.
+const protocol::Bytes kLongRequestConsecutiveFrame{0x21, 0x0E, 0x10};
+// GET_STATUS with six bytes too many: a request of eight bytes, sent as a first frame.
+const protocol::Bytes kLongGetStatusFirstFrame{0x10, 0x08, 0x01, 0x02, 0x00, 0x00, 0x00, 0x00};
+
+// isotp_fc_overflow and isotp_fc_wait act on a host's first frame; the service it carries decides
+// whether the fault's `service` matches, and the request is counted by an `on`/`every` trigger of
+// those kinds at that first frame, so that `on: {service: SET_FUNCTION, nth: 2}` holds the second
+// SET_FUNCTION itself (issue 10: the trigger used to count it only once complete, and the fault
+// then fell on whichever first frame came next, whatever its service).
+TEST(WireFaultsCan, IsotpFcOverflow_OnlyFirstFramesOfTheNamedService) {
+  LDOEM_REQUIRE_VCAN0();
+  CanFaultyDaemon d(scene_with("  - {kind: isotp_fc_overflow, count: 1, service: SET_FUNCTION}\n"));
+  ASSERT_TRUE(d.ready()) << d.diagnostics();
+  RawHost host;
+  host.send(kLongGetStatusFirstFrame);  // another service: flow control as usual
+  EXPECT_EQ(text(host.collect()), "30 00 00\n");
+  host.send({0x21, 0x00, 0x00});
+  EXPECT_FALSE(host.collect().empty());  // answered (a service failure: too long a GET_STATUS)
+  host.send(kLongRequestFirstFrame);
+  EXPECT_EQ(text(host.collect()), "32 00 00\n");
+  host.send(kLongRequestFirstFrame);  // the count is used up
+  EXPECT_EQ(text(host.collect()), "30 00 00\n");
+}
+
+TEST(WireFaultsCan, IsotpFcWait_OnTheNthRequestHoldsThatRequestsFirstFrame) {
+  LDOEM_REQUIRE_VCAN0();
+  CanFaultyDaemon d(scene_with("  - {kind: isotp_fc_wait, duration_s: 0.7, on: {service: SET_FUNCTION, nth: 2}}\n"));
+  ASSERT_TRUE(d.ready()) << d.diagnostics();
+  RawHost host;
+  host.send(kLongGetStatusFirstFrame);  // another service: not counted, not held
+  EXPECT_EQ(text(host.collect()), "30 00 00\n");
+  host.send({0x21, 0x00, 0x00});
+  EXPECT_FALSE(host.collect().empty());
+  host.send(kLongRequestFirstFrame);  // SET_FUNCTION 1
+  EXPECT_EQ(text(host.collect()), "30 00 00\n");
+  host.send(kLongRequestConsecutiveFrame);
+  EXPECT_FALSE(host.collect().empty());
+  host.send(kLongRequestFirstFrame);  // SET_FUNCTION 2: held at once, WAIT again at 0.5 s, then go on
+  EXPECT_EQ(text(host.collect(1000ms)), "31 00 00\n31 00 00\n30 00 00\n");
+  EXPECT_NE(d.events().find("\"reason\":\"scene[0] on\""), std::string::npos) << d.events();
 }
 
 // scenes/faults/lossy-can.yaml as its header says: libldoem drops each broken message (a lost or

@@ -41,7 +41,11 @@ std::optional<faults::ActiveFault> EndpointFaults::take(SimTime now, FaultKind k
   if (!faults::applies_to(kind, transport)) return std::nullopt;
   std::vector<faults::FaultEvent> used;
   auto fault = injector_.scheduler().take_wire_fault(now, kind, transport, service, used);
-  if (!used.empty()) publish_(used);
+  if (!used.empty()) {
+    fault_injection::InjectorOutput output;
+    injector_.events_from(used, output);
+    take_(std::move(output));
+  }
   return fault;
 }
 
@@ -83,10 +87,13 @@ std::optional<std::uint32_t> EndpointFaults::bytes_per_second(control::Connectio
   return limit->spec.bytes_per_s;
 }
 
-FirstFrameFault EndpointFaults::on_host_first_frame(control::ConnectionId from, SimTime now) {
+FirstFrameFault EndpointFaults::on_host_first_frame(control::ConnectionId from, std::uint16_t service, SimTime now) {
   const Transport transport = transport_of(from.kind);
-  if (take(now, FaultKind::isotp_fc_overflow, transport, std::nullopt)) return FirstFrameFault::overflow;
-  if (take(now, FaultKind::isotp_fc_wait, transport, std::nullopt)) return FirstFrameFault::wait;
+  // The request's triggers of the first-frame kinds count it here, so that `on: {service, nth}`
+  // refuses or holds that very request; the others count it once it is complete (FaultWiring).
+  take_(injector_.on_request(now, service, transport, faults::RequestSeen::first_frame));
+  if (take(now, FaultKind::isotp_fc_overflow, transport, service)) return FirstFrameFault::overflow;
+  if (take(now, FaultKind::isotp_fc_wait, transport, service)) return FirstFrameFault::wait;
   return FirstFrameFault::none;
 }
 

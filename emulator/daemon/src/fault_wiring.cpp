@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "ldoem/protocol/isotp.hpp"
+
 namespace ldoem::daemon {
 
 using endpoints::LogLevel;
@@ -38,11 +40,7 @@ base::Expected<std::unique_ptr<FaultWiring>, std::string> FaultWiring::create(
       scene.faults, scene.seed, scene.effects.has(scene::Effect::head_dynamics), device.unit_for_faults());
   FaultWiring* self = wiring.get();
   wiring->endpoint_faults_ = std::make_unique<EndpointFaults>(
-      *wiring->injector_, [self](const std::vector<faults::FaultEvent>& used) {
-        fault_injection::InjectorOutput output;
-        self->injector_->events_from(used, output);
-        for (const auto& event : output.events) self->publish(event);
-      });
+      *wiring->injector_, [self](fault_injection::InjectorOutput output) { self->take(std::move(output)); });
   device.set_fault_hook(wiring->endpoint_faults_.get());
   if (setup.event_log_path) {
     wiring->event_log_.open(*setup.event_log_path, std::ios::out | std::ios::trunc);
@@ -126,7 +124,10 @@ WireVerdict FaultWiring::on_telegram(endpoints::WireTelegram& telegram) {
   connections_.insert(telegram.connection);
   const std::uint16_t service =
       telegram.payload.size() >= 2 ? static_cast<std::uint16_t>((telegram.payload[0] << 8) | telegram.payload[1]) : 0;
-  take(injector_->on_request(telegram.at, service, transport));
+  // A multi-frame ISO-TP request was seen at its first frame already (EndpointFaults).
+  const bool came_in_frames = transport == faults::Transport::can && telegram.payload.size() > protocol::kIsoTpMaxSingleFrameBytes;
+  take(injector_->on_request(telegram.at, service, transport,
+                             came_in_frames ? faults::RequestSeen::rest_of_multi_frame : faults::RequestSeen::whole));
   if (!injector_->powered()) return WireVerdict::drop;  // a power cycle this very request started
   return WireVerdict::pass;
 }

@@ -23,7 +23,10 @@ bool CanEndpoint::first_frame_faulted(std::size_t channel, const protocol::CanFr
   }
   if (type != protocol::IsoTpFrameType::first_frame) return false;
   const ConnectionId from{TransportKind::can, static_cast<std::uint32_t>(channel + 1)};
-  switch (fault_hook_->on_host_first_frame(from, context_->scheduler.now())) {
+  // A first frame's data: PCI (2 bytes), then the message's first bytes, the service code first.
+  // (A first frame too short to carry it is broken; the channel drops it: service 0, none.)
+  const auto service = frame.length >= 4 ? static_cast<std::uint16_t>((frame.data[2] << 8) | frame.data[3]) : std::uint16_t{0};
+  switch (fault_hook_->on_host_first_frame(from, service, context_->scheduler.now())) {
     case FirstFrameFault::none:
       return false;
     case FirstFrameFault::overflow:

@@ -135,10 +135,11 @@ InjectorOutput FaultInjector::advance(SimTime now) {
   return out;
 }
 
-InjectorOutput FaultInjector::on_request(SimTime now, std::uint16_t service, faults::Transport transport) {
+InjectorOutput FaultInjector::on_request(SimTime now, std::uint16_t service, faults::Transport transport,
+                                         faults::RequestSeen seen) {
   InjectorOutput out;
   std::vector<faults::FaultEvent> fault_events;
-  scheduler_.on_request(now, service, transport, fault_events);
+  scheduler_.on_request(now, service, transport, fault_events, seen);
   react(fault_events, out);
   note_state(now, out.events);
   return out;

@@ -25,6 +25,10 @@ std::optional<std::uint16_t> trigger_service(const Trigger& trigger) {
 
 }  // namespace
 
+bool acts_on_host_first_frame(FaultKind kind) {
+  return kind == FaultKind::isotp_fc_overflow || kind == FaultKind::isotp_fc_wait;
+}
+
 double fault_draw(std::uint64_t seed, std::uint64_t entry_index, std::uint64_t request_number) {
   const std::uint64_t bits = mix64(mix64(mix64(seed ^ kFaultStreamTag) + entry_index) + request_number);
   return static_cast<double>(bits >> 11) * 0x1.0p-53;
@@ -101,8 +105,13 @@ void FaultScheduler::advance(SimTime now, std::vector<FaultEvent>& events) {
 }
 
 void FaultScheduler::on_request(SimTime now, std::uint16_t service, Transport transport,
-                                std::vector<FaultEvent>& events) {
+                                std::vector<FaultEvent>& events, RequestSeen seen) {
   for (Entry& entry : entries_) {
+    const bool first_frame_kind = acts_on_host_first_frame(entry.spec.kind);
+    if ((seen == RequestSeen::first_frame && !first_frame_kind) ||
+        (seen == RequestSeen::rest_of_multi_frame && first_frame_kind)) {
+      continue;
+    }
     const std::string origin = "scene[" + std::to_string(entry.index) + "]";
     if (const auto* on = std::get_if<TriggerOnNth>(&entry.spec.trigger)) {
       if (on->service != service) continue;

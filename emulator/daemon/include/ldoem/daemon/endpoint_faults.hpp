@@ -21,16 +21,17 @@ std::uint16_t answered_request(protocol::ByteView payload);
 
 class EndpointFaults final : public endpoints::WireFaultHook {
  public:
-  // `publish` turns the scheduler's events (a count used up) into event lines.
-  EndpointFaults(fault_injection::FaultInjector& injector,
-                 std::function<void(const std::vector<faults::FaultEvent>&)> publish)
-      : injector_(injector), publish_(std::move(publish)) {}
+  // `take` acts on what the injector says (FaultWiring::take): the events of a count used up, or
+  // of a fault a host's first frame triggered.
+  EndpointFaults(fault_injection::FaultInjector& injector, std::function<void(fault_injection::InjectorOutput)> take)
+      : injector_(injector), take_(std::move(take)) {}
 
   endpoints::TelegramFaults on_outgoing_telegram(control::ConnectionId to, protocol::ByteView payload,
                                                  base::SimTime now) override;
   std::optional<base::SimTime> stalled_until(control::ConnectionId connection, base::SimTime now) override;
   std::optional<std::uint32_t> bytes_per_second(control::ConnectionId connection, base::SimTime now) override;
-  endpoints::FirstFrameFault on_host_first_frame(control::ConnectionId from, base::SimTime now) override;
+  endpoints::FirstFrameFault on_host_first_frame(control::ConnectionId from, std::uint16_t service,
+                                                 base::SimTime now) override;
   bool keeps_host_waiting(control::ConnectionId from, base::SimTime now) override;
   bool loses_step(base::SimTime at) override;
 
@@ -40,7 +41,7 @@ class EndpointFaults final : public endpoints::WireFaultHook {
                                           std::optional<std::uint16_t> service);
 
   fault_injection::FaultInjector& injector_;
-  std::function<void(const std::vector<faults::FaultEvent>&)> publish_;
+  std::function<void(fault_injection::InjectorOutput)> take_;
 };
 
 }  // namespace ldoem::daemon

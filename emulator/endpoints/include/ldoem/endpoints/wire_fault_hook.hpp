@@ -54,8 +54,9 @@ class WireFaultHook {
   // TCP: the connection's bytes leave at this many bytes per second (bandwidth).
   virtual std::optional<std::uint32_t> bytes_per_second(control::ConnectionId connection, base::SimTime now) = 0;
 
-  // CAN: a host's first frame arrived on `from`'s identifier pair.
-  virtual FirstFrameFault on_host_first_frame(control::ConnectionId from, base::SimTime now) = 0;
+  // CAN: a host's first frame of a request of `service` (the request code, the first two payload
+  // bytes the first frame carries) arrived on `from`'s identifier pair.
+  virtual FirstFrameFault on_host_first_frame(control::ConnectionId from, std::uint16_t service, base::SimTime now) = 0;
   // CAN: a first frame held by isotp_fc_wait is still held (another FC WAIT is due).
   virtual bool keeps_host_waiting(control::ConnectionId from, base::SimTime now) = 0;
 

@@ -51,6 +51,16 @@ double fault_draw(std::uint64_t seed, std::uint64_t entry_index, std::uint64_t r
 // host that resynchronises skips exactly these bytes.
 std::vector<std::uint8_t> fault_garbage(std::uint64_t seed, std::uint64_t id, std::size_t count);
 
+// How much of a request the daemon has seen when it calls on_request. A request that arrives in
+// one piece is `whole`. A multi-frame ISO-TP request (CAN) is seen twice: at its first frame,
+// which carries the service code and is where isotp_fc_overflow and isotp_fc_wait act, and when it
+// is complete. Each trigger counts it once: the triggers of those two kinds at the first frame (so
+// that they can refuse or hold that very request), every other trigger when it is complete.
+enum class RequestSeen : std::uint8_t { whole, first_frame, rest_of_multi_frame };
+
+// True for the kinds that act on a host's ISO-TP first frame (isotp_fc_overflow, isotp_fc_wait).
+bool acts_on_host_first_frame(FaultKind kind);
+
 class FaultScheduler {
  public:
   FaultScheduler() = default;
@@ -63,8 +73,10 @@ class FaultScheduler {
   // Simulated time reached `now`: at_s and TriggerNow entries fire, durations end.
   void advance(SimTime now, std::vector<FaultEvent>& events);
 
-  // A request of `service` (request code) arrived on `transport`: on/every/probability triggers.
-  void on_request(SimTime now, std::uint16_t service, Transport transport, std::vector<FaultEvent>& events);
+  // A request of `service` (request code) arrived on `transport`: on/every/probability triggers
+  // (`seen`: which of them count it, above).
+  void on_request(SimTime now, std::uint16_t service, Transport transport, std::vector<FaultEvent>& events,
+                  RequestSeen seen = RequestSeen::whole);
 
   // The control socket's inject-fault: the entry's trigger is ignored except at_s (later).
   FaultId inject(SimTime now, FaultSpec spec, std::vector<FaultEvent>& events);
