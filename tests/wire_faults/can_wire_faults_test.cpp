@@ -6,6 +6,8 @@
 // and libldoem's reaction (FC overflow is the typed error `refused`, WAIT is waited out).
 #include <gtest/gtest.h>
 
+#include <signal.h>
+
 #include <fstream>
 #include <sstream>
 
@@ -284,6 +286,31 @@ TEST(WireFaultsCan, IsotpFcWait_OnTheNthRequestHoldsThatRequestsFirstFrame) {
   host.send(kLongRequestFirstFrame);  // SET_FUNCTION 2: held at once, WAIT again at 0.5 s, then go on
   EXPECT_EQ(text(host.collect(1000ms)), "31 00 00\n31 00 00\n30 00 00\n");
   EXPECT_NE(d.events().find("\"reason\":\"scene[0] on\""), std::string::npos) << d.events();
+}
+
+// ------------------------------------------------------------------ isotp_fc_wait and virtual time
+
+// An endless isotp_fc_wait under --virtual-time: the WAITs are due every 0.5 s of simulated time,
+// and a virtual clock jumps to them as soon as nothing else happens; each WAIT now gives the host
+// the daemon's wall-clock grace (a real host needs wall time to answer it), so the daemon sends
+// about one a second instead of flooding the bus as fast as it can.
+TEST(WireFaultsCan, IsotpFcWait_EndlessUnderVirtualTimeSendsBoundedWaits) {
+  LDOEM_REQUIRE_VCAN0();
+  FaultyDaemon d(scene_with("  - {kind: isotp_fc_wait}\n"), can_daemon_arguments(), true);
+  ASSERT_TRUE(d.ready()) << d.diagnostics();
+  RawHost host;
+  host.send(kLongRequestFirstFrame);
+  std::vector<CanFrame> frames;
+  const auto until = std::chrono::steady_clock::now() + 3s;
+  while (std::chrono::steady_clock::now() < until && frames.size() < 10000) {
+    if (auto next = host.next(100ms)) frames.push_back(*next);
+  }
+  EXPECT_GE(frames.size(), 2u) << text(frames);
+  EXPECT_LE(frames.size(), 5u) << frames.size() << " frames in 3 s";
+  for (const CanFrame& f : frames) EXPECT_EQ(daemon::test::to_hex(f.payload()), "31 00 00");
+  // The host gives up: a new request ends the hold and is answered.
+  host.send({0x02, 0x01, 0x02});
+  EXPECT_EQ(text(host.collect()), "06 81 02 00 00 00 01\n");
 }
 
 // scenes/faults/lossy-can.yaml as its header says: libldoem drops each broken message (a lost or

@@ -48,6 +48,10 @@ void CanEndpoint::keep_host_waiting(std::size_t channel) {
   HeldFirstFrame& held = *held_[channel];
   held.next_wait.reset();
   transmit(channel, {flow_control(channel, protocol::IsoTpFlowStatus::wait)});
+  // A WAIT is for a host to answer in its own (wall) time: with --virtual-time the daemon gives it
+  // the grace it gives a host it waits for (D7) before jumping to the next WAIT, instead of
+  // jumping there at once and flooding the bus with WAITs as fast as it can while the fault lasts.
+  ++context_->activity;
   held.next_wait = context_->scheduler.add(context_->scheduler.now() + kFlowControlWaitPeriod, [this, channel](SimTime now) {
     if (!held_[channel]) return;
     held_[channel]->next_wait.reset();

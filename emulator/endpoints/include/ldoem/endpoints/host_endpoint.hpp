@@ -69,7 +69,7 @@ struct EndpointContext {
   const Logger& logger;
   std::ostream& out;          // one line per endpoint, read by scripts and tests
   Counters& counters;
-  std::uint64_t& activity;    // +1 per descriptor callback (virtual time: did anything happen?)
+  std::uint64_t& activity;    // +1 per descriptor callback and per FC WAIT sent (virtual time: did anything happen?)
 };
 
 struct OpenFailure {
