@@ -313,6 +313,57 @@ TEST(WireFaultsCan, IsotpFcWait_EndlessUnderVirtualTimeSendsBoundedWaits) {
   EXPECT_EQ(text(host.collect()), "06 81 02 00 00 00 01\n");
 }
 
+// ----------------------------------------------------------------------------------- determinism
+
+// Same scene, seed and conversation on CAN (--virtual-time): the same frames on the bus and the
+// same event log, twice, with probability-triggered faults (garbage, drop_reply, isotp_repeat_cf,
+// isotp_fc_overflow at the first frame) and a counted one (isotp_bad_sn, count 2, every 3rd).
+TEST(WireFaultsCan, SameSeedAndConversationGiveTheSameFramesAndEventsTwice) {
+  LDOEM_REQUIRE_VCAN0();
+  const std::string scene = minimal_scene_text() + "seed: 5\nfaults:\n"
+                            "  - {kind: garbage, bytes: 5, probability: 0.3, service: GET_STATUS}\n"
+                            "  - {kind: drop_reply, probability: 0.25, service: GET_STATUS}\n"
+                            "  - {kind: isotp_repeat_cf, probability: 0.3, service: GET_IDENTIFICATION}\n"
+                            "  - {kind: isotp_bad_sn, count: 2, every: {service: GET_IDENTIFICATION, count: 3}}\n"
+                            "  - {kind: isotp_fc_overflow, probability: 0.4, service: SET_FUNCTION}\n";
+  auto run = [&scene] {
+    FaultyDaemon d(scene, can_daemon_arguments(), true);
+    EXPECT_TRUE(d.ready()) << d.diagnostics();
+    RawHost host;
+    std::string transcript;
+    auto note = [&transcript](std::string_view what, const std::vector<CanFrame>& frames) {
+      transcript += std::string(what) + " ->\n" + (frames.empty() ? std::string("(nothing)\n") : text(frames));
+    };
+    for (int round = 0; round < 8; ++round) {
+      host.send({0x02, 0x01, 0x02});
+      note("GET_STATUS", host.collect(300ms));
+      note("GET_IDENTIFICATION", ask_identification(host));
+      host.send(kLongRequestFirstFrame);
+      const auto flow_control = host.collect(300ms);
+      note("SET_FUNCTION first frame", flow_control);
+      if (text(flow_control) == "30 00 00\n") {
+        host.send(kLongRequestConsecutiveFrame);
+        note("SET_FUNCTION", host.collect(300ms));
+      }
+    }
+    d.process->signal(SIGTERM);
+    d.process->wait();
+    return std::pair{transcript, d.events()};
+  };
+  const auto first = run();
+  const auto second = run();
+  EXPECT_EQ(first.first, second.first);
+  EXPECT_EQ(first.second, second.second);
+  // Each fault acted at least once, and not on every request.
+  for (const char* kind : {"garbage", "drop_reply", "isotp_repeat_cf", "isotp_bad_sn", "isotp_fc_overflow"}) {
+    EXPECT_NE(first.second.find("\"kind\":\"" + std::string(kind) + "\""), std::string::npos) << kind << "\n" << first.second;
+  }
+  EXPECT_NE(first.first.find("SET_FUNCTION first frame ->\n32 00 00\n"), std::string::npos) << first.first;
+  EXPECT_NE(first.first.find("SET_FUNCTION first frame ->\n30 00 00\n"), std::string::npos) << first.first;
+  EXPECT_NE(first.first.find("GET_STATUS ->\n(nothing)\n"), std::string::npos) << first.first;
+  EXPECT_NE(first.first.find("GET_STATUS ->\n06 81 02 00 00 00 01\n"), std::string::npos) << first.first;
+}
+
 // scenes/faults/lossy-can.yaml as its header says: libldoem drops each broken message (a lost or
 // repeated consecutive frame), times out on that request and asks again; every profile it
 // returns decodes, none is assembled from frames of two messages.
