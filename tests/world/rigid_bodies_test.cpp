@@ -42,6 +42,24 @@ TEST(RigidBodies, FallingSphereFollowsFreeFallUntilContact) {
   }
 }
 
+// A body meeting a static object that is not the scene's first: the obstacle's ODE geom carries
+// its object index, which the contact callback once read as a material pointer (a crash).
+TEST(RigidBodies, BodyLandsOnAStaticObjectAfterTheFirst) {
+  const scene::Scene scene = scene_from(
+      "objects:\n"
+      "  - name: wall\n    box: {size_m: [0.2, 4, 2]}\n    pose: {position_m: [10, 0, 1]}\n"
+      "  - name: pillar\n    box: {size_m: [1, 1, 1]}\n    pose: {position_m: [0, 5, 0.5]}\n"
+      "  - plane: {normal: [0, 0, 1], offset_m: 0}\n"
+      "  - name: ball\n    sphere: {radius_m: 0.5}\n    pose: {position_m: [0, 0, 2.5]}\n"
+      "    dynamics: {mass_kg: 1, restitution: 0}\n"
+      "  - name: crate\n    box: {size_m: [0.4, 0.4, 0.4]}\n    pose: {position_m: [0, 5, 2]}\n"
+      "    dynamics: {mass_kg: 1, restitution: 0}\n");
+  RigidBodies bodies(scene);
+  bodies.advance(0.0, 3.0);
+  EXPECT_NEAR(bodies.pose_at(0, 3.0).position_m.z(), 0.5, 0.02) << "on the floor (object 2)";
+  EXPECT_NEAR(bodies.pose_at(1, 3.0).position_m.z(), 1.2, 0.02) << "on the pillar (object 1)";
+}
+
 TEST(RigidBodies, FastSmallBodyDoesNotTunnelThroughAThinWall) {
   const scene::Scene scene = scene_from(
       "world: {gravity_mps2: [0, 0, 0], world_step_s: 0.001}\n"

@@ -107,8 +107,10 @@ struct RigidBodies::Impl {
   }
 
   const Material& material_of(dGeomID geom) const {
-    const auto* material = static_cast<const Material*>(dGeomGetData(geom));
-    return material != nullptr ? *material : obstacle_material;
+    // Only body geoms carry a Material; an obstacle's geom data is its object index in the
+    // obstacles' OdeWorld (raycast::OdeWorld), not a pointer.
+    if (dGeomGetBody(geom) == nullptr) return obstacle_material;
+    return *static_cast<const Material*>(dGeomGetData(geom));
   }
 
   static void near_callback(void* data, dGeomID a, dGeomID b) {
