@@ -304,9 +304,6 @@ TEST(DaemonObjects, AddRemoveGarbage_GetsErrorObjects) {
   d.start_measuring();
   const double later_s = seconds(d.daemon->now()) + 5.0;
   ASSERT_TRUE(d.command(at("add-object", {{"object", kCrate}, {"at_s", later_s}})).contains("return"));
-  json body = kCrate;
-  body["name"] = "ball";
-  body["dynamics"] = {{"mass_kg", 1}};
   json negative = kCrate;
   negative["name"] = "flat";
   negative["box"]["size_m"] = {1, -1, 1};
@@ -317,12 +314,14 @@ TEST(DaemonObjects, AddRemoveGarbage_GetsErrorObjects) {
       {at("add-object", {{"object", "box"}}), "needs object"},
       {at("add-object", {{"object", nameless}}), "needs a name"},
       {at("add-object", {{"object", kCrate}, {"at_s", later_s + 1}}), "exists already"},
-      {at("add-object", {{"object", body}}), "dynamics bodies cannot be added"},
       {at("add-object", {{"object", json::parse(R"({"name": "floor", "plane": {"normal": [0, 0, 1]}})")}}), "planes"},
       {at("add-object", {{"object", negative}}), "object.box.size_m"},
       {at("add-object", {{"object", {{"name", "x"}, {"cone", {{"radius_m", 1}}}}}}), "object"},
       {at("add-object", {{"object", {{"name", "m"}, {"mesh", {{"file", "/nonexistent.stl"}}}}}}), "object"},
       {at("add-object", {{"object", {{"name", "y"}, {"sphere", {{"radius_m", 1}}}}}, {"at_s", later_s - 1}}), "before a change"},
+      // Static changes come in device-time order: one before the crate's time is refused.
+      {at("remove-object", {{"name", "wall"}, {"at_s", later_s - 1}}), "before a change"},
+      {at("move-object", {{"name", "wall"}, {"position_m", {3, 0, 0}}, {"at_s", later_s - 1}}), "before a change"},
       {at("remove-object", json::object()), "needs name"},
       {at("remove-object", {{"name", "ghost"}}), "no object named 'ghost'"},
       {at("remove-object", {{"name", "wall"}, {"at_s", 0.5}}), "in the past"},
@@ -338,6 +337,43 @@ TEST(DaemonObjects, AddRemoveGarbage_GetsErrorObjects) {
   const auto profile = d.exchange("GET_PROFILE 0001 39ff");
   ASSERT_EQ(profile.size(), 1u);
   EXPECT_EQ(ahead(profile[0]), 1280) << "nothing in front of the wall before the crate's time";
+}
+
+// A `dynamics` body added through the socket joins the running world at its step (the reply's
+// at_s): a 2 m cube dropped 0.3 m onto a floor in front of the wall, its face 2 m ahead (512)
+// from then on, falling or at rest; profiles before are the bytes without it; twice the same.
+TEST(DaemonObjects, AddedBody_JoinsAtItsStepAndIsSeenFromThen) {
+  const std::string scene = minimal_scene_text() + "  - plane: {normal: [0, 0, 1], offset_m: -1}\n";
+  const auto original = converse(scene, true, {});
+  ASSERT_EQ(original.profiles.size(), 24u);
+  const double added_s = seconds(original.profiles[4].at) + 0.01;
+  const json cube = json::parse(R"({"name": "cube", "box": {"size_m": [2, 2, 2]}, "pose": {"position_m": [3, 0, 0.3]},
+                                    "dynamics": {"mass_kg": 20, "restitution": 0}})");
+  const auto run = [&] { return converse(scene, true, {at("add-object", {{"object", cube}, {"at_s", added_s}})}); };
+  const auto changed = run();
+  ASSERT_EQ(changed.profiles.size(), 24u);
+  ASSERT_TRUE(changed.replies[0].contains("return")) << changed.replies[0].dump();
+  const double joined_s = changed.replies[0]["return"]["at_s"].get<double>();
+  EXPECT_GE(joined_s, added_s);
+  EXPECT_LT(joined_s, added_s + 0.002) << "steps up to added_s not yet computed: it joins at once";
+  int before = 0;
+  int with_cube = 0;
+  for (std::size_t i = 0; i < 24; ++i) {
+    const double end_s = seconds(changed.profiles[i].at);
+    if (end_s < joined_s) {
+      EXPECT_EQ(changed.profiles[i].payload, original.profiles[i].payload) << "profile " << i;
+      ++before;
+    } else if (end_s - 0.1 > joined_s) {
+      EXPECT_EQ(ahead(changed.profiles[i]), 512) << "profile " << i;
+      ++with_cube;
+    }
+  }
+  EXPECT_GE(before, 4);
+  EXPECT_GE(with_cube, 15);
+  EXPECT_NE(changed.events.find(R"("event":"OBJECT_ADDED")"), std::string::npos) << changed.events;
+  const auto again = run();
+  ASSERT_EQ(again.profiles.size(), 24u);
+  for (std::size_t i = 0; i < 24; ++i) EXPECT_EQ(again.profiles[i].payload, changed.profiles[i].payload) << i;
 }
 
 }  // namespace

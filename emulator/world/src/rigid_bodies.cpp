@@ -6,6 +6,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <stdexcept>
+#include <string>
 
 namespace ldoem::world {
 namespace {
@@ -75,7 +78,8 @@ struct RigidBodies::Impl {
   dJointGroupID contacts = nullptr;
   std::vector<dBodyID> bodies;
   std::vector<dGeomID> geoms;
-  std::vector<Material> materials;
+  std::deque<Material> materials;  // geoms point at their entry: a deque keeps it where it is
+  std::size_t added_bodies = 0;
   std::vector<double> half_sizes;
   Material obstacle_material{kObstacleFriction, 0.0};
   std::vector<bool> left;
@@ -85,6 +89,7 @@ struct RigidBodies::Impl {
     double at_s;
     bool keep_velocity;
     bool remove = false;
+    std::optional<scene::Dynamics> birth;  // add-object: start moving with these velocities
   };
   std::vector<Placement> placements;  // pending control-socket moves
   // frames[i] holds every body's pose at step first_step + i (time = step * step_s).
@@ -158,7 +163,12 @@ struct RigidBodies::Impl {
         continue;
       }
       set_body_pose(body, it->pose);
-      if (!it->keep_velocity || left[it->body]) {  // a body that left the world has no velocity to keep
+      if (it->birth) {
+        const Eigen::Vector3d& v = it->birth->initial_velocity_mps;
+        const Eigen::Vector3d& w = it->birth->initial_angular_velocity_rad_s;
+        dBodySetLinearVel(body, v.x(), v.y(), v.z());
+        dBodySetAngularVel(body, w.x(), w.y(), w.z());
+      } else if (!it->keep_velocity || left[it->body]) {  // a body that left the world has no velocity to keep
         dBodySetLinearVel(body, 0, 0, 0);
         dBodySetAngularVel(body, 0, 0, 0);
       }
@@ -193,6 +203,42 @@ struct RigidBodies::Impl {
     frames.push_back(snapshot());
   }
 
+  // A body for `object` at its pose with its initial velocities; false (nothing made) if the
+  // object has no dynamics or no body shape (the loader allows none).
+  bool create_body(const scene::SceneObject& object, std::uint32_t scene_index) {
+    if (!object.dynamics) return false;
+    const scene::Dynamics& dynamics = *object.dynamics;
+    dGeomID geom = nullptr;
+    if (const auto* b = std::get_if<scene::Box>(&object.shape)) {
+      geom = dCreateBox(body_space, b->size_m.x(), b->size_m.y(), b->size_m.z());
+    } else if (const auto* s = std::get_if<scene::Sphere>(&object.shape)) {
+      geom = dCreateSphere(body_space, s->radius_m);
+    } else if (const auto* c = std::get_if<scene::Cylinder>(&object.shape)) {
+      geom = dCreateCylinder(body_space, c->radius_m, c->length_m);
+    } else if (const auto* p = std::get_if<scene::Capsule>(&object.shape)) {
+      geom = dCreateCapsule(body_space, p->radius_m, p->length_m);
+    } else {
+      return false;
+    }
+    dBodyID body = dBodyCreate(world);
+    const dMass mass = body_mass(object.shape, dynamics);
+    dBodySetMass(body, &mass);
+    set_body_pose(body, object.pose);
+    const Eigen::Vector3d& v = dynamics.initial_velocity_mps;
+    const Eigen::Vector3d& w = dynamics.initial_angular_velocity_rad_s;
+    dBodySetLinearVel(body, v.x(), v.y(), v.z());
+    dBodySetAngularVel(body, w.x(), w.y(), w.z());
+    dGeomSetBody(geom, body);
+    materials.push_back({dynamics.friction, dynamics.restitution});
+    dGeomSetData(geom, &materials.back());
+    bodies.push_back(body);
+    geoms.push_back(geom);
+    half_sizes.push_back(smallest_half_size(object.shape));
+    left.push_back(false);
+    scene_indices.push_back(scene_index);
+    return true;
+  }
+
   // Fractional step index of time t, clamped to the kept frames.
   double step_index(double t_s) const {
     const double last = static_cast<double>(first_step + frames.size() - 1);
@@ -217,42 +263,7 @@ RigidBodies::RigidBodies(const scene::Scene& scene) : impl_(std::make_unique<Imp
   dSpaceSetCleanup(impl.body_space, 0);  // geoms are destroyed by ~Impl
   impl.contacts = dJointGroupCreate(0);
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-    if (scene.objects[i].dynamics) impl.materials.push_back({scene.objects[i].dynamics->friction,
-                                                             scene.objects[i].dynamics->restitution});
-  }
-  std::size_t body_index = 0;
-  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-    const scene::SceneObject& object = scene.objects[i];
-    if (!object.dynamics) continue;
-    const scene::Dynamics& dynamics = *object.dynamics;
-    dGeomID geom = nullptr;
-    if (const auto* b = std::get_if<scene::Box>(&object.shape)) {
-      geom = dCreateBox(impl.body_space, b->size_m.x(), b->size_m.y(), b->size_m.z());
-    } else if (const auto* s = std::get_if<scene::Sphere>(&object.shape)) {
-      geom = dCreateSphere(impl.body_space, s->radius_m);
-    } else if (const auto* c = std::get_if<scene::Cylinder>(&object.shape)) {
-      geom = dCreateCylinder(impl.body_space, c->radius_m, c->length_m);
-    } else if (const auto* p = std::get_if<scene::Capsule>(&object.shape)) {
-      geom = dCreateCapsule(impl.body_space, p->radius_m, p->length_m);
-    } else {
-      continue;  // the loader allows no other shapes with dynamics
-    }
-    dBodyID body = dBodyCreate(impl.world);
-    const dMass mass = body_mass(object.shape, dynamics);
-    dBodySetMass(body, &mass);
-    set_body_pose(body, object.pose);
-    const Eigen::Vector3d& v = dynamics.initial_velocity_mps;
-    const Eigen::Vector3d& w = dynamics.initial_angular_velocity_rad_s;
-    dBodySetLinearVel(body, v.x(), v.y(), v.z());
-    dBodySetAngularVel(body, w.x(), w.y(), w.z());
-    dGeomSetBody(geom, body);
-    dGeomSetData(geom, &impl.materials[body_index]);
-    impl.bodies.push_back(body);
-    impl.geoms.push_back(geom);
-    impl.half_sizes.push_back(smallest_half_size(object.shape));
-    impl.left.push_back(false);
-    impl.scene_indices.push_back(static_cast<std::uint32_t>(i));
-    ++body_index;
+    if (scene.objects[i].dynamics) impl.create_body(scene.objects[i], static_cast<std::uint32_t>(i));
   }
   impl.frames.push_back(impl.snapshot());
 }
@@ -315,13 +326,41 @@ scene::PathBounds RigidBodies::origin_bounds(std::size_t body, double t0_s, doub
 
 double RigidBodies::place(std::size_t body, const scene::Pose& pose, double at_s, bool keep_velocity) {
   (void)impl_->left.at(body);  // range check
-  impl_->placements.push_back({body, pose, at_s, keep_velocity});
+  impl_->placements.push_back({body, pose, at_s, keep_velocity, false, std::nullopt});
   return first_step_due(at_s);
 }
 
 double RigidBodies::remove(std::size_t body, double at_s) {
   (void)impl_->left.at(body);  // range check
-  impl_->placements.push_back({body, scene::Pose{}, at_s, false, true});
+  impl_->placements.push_back({body, scene::Pose{}, at_s, false, true, std::nullopt});
+  return first_step_due(at_s);
+}
+
+double RigidBodies::add(const scene::SceneObject& object, std::uint32_t scene_index, double at_s) {
+  Impl& impl = *impl_;
+  if (impl.added_bodies >= kMaxAddedBodies) {
+    throw std::length_error("too many bodies added (" + std::to_string(kMaxAddedBodies) + " at most)");
+  }
+  if (!object.dynamics || !(smallest_half_size(object.shape) > 0.0)) {
+    throw std::invalid_argument("only a box, sphere, cylinder or capsule with dynamics can be a body");
+  }
+  raycast::ensure_ode_ready_for_this_thread();
+  if (impl.bodies.empty()) {
+    // advance() never stepped a world without bodies: start its steps just before at_s rather
+    // than simulate an empty world from 0 (a daemon may have run for hours).
+    const double start = std::max(0.0, std::floor(at_s / impl.step_s) - 1.0);
+    impl.steps = impl.first_step = static_cast<std::uint64_t>(start);
+    impl.frames.assign(1, {});
+  }
+  const std::size_t body = impl.bodies.size();
+  (void)impl.create_body(object, scene_index);  // true: the shape was checked above
+  ++impl.added_bodies;
+  // Not there until its step: frozen, out of every contact. Kept frames get its pose.
+  impl.left[body] = true;
+  dBodyDisable(impl.bodies[body]);
+  dGeomDisable(impl.geoms[body]);
+  for (auto& frame : impl.frames) frame.push_back(object.pose);
+  impl.placements.push_back({body, object.pose, at_s, false, false, *object.dynamics});
   return first_step_due(at_s);
 }
 

@@ -128,31 +128,33 @@ std::variant<double, std::string> SceneCaster::add_object(scene::SceneObject obj
   if (motion_.has(object.name) || find_static(object.name) >= 0) {
     return "add-object: an object named '" + object.name + "' exists already";
   }
-  if (object.dynamics) {
-    return std::string("add-object: dynamics bodies cannot be added at runtime; put the body in the scene and "
-                       "move it in with move-object");
-  }
   if (std::holds_alternative<scene::Plane>(object.shape)) {
-    return std::string("add-object: planes are unbounded and cannot be added at runtime; put the plane in the scene");
+    // Unbounded: no box can hold it for the moving index, and a static epoch would show it to the
+    // rays but not to the bodies, which collide with the scene's own static objects only.
+    return std::string("add-object: planes are unbounded and cannot be added at runtime (no box holds them for the "
+                       "moving index, and bodies collide only with the scene's own static objects); put the plane "
+                       "in the scene");
   }
   if (entries_.size() - scene_objects_ >= kMaxRuntimeObjects) {
     return std::string("add-object: too many objects added (10000 at most)");
   }
   if (auto problem = check_change_time("add-object", at_s)) return *problem;
   const auto index = static_cast<std::uint32_t>(entries_.size());
-  // An added object always goes to the moving index, a still one as a motion of zero velocity:
-  // rebuilding the moving index costs about 0.2 ms whatever the scene, a static index as long as
-  // building the scene (a third of a second for scenes/large.yaml, docs/dynamic-scenes.md).
-  if (!object.motion) object.motion = scene::ConstantVelocity{};
-  entries_.push_back(Entry{object, true, true});
+  // An added object always goes to the moving index, a still one as a motion of zero velocity,
+  // a `dynamics` one as a body joining the running world: rebuilding the moving index costs
+  // about 0.2 ms whatever the scene, a static index as long as building the scene (a third of a
+  // second for scenes/large.yaml, docs/dynamic-scenes.md).
+  if (!object.motion && !object.dynamics) object.motion = scene::ConstantVelocity{};
+  double exists_from_s = at_s;
   try {
-    motion_.add(std::move(object), index, at_s);
+    exists_from_s = motion_.add(object, index, at_s);
+    entries_.push_back(Entry{std::move(object), true, true});
     rebuild_moving_caster();
   } catch (const std::exception& failure) {
     return std::string("add-object: ") + failure.what();
   }
   last_change_s_ = at_s;
-  return at_s;
+  return exists_from_s;
 }
 
 std::variant<double, std::string> SceneCaster::remove_object(std::string_view name, double at_s) {

@@ -48,19 +48,28 @@ bool WorldMotion::has(std::string_view name) const {
                      [&](const Mover& m) { return m.name == name && m.exists.until_s == INFINITY; });
 }
 
-void WorldMotion::add(scene::SceneObject object, std::uint32_t scene_index, double from_s) {
+double WorldMotion::add(scene::SceneObject object, std::uint32_t scene_index, double from_s) {
   Mover mover{object.name, std::move(object), -1, {}, true, {from_s, INFINITY}};
-  mover.keeps_orientation = scene::keeps_orientation(*mover.object.motion);
+  if (mover.object.dynamics) {
+    mover.body = static_cast<std::ptrdiff_t>(bodies_.body_count());
+    mover.exists.from_s = bodies_.add(mover.object, scene_index, from_s);
+    mover.keeps_orientation = false;
+  } else {
+    mover.keeps_orientation = scene::keeps_orientation(*mover.object.motion);
+  }
+  const double exists_from_s = mover.exists.from_s;
   movers_.push_back(std::move(mover));
   scene_indices_.push_back(scene_index);
   changed_ = true;
+  return exists_from_s;
 }
 
 std::optional<std::string> WorldMotion::remove(std::string_view name, double at_s) {
   const auto it = find(name);
   if (it == movers_.end()) return "remove-object: no moving object named '" + std::string(name) + "'";
   it->exists.until_s = std::max(at_s, it->exists.from_s);
-  if (it->body >= 0) bodies_.remove(static_cast<std::size_t>(it->body), at_s);
+  // Not before an added body has joined: its removal would come before its birth.
+  if (it->body >= 0) bodies_.remove(static_cast<std::size_t>(it->body), it->exists.until_s);
   changed_ = true;
   return std::nullopt;
 }
@@ -85,6 +94,10 @@ std::variant<double, std::string> WorldMotion::move(std::string_view name, const
   if (it == movers_.end()) {
     return "move-object: no moving object named '" + std::string(name) +
            "' (only objects with motion or dynamics can be moved)";
+  }
+  if (at_s < it->exists.from_s) {
+    return "move-object: '" + std::string(name) + "' exists only from " + std::to_string(it->exists.from_s) +
+           " s (added at runtime); move it at or after that time";
   }
   scene::Pose unit = pose;
   unit.orientation.normalize();

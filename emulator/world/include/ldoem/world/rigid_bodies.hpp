@@ -23,6 +23,9 @@ namespace ldoem::world {
 
 inline constexpr double kWorldLimit_m = 1.0e4;
 inline constexpr unsigned kMaxSubsteps = 256;
+// At most this many bodies added at runtime (add-object) in a world's life: every body is
+// stepped and collided with the others at every step, so their number bounds the step's cost.
+inline constexpr std::size_t kMaxAddedBodies = 256;
 
 class RigidBodies {
  public:
@@ -57,6 +60,12 @@ class RigidBodies {
   // The control socket's remove-object: at the first step not yet computed at or after at_s the
   // body stops (frozen, no longer colliding with the others). Returns that step's time.
   double remove(std::size_t body, double at_s);
+  // The control socket's add-object of a `dynamics` object: it becomes body body_count() (the
+  // value before the call; scene_indices() gives it `scene_index`) and joins the world at the first step not yet computed at or after
+  // at_s, at its `pose` with its initial velocities, colliding from then on; before that it is
+  // frozen at its pose and meets nothing. Returns that step's time. Throws std::invalid_argument
+  // if the object has no dynamics or no body shape, std::length_error past kMaxAddedBodies.
+  double add(const scene::SceneObject& object, std::uint32_t scene_index, double at_s);
 
  private:
   double first_step_due(double at_s) const;

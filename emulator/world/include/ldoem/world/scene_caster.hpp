@@ -5,9 +5,9 @@
 // and moved at runtime); otherwise it builds EmbreeRayCaster alone, as before D12.
 //
 // Runtime changes (docs/dynamic-scenes.md "Runtime changes"), each at a device time:
-// - moving objects (with `motion`; `dynamics` only those of the scene) live in WorldMotion; an
-//   added or removed one rebuilds the moving index once, at the command, and each exists only
-//   over its time span (MovingRayCaster::set_presence);
+// - moving objects (with `motion` or `dynamics`) live in WorldMotion; an added or removed one
+//   rebuilds the moving index once, at the command, and each exists only over its time span
+//   (MovingRayCaster::set_presence); an added `dynamics` object joins the ODE world at a step;
 // - static objects are added, removed or moved by building a new static index at the command
 //   (an "epoch" that holds from its device time on); a ray uses the epoch of its instant, and
 //   epochs no later ray can reach are dropped at prepare. Nothing is rebuilt per beam.
@@ -47,7 +47,9 @@ class SceneCaster final : public raycast::RayCaster {
 
   // The control socket's commands. Not thread-safe: call them as prepare. Each returns the
   // device time it takes effect at, or the reason it refused (nothing changed then).
-  // add_object and remove_object, and moves of static objects, come in device-time order.
+  // add_object and remove_object, and moves of static objects, come in device-time order: one
+  // timed before such a change already made is refused. An added `dynamics` object exists from
+  // its first ODE step not yet computed at or after at_s, the time returned (RigidBodies::add).
   std::variant<double, std::string> move_object(std::string_view name, const scene::Pose& pose, double at_s,
                                                 bool keep_velocity);
   std::variant<double, std::string> add_object(scene::SceneObject object, double at_s);

@@ -45,10 +45,12 @@ class WorldMotion final : public raycast::MotionSource {
   bool has(std::string_view name) const;
 
   // Runtime changes (SceneCaster's add_object / remove_object). add: a kinematic object (with
-  // `motion`) that exists from from_s on, hits reporting `scene_index`; it becomes the last
-  // moving index. remove: the named object stops existing at at_s (a body stops at its next
-  // step, RigidBodies::remove); returns the reason when there is no such object.
-  void add(scene::SceneObject object, std::uint32_t scene_index, double from_s);
+  // `motion`) or a `dynamics` body that exists from from_s on, hits reporting `scene_index`; it
+  // becomes the last moving index. A body joins at its first step not yet computed at or after
+  // from_s (RigidBodies::add); add returns the time it exists from (from_s for a kinematic
+  // object). remove: the named object stops existing at at_s (a body stops at its next step,
+  // RigidBodies::remove); returns the reason when there is no such object.
+  double add(scene::SceneObject object, std::uint32_t scene_index, double from_s);
   [[nodiscard]] std::optional<std::string> remove(std::string_view name, double at_s);
   // When each moving object exists (for MovingRayCaster::set_presence); empty if all always do.
   std::vector<raycast::TimeSpan> presence() const;
