@@ -16,6 +16,7 @@ install(FILES ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/packaging/sy
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/docs/ DESTINATION ${CMAKE_INSTALL_DOCDIR} COMPONENT runtime)
 # systemd looks in <prefix>/lib/systemd/system for /usr (Debian's merged /usr) and /usr/local.
 install(FILES ${PROJECT_SOURCE_DIR}/packaging/systemd/ldoem-emud@.service
+              ${PROJECT_SOURCE_DIR}/packaging/systemd/ldoem-emud-group@.service
               ${PROJECT_SOURCE_DIR}/packaging/systemd/ldoem-hub.service
         DESTINATION lib/systemd/system COMPONENT runtime)
 install(FILES ${PROJECT_SOURCE_DIR}/packaging/etc/hub.yaml DESTINATION ${CMAKE_INSTALL_SYSCONFDIR}/ldoem COMPONENT runtime)

@@ -23,7 +23,8 @@ step "cmake --install $build (DESTDIR, prefix /usr)"
 DESTDIR="$work/root" cmake --install "$build" --prefix /usr >/dev/null
 root="$work/root"
 for file in usr/bin/ldoem-emud usr/bin/ldoem-hub usr/bin/ldoem-scan usr/share/ldoem/scenes/corridor.yaml \
-            usr/lib/systemd/system/ldoem-emud@.service usr/lib/systemd/system/ldoem-hub.service \
+            usr/lib/systemd/system/ldoem-emud@.service usr/lib/systemd/system/ldoem-emud-group@.service \
+            usr/lib/systemd/system/ldoem-hub.service \
             usr/include/ldoem/driver/scanner.hpp usr/include/ldoem/protocol/messages.hpp; do
   [ -e "$root/$file" ] || { echo "check-install: /$file is not installed" >&2; exit 1; }
 done

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Checks the systemd units as installed: `systemd-analyze verify` must pass on both, and
+# Checks the systemd units as installed: `systemd-analyze verify` must pass on all three, and
 # `systemd-analyze security` must rate each at 2.0 or below (lower is better).
 #   scripts/check-units.sh [STAGED_ROOT]
 # STAGED_ROOT is a `DESTDIR=... cmake --install ... --prefix /usr` tree (scripts/check-install.sh
@@ -22,8 +22,9 @@ fi
 cp -n /usr/lib/systemd/system/*.target /usr/lib/systemd/system/*.slice "$root/usr/lib/systemd/system/" 2>/dev/null || true
 units="$root/usr/lib/systemd/system"
 ln -sf ldoem-emud@.service "$units/ldoem-emud@corridor.service"
+ln -sf ldoem-emud-group@.service "$units/ldoem-emud-group@corridor-two-scanners.service"
 status=0
-for unit in ldoem-hub.service ldoem-emud@corridor.service; do
+for unit in ldoem-hub.service ldoem-emud@corridor.service ldoem-emud-group@corridor-two-scanners.service; do
   # verify exits 0 on an unknown or misspelt key (it only warns), so any message is a failure.
   if ! messages=$(systemd-analyze verify --root="$root" "$units/$unit" 2>&1) || [ -n "$messages" ]; then
     printf '%s\n' "$messages" >&2

@@ -3,6 +3,9 @@
 // sees the other's housing where it stands and never its own.
 #include <algorithm>
 #include <cmath>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
 #include <sstream>
 
 #include "daemon_process.hpp"
@@ -77,6 +80,23 @@ TEST(ScannerOptions, SeveralScannersTakeTheirEndpointsFromTheScene) {
   const auto memory = scanner_options(parsed({"--scene", "dir/cell.yaml", "--no-flash"}), load(kTwoScannersYaml));
   ASSERT_TRUE(memory.has_value());
   EXPECT_TRUE((*memory)[1].flash_path.empty());
+}
+
+TEST(ScannerOptions, FlashDir_HoldsEveryScannersFlashUnderItsUsualName) {
+  const auto all = scanner_options(parsed({"--scene", "dir/cell.yaml", "--no-can", "--flash-dir", "/state"}),
+                                   load(kTwoScannersYaml));
+  ASSERT_TRUE(all.has_value()) << all.error().message;  // not the refused --flash
+  EXPECT_EQ((*all)[0].flash_path, std::filesystem::path("/state/left.img"));
+  EXPECT_EQ((*all)[1].flash_path, std::filesystem::path("/state/cell.yaml.right.flash"));
+  const auto absolute = scanner_options(parsed({"--scene", "dir/cell.yaml", "--no-can", "--flash-dir", "/state"}),
+                                        load("scanners:\n  - {name: a, flash_file: /abs/a.img, endpoints: {tcp: 0}}\n"
+                                             "  - {name: b, endpoints: {tcp: 0}}\n"));
+  ASSERT_TRUE(absolute.has_value()) << absolute.error().message;
+  EXPECT_EQ((*absolute)[0].flash_path, std::filesystem::path("/abs/a.img"));
+  const auto one = scanner_options(parsed({"--scene", "dir/cell.yaml", "--no-can", "--flash-dir", "/state"}),
+                                   load("scanners:\n  - {name: a, flash_file: a.img, endpoints: {tcp: 0}}\n"));
+  ASSERT_TRUE(one.has_value()) << one.error().message;
+  EXPECT_EQ((*one)[0].flash_path, std::filesystem::path("/state/a.img"));
 }
 
 TEST(ScannerOptions, SeveralScannersRefuseOneDevicesOptions) {
@@ -248,6 +268,30 @@ TEST(DaemonScanners, SeveralScannersWithADevicesOption_ExitTwoWithOneLine) {
   EXPECT_EQ(process->wait(), std::optional<int>(2));
   EXPECT_NE(process->stderr_text().find("--tcp: names one scanner's endpoint; with 2 scanners"), std::string::npos)
       << process->stderr_text();
+}
+
+// What ldoem-emud-group@.service runs: the scene read-only, every scanner's flash in the state
+// directory (--flash-dir), saved there on SIGTERM (exit 143) and nothing beside the scene.
+TEST(DaemonScanners, FlashDir_SigtermSavesEveryScannersFlashThere) {
+  TempDir dir;
+  const std::string scene =
+      dir.write("cell.yaml", "scanners:\n  - {name: a, endpoints: {tcp: 0}}\n"
+                             "  - {name: b, flash_file: b.img, endpoints: {tcp: 0}}\n");
+  const std::filesystem::path state = dir.path("state");
+  std::filesystem::create_directory(state);
+  auto process = DaemonProcess::start({"--scene", scene, "--no-can", "--flash-dir", state.string()});
+  ASSERT_TRUE(process);
+  ASSERT_TRUE(process->wait_ready()) << process->stderr_text();
+  process->signal(SIGTERM);
+  EXPECT_EQ(process->wait(), std::optional<int>(128 + SIGTERM)) << process->stderr_text();
+  for (const char* name : {"cell.yaml.a.flash", "b.img"}) {
+    std::ifstream image(state / name);
+    std::string first_line;
+    std::getline(image, first_line);
+    EXPECT_EQ(first_line, "ldoem-flash 1") << name;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir.path("cell.yaml.a.flash")));
+  EXPECT_FALSE(std::filesystem::exists(dir.path("b.img")));
 }
 
 }  // namespace

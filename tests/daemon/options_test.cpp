@@ -130,6 +130,9 @@ TEST(Options, BadCommandLines_AreUsageErrorsNamingTheOption) {
       {{"--scene", "s", "--no-can", "--can-ids", "6C0:6C1", "--tcp", "h"}, "--can-ids: needs CAN"},
       {{"--scene", "s", "--flash", "f", "--no-flash"}, "--no-flash: conflicts with --flash"},
       {{"--scene", "s", "--reset-flash", "--no-flash", "--tcp", "h"}, "--reset-flash: conflicts with --no-flash"},
+      {{"--scene", "s", "--flash-dir", "d", "--flash", "f"}, "--flash-dir: conflicts with --flash"},
+      {{"--scene", "s", "--no-flash", "--flash-dir", "d", "--tcp", "h"}, "--flash-dir: conflicts with --no-flash"},
+      {{"--scene", "s", "--flash-dir", ""}, "--flash-dir: expects a folder"},
       {{"--scene", "s", "--tcp", ":49152"}, "--tcp: expects HOST[:PORT]"},
       {{"--scene", "s", "--tcp", "h:70000"}, "--tcp: port must be 0..65535"},
       {{"--scene", "s", "--serial", "/dev/ttyS0"}, "--serial: expects pty:PATH"},
@@ -173,10 +176,17 @@ TEST(Options, HostLimits_HaveDefaultsAndOptions) {
   EXPECT_EQ(set->options.host_limits.idle_timeout, std::chrono::milliseconds(1500));
 }
 
+TEST(Options, FlashDir_PutsTheFlashBesideNoScene_UnderTheSameName) {
+  EXPECT_EQ(run_options({"--scene", "scenes/minimal.yaml", "--flash-dir", "/var/lib/x"}).flash_path,
+            "/var/lib/x/minimal.yaml.flash");
+  EXPECT_EQ(run_options({"--scene", "minimal.yaml", "--flash-dir", "state"}).flash_path, "state/minimal.yaml.flash");
+  EXPECT_EQ(flash_folder(run_options({"--scene", "scenes/minimal.yaml"})), "scenes");
+}
+
 TEST(Options, UsageText_ListsEveryOptionExitCodesAndExamples) {
   const std::string text = usage_text("ldoem-emud");
   for (const char* needle : {"--scene", "--can ", "--no-can", "--can-ids", "--tcp", "--serial", "--lpt pty:",
-                             "--lpt gpio:", "--flash", "--no-flash", "--time-scale", "--virtual-time", "--seed",
+                             "--lpt gpio:", "--flash", "--flash-dir", "--no-flash", "--time-scale", "--virtual-time", "--seed",
                              "--log-level", "--count-profiles", "--timeout", "--help", "--version", "[vcan0]",
                              "--reset-flash", "--inter-byte-timeout", "--tcp-silent-timeout", "--tcp-idle-timeout",
                              "[<scene>.flash]", "49152", "128+N", "  2  ", "Examples:",

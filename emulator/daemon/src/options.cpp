@@ -78,6 +78,7 @@ struct Seen {
   bool no_flash = false;
 };
 
+
 using ValueHandler = std::function<std::optional<UsageError>(std::string_view value, Options&, Seen&)>;
 using FlagHandler = std::function<void(Options&, Seen&)>;
 
@@ -120,6 +121,11 @@ const std::map<std::string_view, ValueHandler>& value_options() {
       {"--flash", [](std::string_view v, Options& o, Seen& s) -> std::optional<UsageError> {
          o.flash_path = std::filesystem::path(std::string(v));
          s.flash = true;
+         return std::nullopt;
+       }},
+      {"--flash-dir", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
+         if (v.empty()) return error_of(usage_error("--flash-dir", "expects a folder"));
+         o.flash_dir = std::filesystem::path(std::string(v));
          return std::nullopt;
        }},
       {"--time-scale", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
@@ -230,6 +236,9 @@ std::optional<UsageError> check_combination(Options& options, const Seen& seen) 
   if (seen.flash && seen.no_flash) {
     return UsageError{"--no-flash: conflicts with --flash"};
   }
+  if (options.flash_dir && (seen.flash || seen.no_flash)) {
+    return UsageError{seen.flash ? "--flash-dir: conflicts with --flash" : "--flash-dir: conflicts with --no-flash"};
+  }
   if (options.reset_flash && seen.no_flash) {
     return UsageError{"--reset-flash: conflicts with --no-flash"};
   }
@@ -243,7 +252,7 @@ std::optional<UsageError> check_combination(Options& options, const Seen& seen) 
   }
   // "No host transport left" needs the scene (its scanners may name endpoints): scanner_options.hpp.
   if (options.flash_mode == FlashMode::file && !seen.flash) {
-    options.flash_path = options.scene_path;
+    options.flash_path = flash_folder(options) / options.scene_path.filename();
     options.flash_path += std::string(kFlashFileSuffix);
   }
   if (options.flash_mode == FlashMode::memory) {
@@ -253,6 +262,10 @@ std::optional<UsageError> check_combination(Options& options, const Seen& seen) 
 }
 
 }  // namespace
+
+std::filesystem::path flash_folder(const Options& options) {
+  return options.flash_dir ? *options.flash_dir : options.scene_path.parent_path();
+}
 
 Expected<CanIdPair, UsageError> parse_can_id_pair(std::string_view text) {
   const auto colon = text.find(':');
@@ -347,6 +360,8 @@ std::string usage_text(std::string_view program_name) {
          "  --lpt pty:PATH        tilt stepper register on a pty, symlinked at PATH [off]\n"
          "  --lpt gpio:CHIP       tilt stepper on lines DIR, CLK, MODE of a gpio chip [off]\n"
          "  --flash FILE          flash image file [<scene>.flash]\n"
+         "  --flash-dir DIR       flash files in DIR, named as beside the scene (<scene>.flash;\n"
+         "                        several scanners: <scene>.<name>.flash or flash_file) [off]\n"
          "  --no-flash            keep the flash in memory only\n"
          "  --reset-flash         start from the scene's flash defaults even when FILE cannot be\n"
          "                        read or parsed, and replace it (without: exit 2) [off]\n"
@@ -377,8 +392,8 @@ std::string usage_text(std::string_view program_name) {
          "\"serial /dev/pts/4\", \"lpt /dev/pts/5\", \"can vcan0 6C0:6C1\"), then \"ready\".\n"
          "A scene with a scanners: list runs several scanners in one daemon: each one's TCP port,\n"
          "CAN ids, serial, LPT and flash file come from the scene, --tcp, --can-ids, --serial,\n"
-         "--lpt, --flash and --record are errors then, and \"scanner NAME\" comes before each\n"
-         "scanner's endpoint lines (docs/scenes.md \"Several scanners\").\n"
+         "--lpt, --flash and --record are errors then (--flash-dir is not), and \"scanner NAME\"\n"
+         "comes before each scanner's endpoint lines (docs/scenes.md \"Several scanners\").\n"
          "SIGUSR1 writes the counters (framing errors, ISO-TP drops, skipped profiles) to stderr.\n"
          "\n"
          "Exit status:\n"

@@ -8,14 +8,15 @@ namespace {
 using base::Unexpected;
 
 std::filesystem::path default_flash_path(const Options& options) {
-  std::filesystem::path path = options.scene_path;
+  std::filesystem::path path = flash_folder(options) / options.scene_path.filename();
   path += std::string(kFlashFileSuffix);
   return path;
 }
 
+// flash_file relative to the flash folder (an absolute one stays), else <scene>.<name>.flash.
 std::filesystem::path entry_flash_path(const Options& options, const scene::ScannerEntry& entry) {
-  if (entry.flash_file) return options.scene_path.parent_path() / *entry.flash_file;
-  std::filesystem::path path = options.scene_path;
+  if (entry.flash_file) return flash_folder(options) / *entry.flash_file;
+  std::filesystem::path path = flash_folder(options) / options.scene_path.filename();
   path += "." + entry.name + std::string(kFlashFileSuffix);
   return path;
 }

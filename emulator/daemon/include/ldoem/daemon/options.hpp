@@ -65,6 +65,10 @@ struct Options {
   std::optional<LptOption> lpt;
   FlashMode flash_mode = FlashMode::file;
   std::filesystem::path flash_path;  // resolved: --flash FILE or <scene>.flash
+  // --flash-dir DIR: the flash files default to DIR instead of the scene's folder, with the
+  // same names (<scene>.flash, <scene>.<name>.flash, a relative flash_file): a service keeps
+  // them in its state directory while the scene stays read-only (issue 15, docs/scaling.md).
+  std::optional<std::filesystem::path> flash_dir;
   // --reset-flash: start from the scene's defaults even when the flash file cannot be read or
   // parsed (it is replaced at the first flash write and at exit). Without it that is exit 2.
   bool reset_flash = false;
@@ -111,6 +115,9 @@ struct UsageError {
 [[nodiscard]] base::Expected<TcpOption, UsageError> parse_tcp_option(std::string_view text);
 
 std::string usage_text(std::string_view program_name);
+// Where the flash files go unless --flash or a scanner's absolute flash_file says otherwise:
+// --flash-dir, else the scene's folder.
+std::filesystem::path flash_folder(const Options& options);
 std::string version_text();
 
 }  // namespace ldoem::daemon
