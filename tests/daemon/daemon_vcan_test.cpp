@@ -83,6 +83,40 @@ TEST(DaemonVcan, SecondHostOnAnotherIdPair_IsItsOwnConnection) {
   EXPECT_FALSE(first.next(300ms).has_value());  // the second host's reply went only to it
 }
 
+// Issue 15: two scanners of one daemon share vcan0, each on its own identifier pair (scanner k:
+// 0x6C0 + 2k / 0x6C1 + 2k). Each host hears only its scanner, and each profile is seen from that
+// scanner's place: the wall is 5 m ahead of `near`, 6 m ahead of `far` (1 m behind, 1 m aside).
+TEST(DaemonVcan, TwoScannersOnOneBus_EachAnswersOnItsOwnPairFromItsOwnPlace) {
+  LDOEM_REQUIRE_VCAN0();
+  TempDir dir;
+  const std::string scene = dir.write("two.yaml", minimal_scene_text() +
+                                                      "scanners:\n"
+                                                      "  - {name: near}\n"
+                                                      "  - {name: far, pivot_pose: {position_m: [-1, 1, 0]}}\n");
+  auto process = DaemonProcess::start(
+      {"--scene", scene, "--can", "vcan0", "--no-flash", "--time-scale", "4", "--timeout", "120"});
+  ASSERT_TRUE(process && process->wait_ready()) << (process ? process->stderr_text() : "");
+  EXPECT_NE(process->stdout_text().find("scanner near\ncan vcan0 6C0:6C1\nscanner far\ncan vcan0 6C2:6C3\n"),
+            std::string::npos)
+      << process->stdout_text();
+  IsoTpHost near(CanIdPair{0x6C0, 0x6C1});
+  IsoTpHost far(CanIdPair{0x6C2, 0x6C3});
+  const std::vector<std::pair<IsoTpHost*, std::uint16_t>> hosts{{&near, 1280}, {&far, 1536}};  // 5 m, 6 m
+  for (const auto& [host, expected_q8_m] : hosts) {
+    EXPECT_EQ(host->exchange(telegram("TRANS_ROTATE 0000")), std::optional<Bytes>(telegram("TRANS_ROTATE reply 0000 0002")));
+    EXPECT_EQ(host->exchange(telegram("TRANS_MEASURE")), std::optional<Bytes>(telegram("TRANS_MEASURE reply 0000 0003 0000")));
+    const auto payload = host->exchange(telegram("GET_PROFILE 0001 39ff"));
+    ASSERT_TRUE(payload);
+    const auto profile = protocol::decode_profile(*payload);
+    ASSERT_TRUE(profile) << to_hex(*payload);
+    EXPECT_EQ(distance_at_angle_zero(*profile), std::optional<std::uint16_t>(expected_q8_m));
+  }
+  EXPECT_FALSE(near.next(300ms).has_value());  // none of far's replies reached near's pair
+  // far is still rotating, near measuring: each pair reports its own scanner's state.
+  EXPECT_EQ(far.exchange(telegram("TRANS_ROTATE 0000")), std::optional<Bytes>(telegram("TRANS_ROTATE reply 0000 0002")));
+  EXPECT_EQ(near.exchange(telegram("GET_STATUS")), std::optional<Bytes>(telegram("GET_STATUS reply 0000 0003")));
+}
+
 // With --virtual-time, a request heard while the daemon idles (its 50 ms wait for hosts) must
 // still give the host its wall-time grace for flow control: the 8-byte TRANS_MEASURE reply is a
 // first frame that waits for ours (regression: the clock jumped over N_Bs and dropped it).
