@@ -45,7 +45,7 @@ def main():
         by_key.setdefault((r["scene"], r["effects"]), []).append(r)
     requested = {"paper": int(args.scanners), "all": int(args.all_scanners)}
 
-    speed_rows, memory_rows, summary = [], [], []
+    speed_rows, memory_rows, summary, large_memory = [], [], [], []
     for (scene, effects), group in by_key.items():
         one = next(r for r in group if r["scanners"] == 1)
         main_run = next(r for r in group if r["scanners"] == requested[effects])
@@ -80,11 +80,14 @@ def main():
                 summary.append((f"the same at 14 400 beams/s, **derived** (the device refuses that rate), {scene}: "
                                 f">= {SCANNERS_PER_CORE_TARGET}", f"{derived} (derived)",
                                 derived >= SCANNERS_PER_CORE_TARGET))
-        if effects == "paper" and scene == "scenes/large.yaml":
-            worst = max(heap_added, rss_added)
-            summary.append((f"memory per added scanner, scenes/large.yaml, paper's effects: <= "
-                            f"{MIB_PER_ADDED_SCANNER_TARGET:g} MiB (the larger of heap and RSS)", kib(worst),
-                            worst <= MIB_PER_ADDED_SCANNER_TARGET))
+        if scene == "scenes/large.yaml":
+            large_memory.append((max(heap_added, rss_added), effects))
+
+    if large_memory:
+        worst, effects = max(large_memory)
+        summary.append((f"memory per added scanner, scenes/large.yaml: <= {MIB_PER_ADDED_SCANNER_TARGET:g} MiB "
+                        f"(the larger of heap and RSS, the worse of the effect sets: {effects})", kib(worst),
+                        worst <= MIB_PER_ADDED_SCANNER_TARGET))
 
     probe_rows = [f"| {p['motor_hz']} Hz | {p['angle_step_ticks'] / 16:g} deg | 360 deg | {p['beams_per_s']} | "
                   f"{RETURN_CODES.get(p['trans_measure_return_code'], p['trans_measure_return_code'])} |"

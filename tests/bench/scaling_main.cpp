@@ -1,9 +1,12 @@
 // ldoem_bench_scaling <scene.yaml> <paper|all> <scanners>: what each added scanner costs when
-// several share one scene world (one OdeWorld + BVH, plant::SceneWorld) the way a daemon with a
-// `scanners:` list would hold them: one plant::ScenePlant per scanner (sensor model, tilt plate,
-// head model), all measured on this one thread.
+// several share one scene world (one OdeWorld + BVH, plant::SceneWorld), measured below the
+// daemon: one plant::ScenePlant per scanner (sensor model, tilt plate, head model), all on this
+// one thread, no control unit, telegrams or housings. docs/scaling.md measures the daemon itself
+// (ldoem_bench_daemon_scaling, scripts/bench-scaling.sh); this program is not in that report. It
+// stays as the physics alone at 14 400 beams/s, a rate no daemon streams (TRANS_MEASURE refuses a
+// mean pulse frequency over 10 800 Hz, spec 5).
 //
-// Load: the worst case the device allows, 14 400 beams/s per scanner (20 Hz, 0.5 deg over the
+// Load: the device's peak pulse rate, 14 400 beams/s per scanner (20 Hz, 0.5 deg over the
 // full 360 deg: 720 beams per revolution), for 2 simulated seconds, every scanner measuring
 // every revolution. Printed as one JSON line:
 //   cpu_s_per_simulated_s      thread CPU time per simulated second, all scanners together
