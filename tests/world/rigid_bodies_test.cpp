@@ -139,6 +139,9 @@ TEST(RigidBodies, PoseAtInterpolatesBetweenSteps) {
   RigidBodies bodies(scene);
   bodies.advance(0.0, 1.0);
   EXPECT_NEAR(bodies.pose_at(0, 0.505).position_m.x(), 0.505, 1e-12);
+  for (const double t : {0.0, 0.3, 0.505, 0.77777, 1.0, 2.0}) {
+    EXPECT_EQ(bodies.position_at(0, t), bodies.pose_at(0, t).position_m) << "the same numbers, t " << t;
+  }
   const scene::PathBounds b = bodies.origin_bounds(0, 0.2, 0.3);
   EXPECT_LE(b.lower_m.x(), 0.2 + 1e-12);
   EXPECT_GE(b.upper_m.x(), 0.3 - 1e-12);

@@ -311,6 +311,17 @@ scene::Pose RigidBodies::pose_at(std::size_t body, double t_s) const {
   return pose;
 }
 
+Eigen::Vector3d RigidBodies::position_at(std::size_t body, double t_s) const {
+  const Impl& impl = *impl_;
+  const double s = impl.step_index(t_s);
+  const auto i = static_cast<std::size_t>(std::floor(s)) - impl.first_step;
+  const std::size_t j = std::min(i + 1, impl.frames.size() - 1);
+  const double f = s - std::floor(s);
+  const Eigen::Vector3d& a = impl.frames[i][body].position_m;
+  if (f == 0.0 || i == j) return a;
+  return a + f * (impl.frames[j][body].position_m - a);
+}
+
 scene::PathBounds RigidBodies::origin_bounds(std::size_t body, double t0_s, double t1_s) const {
   const Impl& impl = *impl_;
   const auto first = static_cast<std::size_t>(std::floor(impl.step_index(t0_s))) - impl.first_step;

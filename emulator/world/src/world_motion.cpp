@@ -131,6 +131,7 @@ scene::Pose WorldMotion::pose_at(std::size_t k, double t_s) const {
 
 Eigen::Vector3d WorldMotion::position_at(std::size_t k, double t_s) const {
   const Mover& mover = movers_[k];
+  if (mover.body >= 0) return bodies_.position_at(static_cast<std::size_t>(mover.body), t_s);  // no slerp
   if (mover.body < 0 && (mover.moves.empty() || t_s < mover.moves.front().at_s)) {
     if (const auto* velocity = std::get_if<scene::ConstantVelocity>(&*mover.object.motion)) {
       return mover.object.pose.position_m + t_s * velocity->linear_velocity_mps;  // as scene::pose_at

@@ -47,6 +47,9 @@ class RigidBodies {
 
   // Interpolated between the two steps around t (clamped to the steps kept). Const, thread-safe.
   scene::Pose pose_at(std::size_t body, double t_s) const;
+  // pose_at(body, t).position_m without the orientation's slerp (the casters' sphere pre-test
+  // needs only the position). Same numbers as pose_at.
+  Eigen::Vector3d position_at(std::size_t body, double t_s) const;
   // A box holding the body's origin over [t0, t1] (the kept steps there, and their neighbours).
   scene::PathBounds origin_bounds(std::size_t body, double t0_s, double t1_s) const;
   bool left_world(std::size_t body) const;
