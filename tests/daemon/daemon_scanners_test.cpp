@@ -294,5 +294,16 @@ TEST(DaemonScanners, FlashDir_SigtermSavesEveryScannersFlashThere) {
   EXPECT_FALSE(std::filesystem::exists(dir.path("b.img")));
 }
 
+TEST(DaemonScanners, FlashDirThatIsNoFolder_ExitsTwoBeforeStarting) {
+  TempDir dir;
+  const std::string scene = dir.write("cell.yaml", "scanner: {}\n");
+  auto process = DaemonProcess::start(
+      {"--scene", scene, "--no-can", "--tcp", "127.0.0.1:0", "--flash-dir", dir.path("missing")});
+  ASSERT_TRUE(process);
+  EXPECT_EQ(process->wait(), std::optional<int>(2));
+  EXPECT_NE(process->stderr_text().find("--flash-dir " + dir.path("missing") + ": not a folder"), std::string::npos)
+      << process->stderr_text();
+}
+
 }  // namespace
 }  // namespace ldoem::daemon::test

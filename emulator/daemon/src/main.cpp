@@ -1,11 +1,13 @@
 // ldoem-emud: parse the command line, load the scene, open the endpoints, run the loop, map the
 // outcome to an exit code (STYLE.md section 1). Everything it decides is in ldoem_daemon.
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <new>
 #include <stdexcept>
 #include <optional>
 #include <string_view>
+#include <system_error>
 #include <vector>
 
 #include "ldoem/capture/capture_writer.hpp"
@@ -43,6 +45,12 @@ int run_emud(int argc, char** argv) {
     return kExitUsageError;
   }
   const Options& options = command->options;
+  // The flash is written at the first flash change and at exit: a folder that is not there
+  // would lose it only then, so say so before starting.
+  if (std::error_code error; options.flash_dir && !std::filesystem::is_directory(*options.flash_dir, error)) {
+    std::cerr << "ldoem-emud: --flash-dir " << options.flash_dir->string() << ": not a folder\n";
+    return kExitUsageError;
+  }
   // --record: the capture is open before the first telegram can arrive.
   std::unique_ptr<ldoem::capture::CaptureWriter> recording;
   if (options.record_path) {
