@@ -152,6 +152,10 @@ TEST(Options, BadCommandLines_AreUsageErrorsNamingTheOption) {
       {{"--scene", "s", "--inter-byte-timeout", "-1"}, "--inter-byte-timeout: must be a number of milliseconds"},
       {{"--scene", "s", "--tcp-idle-timeout", "1e300"}, "--tcp-idle-timeout: must be a number of seconds"},
       {{"--scene", "s", "--tcp-silent-timeout", "soon"}, "--tcp-silent-timeout: must be a number of seconds"},
+      {{"--scene", "s", "--max-clients", "0"}, "--max-clients: must be an integer from 1 to 100000"},
+      {{"--scene", "s", "--max-clients", "-4"}, "--max-clients: must be an integer from 1 to 100000"},
+      {{"--scene", "s", "--max-clients", "100001"}, "--max-clients: must be an integer from 1 to 100000"},
+      {{"--scene", "s", "--max-clients", "many"}, "--max-clients: must be an integer from 1 to 100000"},
   };
   for (const BadCase& bad : cases) {
     const auto command = parse(bad.arguments);
@@ -168,12 +172,14 @@ TEST(Options, HostLimits_HaveDefaultsAndOptions) {
   EXPECT_EQ(defaults->options.host_limits.inter_byte_timeout, std::chrono::milliseconds(500));
   EXPECT_EQ(defaults->options.host_limits.silent_timeout, std::chrono::milliseconds(60000));
   EXPECT_EQ(defaults->options.host_limits.idle_timeout, std::chrono::milliseconds(0));
+  EXPECT_EQ(defaults->options.host_limits.max_tcp_clients, 64u);
   const auto set = parse({"--scene", "s", "--inter-byte-timeout", "250", "--tcp-silent-timeout", "0",
-                          "--tcp-idle-timeout", "1.5"});
+                          "--tcp-idle-timeout", "1.5", "--max-clients", "3"});
   ASSERT_TRUE(set.has_value()) << set.error().message;
   EXPECT_EQ(set->options.host_limits.inter_byte_timeout, std::chrono::milliseconds(250));
   EXPECT_EQ(set->options.host_limits.silent_timeout, std::chrono::milliseconds(0));
   EXPECT_EQ(set->options.host_limits.idle_timeout, std::chrono::milliseconds(1500));
+  EXPECT_EQ(set->options.host_limits.max_tcp_clients, 3u);
 }
 
 TEST(Options, FlashDir_PutsTheFlashBesideNoScene_UnderTheSameName) {
@@ -189,6 +195,7 @@ TEST(Options, UsageText_ListsEveryOptionExitCodesAndExamples) {
                              "--lpt gpio:", "--flash", "--flash-dir", "--no-flash", "--time-scale", "--virtual-time", "--seed",
                              "--log-level", "--count-profiles", "--timeout", "--help", "--version", "[vcan0]",
                              "--reset-flash", "--inter-byte-timeout", "--tcp-silent-timeout", "--tcp-idle-timeout",
+                             "--max-clients N", "[64]",
                              "[<scene>.flash]", "49152", "128+N", "  2  ", "Examples:",
                              "ldoem-emud --scene scenes/corridor.yaml --can vcan0 --lpt pty:/tmp/ldoem-lpt"}) {
     EXPECT_NE(text.find(needle), std::string::npos) << needle;

@@ -14,6 +14,7 @@
 
 #include "endpoint_harness.hpp"
 #include "ldoem/endpoints/tcp_endpoint.hpp"
+#include "ldoem/endpoints/warning_throttle.hpp"
 #include "ldoem/protocol/tcp_framing.hpp"
 
 namespace ldoem::endpoints::test {
@@ -211,6 +212,60 @@ TEST_F(TcpFixture, IdleConnection_IsClosedAfterTheIdleTimeoutButABusyOneIsNot) {
   EXPECT_TRUE(idle.closed_by_peer(harness, 100ms));
   EXPECT_FALSE(chatty.closed_by_peer(harness, 100ms));
   EXPECT_EQ(harness.counters.tcp_dropped_quiet, 1u);
+}
+
+// --max-clients: with two places, the third host is accepted and closed at once (the host
+// protocol has no busy reply), counted, and the two served go on; a place comes back once a
+// connection is gone.
+TEST_F(TcpFixture, BeyondMaxClients_TheNewConnectionIsClosedAndTheOthersAreServed) {
+  HostLimits limits;
+  limits.max_tcp_clients = 2;
+  open(limits);
+  Client first(port), second(port);
+  ASSERT_TRUE(accepted(2));
+  Client third(port);
+  EXPECT_TRUE(third.closed_by_peer(harness, 5s));
+  EXPECT_EQ(harness.counters.tcp_refused, 1u);
+  EXPECT_EQ(harness.counters.tcp_connections, 2u);
+  first.send(frame(kGetStatus));
+  second.send(frame(kGetStatus));
+  ASSERT_TRUE(harness.run_until([&] { return harness.telegrams.size() == 2; }, 2s));
+  EXPECT_TRUE(harness.closed.empty());
+  first.close();
+  ASSERT_TRUE(harness.run_until([&] { return harness.closed.size() == 1; }, 2s));
+  Client fourth(port);
+  ASSERT_TRUE(accepted(3));
+  fourth.send(frame(kGetStatus));
+  ASSERT_TRUE(harness.run_until([&] { return harness.telegrams.size() == 3; }, 2s));
+  EXPECT_EQ(harness.counters.tcp_refused, 1u);
+}
+
+// A connect flood larger than the limit, every host resetting at once (as in the robustness
+// test's 300 resets), all waiting in the backlog: at the limit the places of hosts already gone
+// are freed first, so none of them turns a host away, nor the one connecting afterwards.
+TEST_F(TcpFixture, ResetFloodBeyondMaxClients_LeavesAPlaceForTheNextHost) {
+  HostLimits limits;
+  limits.max_tcp_clients = 4;
+  open(limits);
+  // 12 + 1 connections wait in the listener's backlog of 16 (more would block in connect, since
+  // this thread also runs the endpoint); all arrive in one round of at most 16 accepts.
+  for (int i = 0; i < 12; ++i) Client(port).reset();
+  Client host(port);
+  ASSERT_TRUE(harness.run_until([&] { return harness.counters.tcp_connections + harness.counters.tcp_refused >= 13; }, 5s));
+  host.send(frame(kGetStatus));
+  ASSERT_TRUE(harness.run_until([&] { return !harness.telegrams.empty(); }, 2s))
+      << "refused " << harness.counters.tcp_refused << " of 13";
+  EXPECT_EQ(harness.counters.tcp_refused, 0u);
+}
+
+TEST(WarningThrottle, SaysALineOncePerPeriodWithTheCountHeldBack) {
+  WarningThrottle throttle(std::chrono::seconds(10));
+  const auto t0 = WarningThrottle::Clock::time_point{} + std::chrono::hours(1);
+  EXPECT_EQ(throttle.admit("full", t0), std::optional<std::string>("full"));
+  EXPECT_FALSE(throttle.admit("full", t0 + 1s));
+  EXPECT_FALSE(throttle.admit("full", t0 + 9s));
+  EXPECT_EQ(throttle.admit("full", t0 + 10s), std::optional<std::string>("full (2 more since the last report)"));
+  EXPECT_EQ(throttle.admit("full", t0 + 25s), std::optional<std::string>("full"));
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 // (tests/daemon covers one half-open client, one client that never reads and a bad checksum.)
 #include <arpa/inet.h>
 #include <netinet/in.h>
+#include <poll.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -113,8 +114,10 @@ TEST(TcpRobustness, FakeHeadersWithHugeLengths_AreDroppedAndTheSameConnectionRec
   EXPECT_TRUE(still_healthy(*daemon.process, daemon.start_rss_kib));
 }
 
+// 122 connections at once: --max-clients is raised above its default of 64 so that this test
+// is about the event loop (no connection may stall the others), not about the limit.
 TEST(TcpRobustness, HalfOpenHalfClosedAndSlowClients_DoNotStopAnotherHostBeingServed) {
-  HostileRun daemon = tcp_daemon();
+  HostileRun daemon({"--no-can", "--tcp", "127.0.0.1:0", "--virtual-time", "--max-clients", "256"});
   ASSERT_TRUE(daemon.ready());
   const std::uint16_t port = daemon.process->tcp_port();
   std::vector<int> idle;
@@ -157,6 +160,33 @@ TEST(TcpRobustness, HalfOpenHalfClosedAndSlowClients_DoNotStopAnotherHostBeingSe
   EXPECT_TRUE(still_healthy(*daemon.process, daemon.start_rss_kib));
   ::close(slow);
   for (const int fd : idle) ::close(fd);
+  EXPECT_TRUE(served_correctly(port));
+  EXPECT_TRUE(still_healthy(*daemon.process, daemon.start_rss_kib));
+}
+
+// --max-clients 2: the third host's connection is accepted and closed at once (EOF, no reply:
+// the protocol has no busy telegram), the two served go on, and a place comes back when one goes.
+TEST(TcpRobustness, MaxClients_TheNextHostIsClosedAndTheOthersAreServed) {
+  HostileRun daemon({"--no-can", "--tcp", "127.0.0.1:0", "--virtual-time", "--max-clients", "2"});
+  ASSERT_TRUE(daemon.ready());
+  const std::uint16_t port = daemon.process->tcp_port();
+  auto first = TcpHost::connect(port);
+  auto second = TcpHost::connect(port);
+  ASSERT_TRUE(first && second);
+  first->send(telegram("GET_STATUS"));  // both are in before the third connects
+  second->send(telegram("GET_STATUS"));
+  ASSERT_TRUE(first->next_payload() && second->next_payload());
+  const int third = raw_connect(port);
+  ASSERT_GE(third, 0);
+  send_all(third, protocol::encode_tcp_frame(telegram("GET_STATUS")));
+  pollfd closed{third, POLLIN, 0};
+  ASSERT_EQ(::poll(&closed, 1, 5000), 1) << "the third connection was neither answered nor closed";
+  std::uint8_t byte;
+  EXPECT_LE(::recv(third, &byte, 1, 0), 0);  // EOF or reset, never a reply
+  ::close(third);
+  first->send(telegram("GET_STATUS"));
+  EXPECT_TRUE(first->next_payload());
+  first.reset();
   EXPECT_TRUE(served_correctly(port));
   EXPECT_TRUE(still_healthy(*daemon.process, daemon.start_rss_kib));
 }

@@ -180,6 +180,14 @@ const std::map<std::string_view, ValueHandler>& value_options() {
          o.host_limits.idle_timeout = *limit;
          return std::nullopt;
        }},
+      {"--max-clients", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
+         const auto count = parse_integer<std::size_t>(v);
+         if (!count || *count == 0 || *count > kMaxTcpClients) {
+           return error_of(usage_error("--max-clients", "must be an integer from 1 to 100000"));
+         }
+         o.host_limits.max_tcp_clients = *count;
+         return std::nullopt;
+       }},
       {"--control", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
          if (v.empty()) return error_of(usage_error("--control", "expects a socket path"));
          o.control_path = std::filesystem::path(std::string(v));
@@ -375,6 +383,8 @@ std::string usage_text(std::string_view program_name) {
          "                        after connecting, 0 = never [60]\n"
          "  --tcp-idle-timeout S  close a TCP connection that sent nothing for S seconds,\n"
          "                        0 = never [0]\n"
+         "  --max-clients N       TCP connections served at once, per scanner (1..100000); a\n"
+         "                        further one is accepted and closed at once [64]\n"
          "  --log-level LEVEL     error|warn|info|debug; info logs every telegram [warn]\n"
          "  --count-profiles N    stop (exit 0) after N profile telegrams in total [no limit]\n"
          "  --timeout SECONDS     stop (exit 0) after this many wall seconds, at most 1e9 [no limit]\n"

@@ -11,10 +11,13 @@ Counters& Counters::operator+=(const Counters& o) {
   isotp_send_failures += o.isotp_send_failures;
   isotp_queue_overflows += o.isotp_queue_overflows;
   can_frames_backlogged += o.can_frames_backlogged;
+  can_frames_dropped += o.can_frames_dropped;
   skipped_profiles += o.skipped_profiles;
   profiles_sent += o.profiles_sent;
   tcp_connections += o.tcp_connections;
   tcp_dropped_slow += o.tcp_dropped_slow;
+  tcp_dropped_quiet += o.tcp_dropped_quiet;
+  tcp_refused += o.tcp_refused;
   serial_overflows += o.serial_overflows;
   lpt_steps += o.lpt_steps;
   fault_injections += o.fault_injections;
@@ -29,7 +32,7 @@ std::string format_counters(const Counters& c) {
       << " can_frames_dropped=" << c.can_frames_dropped
       << " skipped_profiles=" << c.skipped_profiles << " profiles_sent=" << c.profiles_sent
       << " tcp_connections=" << c.tcp_connections << " tcp_dropped_slow=" << c.tcp_dropped_slow
-      << " tcp_dropped_quiet=" << c.tcp_dropped_quiet
+      << " tcp_dropped_quiet=" << c.tcp_dropped_quiet << " tcp_refused=" << c.tcp_refused
       << " serial_overflows=" << c.serial_overflows << " lpt_steps=" << c.lpt_steps
       << " fault_injections=" << c.fault_injections;
   return out.str();

@@ -36,9 +36,11 @@ bool TcpEndpoint::busy(ConnectionId connection) const {
   return client != clients_.end() && !client->second.output.empty();
 }
 
+// At most kAcceptBudget connections per loop round: between rounds the loop serves the clients,
+// so a connect flood does not starve them.
 void TcpEndpoint::on_listener_ready() {
   ++context_->activity;
-  for (;;) {
+  for (std::size_t round_accepts = 0; round_accepts < kAcceptBudget; ++round_accepts) {
     auto accepted = listener_->accept();
     if (!accepted) {
       const int error = accepted.error().error_number;
@@ -51,6 +53,16 @@ void TcpEndpoint::on_listener_ready() {
     }
     if (!accepted->has_value()) {
       return;
+    }
+    if (clients_.size() >= limits_.max_tcp_clients) free_places_of_gone_hosts();
+    if (clients_.size() >= limits_.max_tcp_clients) {
+      // Accepted and closed at once (leaving scope): the host protocol has no "busy" reply.
+      ++context_->counters.tcp_refused;
+      if (auto line = refused_warning_.admit("tcp: --max-clients " + std::to_string(limits_.max_tcp_clients) +
+                                             " reached; closing the new connection from " + (*accepted)->peer())) {
+        context_->logger.log(LogLevel::warn, *line);
+      }
+      continue;
     }
     const auto taken = indices_.take([this](std::uint32_t index) { return clients_.contains(index); });
     if (!taken) {
@@ -79,6 +91,17 @@ void TcpEndpoint::on_listener_ready() {
       arm_quiet_timer(index, now + limits_.idle_timeout);
     }
   }
+}
+
+// At the limit, a place held by a host that has already gone (its EOF or reset not read yet,
+// e.g. a flood of connections reset at once) is freed before the new host is judged, through
+// the usual read path (which drops it). One peek per connection, only when every place is taken.
+void TcpEndpoint::free_places_of_gone_hosts() {
+  std::vector<std::uint32_t> gone;
+  for (const auto& [index, client] : clients_) {
+    if (client.connection.peer_gone()) gone.push_back(index);
+  }
+  for (const std::uint32_t index : gone) on_client_ready(index, io::Readiness{true, false, true, false});
 }
 
 // After bytes from the host: a frame left incomplete must be finished within the inter-byte
@@ -154,16 +177,8 @@ void TcpEndpoint::on_quiet_timer(std::uint32_t index) {
 // per kWarnPeriod with the count of the ones held back.
 void TcpEndpoint::rest_listener(const std::string& why) {
   ++listener_rests_;
-  const auto now = std::chrono::steady_clock::now();
-  if (!warned_once_ || now - last_warning_ >= kWarnPeriod) {
-    std::string line = why + "; not accepting for " + std::to_string(kListenerRest.count()) + " ms";
-    if (held_back_warnings_ > 0) line += " (" + std::to_string(held_back_warnings_) + " more since the last report)";
-    context_->logger.log(LogLevel::warn, line);
-    warned_once_ = true;
-    last_warning_ = now;
-    held_back_warnings_ = 0;
-  } else {
-    ++held_back_warnings_;
+  if (auto line = rest_warning_.admit(why + "; not accepting for " + std::to_string(kListenerRest.count()) + " ms")) {
+    context_->logger.log(LogLevel::warn, *line);
   }
   if (listener_resting_) return;
   listener_resting_ = true;

@@ -65,6 +65,12 @@ IoResult<TcpConnection> TcpConnection::connect(std::string_view address, std::ui
   return TcpConnection(std::move(fd), where);
 }
 
+bool TcpConnection::peer_gone() const {
+  std::uint8_t byte = 0;
+  const ssize_t count = ::recv(fd_.get(), &byte, 1, MSG_PEEK | MSG_DONTWAIT);
+  return count == 0 || (count < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR);
+}
+
 IoResult<Received> TcpConnection::receive(std::size_t max_bytes) {
   Received received;
   received.bytes.resize(max_bytes);

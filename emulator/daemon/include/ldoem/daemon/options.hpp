@@ -35,6 +35,7 @@ inline constexpr double kMinTimeScale = 1e-6;             // a simulated second 
 inline constexpr double kMaxTimeScale = 1e6;              // 11.6 simulated days per wall second
 inline constexpr double kMaxRecordMegabytes = 1024.0 * 1024.0;  // 1 TiB per capture file
 inline constexpr double kMaxHostTimeoutSeconds = 1e6;     // the host timeouts: 11.6 days
+inline constexpr std::size_t kMaxTcpClients = 100'000;    // --max-clients (descriptors bound it sooner)
 
 using endpoints::CanIdPair;
 using endpoints::LogLevel;

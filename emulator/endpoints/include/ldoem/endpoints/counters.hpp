@@ -20,6 +20,7 @@ struct Counters {
   std::uint64_t tcp_connections = 0;
   std::uint64_t tcp_dropped_slow = 0;      // output queue over its bound
   std::uint64_t tcp_dropped_quiet = 0;     // silent or idle longer than its timeout
+  std::uint64_t tcp_refused = 0;           // accepted and closed at once: --max-clients reached
   std::uint64_t serial_overflows = 0;      // serial output discarded: nobody reads the pty
   std::uint64_t lpt_steps = 0;
   std::uint64_t fault_injections = 0;      // D11: faults that became active (scene or control socket)

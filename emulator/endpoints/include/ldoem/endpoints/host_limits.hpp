@@ -4,6 +4,7 @@
 #pragma once
 
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 
@@ -16,6 +17,10 @@ inline constexpr std::chrono::milliseconds kDefaultInterByteTimeout{500};
 // A connection that has not sent one complete telegram this long after connecting is closed
 // (port scans, stuck or hostile connects holding descriptors; a driver speaks at once).
 inline constexpr std::chrono::milliseconds kDefaultSilentTimeout{60'000};
+// TCP connections one scanner serves at once (--max-clients). S1 uses one connection and the hub
+// one per device; 64 leaves room for tools and tests beside them, and bounds what hosts can
+// hold: each connection's output queue takes up to 372 800 bytes (64 of them: about 24 MB).
+inline constexpr std::size_t kDefaultMaxTcpClients = 64;
 
 struct HostLimits {
   std::chrono::milliseconds inter_byte_timeout = kDefaultInterByteTimeout;  // 0: never
@@ -23,6 +28,10 @@ struct HostLimits {
   // TCP: nothing received from the host this long closes the connection. 0 (the default):
   // never, since the LD keeps a quiet connection and the driver and hub do not reconnect.
   std::chrono::milliseconds idle_timeout{0};
+  // TCP: connections served at once. A further one is accepted and closed at once (counted in
+  // tcp_refused): the host protocol has no "busy" reply, and a closed connection tells a driver
+  // at once instead of leaving it to time out in the listen backlog.
+  std::size_t max_tcp_clients = kDefaultMaxTcpClients;
   bool operator==(const HostLimits&) const = default;
 };
 

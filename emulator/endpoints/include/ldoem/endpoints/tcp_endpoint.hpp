@@ -2,6 +2,7 @@
 // connection (tcp#1, tcp#2, ...) with its deframer and a bounded output queue. A host that stops
 // reading is dropped once its queue is full; a frame left half sent is dropped after the
 // inter-byte timeout, and a connection that stays silent or idle too long is closed (HostLimits).
+// Beyond HostLimits::max_tcp_clients connections at once, a new one is accepted and closed.
 #pragma once
 
 #include <chrono>
@@ -13,6 +14,7 @@
 #include "ldoem/endpoints/host_endpoint.hpp"
 #include "ldoem/endpoints/host_limits.hpp"
 #include "ldoem/endpoints/output_queue.hpp"
+#include "ldoem/endpoints/warning_throttle.hpp"
 #include "ldoem/io/tcp.hpp"
 #include "ldoem/protocol/tcp_framing.hpp"
 
@@ -52,6 +54,7 @@ class TcpEndpoint final : public HostEndpoint {
   };
 
   void on_listener_ready();
+  void free_places_of_gone_hosts();
   void rest_listener(const std::string& why);
   void resume_listener();
   void on_client_ready(std::uint32_t index, io::Readiness readiness);
@@ -77,11 +80,11 @@ class TcpEndpoint final : public HostEndpoint {
 
   static constexpr std::chrono::milliseconds kListenerRest{100};
   static constexpr std::chrono::seconds kWarnPeriod{10};
+  static constexpr std::size_t kAcceptBudget = 16;  // connections accepted per loop round
   bool listener_resting_ = false;
   io::EventLoop::TimerId resume_timer_ = 0;
-  bool warned_once_ = false;
-  std::chrono::steady_clock::time_point last_warning_;
-  std::uint64_t held_back_warnings_ = 0;
+  WarningThrottle rest_warning_{kWarnPeriod};     // out of descriptors
+  WarningThrottle refused_warning_{kWarnPeriod};  // --max-clients reached
 
  public:
   std::uint64_t listener_rests() const { return listener_rests_; }  // accept() out of descriptors

@@ -27,6 +27,10 @@ class TcpConnection {
   // a vanished peer is an EPIPE error value.
   IoResult<std::size_t> send(protocol::ByteView bytes);
 
+  // True when the peer has gone and left nothing unread: EOF, or a reset waiting to be read.
+  // A peek: nothing is consumed.
+  bool peer_gone() const;
+
   int fd() const { return fd_.get(); }
   const std::string& peer() const { return peer_; }  // "127.0.0.1:40412"
 
