@@ -3,6 +3,8 @@
 // the load of a shared machine hits both sides of a ratio alike.
 //
 //   BM_Casters/<scene>        rays/s of EmbreeRayCaster, plain ODE and Embree-on-triangles
+//                             (--ratio_budget_s=S: CPU seconds of rounds per scene for the
+//                             primitives-over-triangles ratio, default 1.5)
 //   BM_PaperScan/<variant>    simulated seconds per wall second of the paper's scan
 //   BM_EffectsOnDemand        SensorModel without effects against a bare cast loop
 //   BM_IsoTp/<bytes>          ISO-TP frames per second through sender and receiver, in memory
@@ -23,6 +25,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <exception>
 #include <functional>
 #include <memory>
 #include <string>
@@ -43,6 +47,12 @@ constexpr double kCoarseTolerance_m = 1e-4;
 // Budget of one plain-ODE round: its cost grows with the object count, so it casts a subset.
 constexpr double kOdeRoundBudget_s = 0.25;
 constexpr int kRounds = 5;
+// Primitives against triangles: about this much CPU time of interleaved rounds per scene (one
+// round casts the ray set once with each caster, a few milliseconds), within these bounds;
+// --ratio_budget_s=S sets it (the ctest smoke run keeps it short).
+double triangle_ratio_budget_s = 1.5;
+constexpr int kMinRatioRounds = 21;
+constexpr int kMaxRatioRounds = 2001;
 
 struct CasterSetup {
   scene::Scene scene;
@@ -102,25 +112,38 @@ void bm_casters(benchmark::State& state, const std::function<scene::Scene()>& ma
   const std::size_t mismatches = count_mismatches(embree_answers, ode_answers, kMatchTolerance_m);
   const std::size_t coarse_mismatches = count_mismatches(embree_answers, ode_answers, kCoarseTolerance_m);
 
+  const std::function<void()> cast_embree = [&] { benchmark::DoNotOptimize(cast_all(*setup.embree, setup.rays)); };
+  const std::function<void()> cast_triangles = [&] { benchmark::DoNotOptimize(cast_all(*setup.triangles, setup.rays)); };
   std::vector<double> fastest;
+  std::vector<std::vector<double>> rounds_s;
   for (auto _ : state) {
-    const std::function<void()> jobs[] = {
-        [&] { benchmark::DoNotOptimize(cast_all(*setup.embree, setup.rays)); },
-        [&] { benchmark::DoNotOptimize(cast_all(*setup.triangles, setup.rays)); },
-        [&] { benchmark::DoNotOptimize(cast_all(*setup.ode, ode_rays)); },
-    };
+    // Against triangles (the target, within a few per cent of 1.0): many short interleaved
+    // rounds on the same rays (each caster always runs right after the other), one ratio per
+    // round, so that the median and quartiles show how much the machine moved it.
+    const int rounds = rounds_for_budget(cast_embree, cast_triangles, triangle_ratio_budget_s, kMinRatioRounds, kMaxRatioRounds);
+    const std::function<void()> pair[] = {cast_embree, cast_triangles};
+    rounds_s = interleaved_rounds(pair, rounds);
+    // Against plain ODE (tens of times slower): a few interleaved rounds, the fastest of each.
+    const std::function<void()> jobs[] = {cast_embree, [&] { benchmark::DoNotOptimize(cast_all(*setup.ode, ode_rays)); }};
     fastest = fastest_interleaved(jobs, kRounds);
   }
-  const double embree_rays_s = static_cast<double>(setup.rays.size()) / fastest[0];
-  const double triangle_rays_s = static_cast<double>(setup.rays.size()) / fastest[1];
-  const double ode_rays_s = static_cast<double>(ode_rays.size()) / fastest[2];
+  // Embree rays/s over triangle rays/s, round by round: triangle time over Embree time.
+  const Spread ratio = spread_of(round_ratios(rounds_s[1], rounds_s[0]));
+  const double rays = static_cast<double>(setup.rays.size());
+  const double embree_rays_s = rays / spread_of(rounds_s[0]).median;
+  const double triangle_rays_s = rays / spread_of(rounds_s[1]).median;
+  const double ode_rays_s = static_cast<double>(ode_rays.size()) / fastest[1];
   state.counters["objects"] = static_cast<double>(objects);
   state.counters["triangles_baseline"] = static_cast<double>(setup.triangles->triangle_count());
   state.counters["embree_rays_s"] = embree_rays_s;
   state.counters["triangle_rays_s"] = triangle_rays_s;
   state.counters["ode_rays_s"] = ode_rays_s;
-  state.counters["ratio_vs_triangles"] = embree_rays_s / triangle_rays_s;
-  state.counters["ratio_vs_ode"] = embree_rays_s / ode_rays_s;
+  state.counters["ratio_vs_triangles"] = ratio.median;
+  state.counters["ratio_vs_triangles_q1"] = ratio.lower_quartile;
+  state.counters["ratio_vs_triangles_q3"] = ratio.upper_quartile;
+  state.counters["ratio_rounds"] = static_cast<double>(rounds_s[0].size());
+  // Both from the fastest of the same interleaved rounds (ODE casts a subset, hence rays/s).
+  state.counters["ratio_vs_ode"] = (rays / fastest[0]) / ode_rays_s;
   state.counters["ode_mismatches"] = static_cast<double>(mismatches);
   state.counters["ode_mismatches_over_0_1mm"] = static_cast<double>(coarse_mismatches);
   state.counters["ode_rays_compared"] = static_cast<double>(ode_rays.size());
@@ -287,6 +310,26 @@ void register_all() {
 }  // namespace ldoem::bench
 
 int main(int argc, char** argv) {
+  // Our one flag, taken out of argv before Google Benchmark reads the rest.
+  const std::string budget_flag = "--ratio_budget_s=";
+  int kept = 1;
+  for (int i = 1; i < argc; ++i) {
+    const std::string argument = argv[i];
+    if (argument.rfind(budget_flag, 0) != 0) {
+      argv[kept++] = argv[i];
+      continue;
+    }
+    try {
+      ldoem::bench::triangle_ratio_budget_s = std::stod(argument.substr(budget_flag.size()));
+    } catch (const std::exception&) {
+      ldoem::bench::triangle_ratio_budget_s = -1.0;
+    }
+    if (!(ldoem::bench::triangle_ratio_budget_s > 0.0 && ldoem::bench::triangle_ratio_budget_s <= 600.0)) {
+      std::fprintf(stderr, "ldoem_bench_perf: %s needs seconds in (0, 600]\n", argv[i]);
+      return 2;
+    }
+  }
+  argc = kept;
   ldoem::bench::register_all();
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;

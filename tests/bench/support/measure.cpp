@@ -4,6 +4,7 @@
 #include <time.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace ldoem::bench {
@@ -46,6 +47,19 @@ std::vector<std::vector<double>> interleaved_rounds(std::span<const std::functio
     }
   }
   return times;
+}
+
+int rounds_for_budget(const std::function<void()>& a, const std::function<void()>& b, double budget_s,
+                      int min_rounds, int max_rounds) {
+  double one_round_s = 0.0;
+  for (const auto* job : {&a, &b}) {
+    const double start_s = thread_cpu_seconds();
+    (*job)();
+    one_round_s += thread_cpu_seconds() - start_s;
+  }
+  if (!(one_round_s > 0.0)) return max_rounds;
+  const double rounds = std::ceil(budget_s / one_round_s);
+  return static_cast<int>(std::clamp(rounds, static_cast<double>(min_rounds), static_cast<double>(max_rounds)));
 }
 
 Spread spread_of(std::vector<double> values) {

@@ -22,6 +22,11 @@ namespace ldoem::bench {
 [[nodiscard]] std::vector<std::vector<double>> interleaved_rounds(std::span<const std::function<void()>> jobs,
                                                                   int rounds);
 
+// How many interleaved rounds of a and b fill about `budget_s` of CPU time, judged from one round
+// of each; at least `min_rounds`, at most `max_rounds`.
+[[nodiscard]] int rounds_for_budget(const std::function<void()>& a, const std::function<void()>& b, double budget_s,
+                                    int min_rounds, int max_rounds);
+
 // The median of some values and how far they spread: quartiles and extremes.
 struct Spread {
   double median = 0.0;
