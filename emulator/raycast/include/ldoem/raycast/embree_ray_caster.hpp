@@ -9,6 +9,8 @@
 //   edges); the range of the triangle hit is then recomputed in double precision.
 // Embree works in float, so its coordinates are relative to the centre of the scene's bounds
 // (a scene 1e5 m from the origin loses nothing). The BVH is built once, in the constructor.
+// A ray whose reach misses the box around everything Embree holds (with a margin larger than
+// the float copy's rounding) skips the Embree call: only the planes can answer it.
 #pragma once
 
 #include "ldoem/raycast/ode_world.hpp"
