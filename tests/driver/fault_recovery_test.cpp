@@ -226,6 +226,27 @@ TEST_F(ScannerFaultTest, Reconnect_GivesUpAfterItsAttempts) {
   EXPECT_EQ(scanner_->state(), LifecycleState::closed);
 }
 
+TEST_F(ScannerFaultTest, Reconnect_BacksOffUpToItsLongestPause) {
+  int opened = 0;
+  std::vector<std::chrono::milliseconds> pauses;
+  ScannerOptions options;
+  options.reconnect = ReconnectPolicy{6, 100ms, 2.0, 300ms};
+  options.sleep = [&pauses](std::chrono::milliseconds pause) { pauses.push_back(pause); };
+  options.reopen = [&]() -> Expected<std::unique_ptr<Transport>, DriverError> {
+    ++opened;
+    return fail(make_error(ErrorKind::connection_closed, "connect", "fake"));
+  };
+  build(options);
+  ASSERT_FALSE(scanner_->reconnect());
+  EXPECT_EQ(opened, 6);
+  EXPECT_EQ(pauses, (std::vector<std::chrono::milliseconds>{100ms, 200ms, 300ms, 300ms, 300ms}));
+  // The default is unchanged: 10 attempts, 500 ms apart, no backoff.
+  const ReconnectPolicy defaults;
+  EXPECT_EQ(defaults.attempts, 10u);
+  for (std::uint32_t attempt = 2; attempt <= 10; ++attempt) EXPECT_EQ(reconnect_pause(defaults, attempt), 500ms);
+  EXPECT_EQ(reconnect_pause(ReconnectPolicy{4000000000u, 10ms, 1.5, 1000ms}, 3999999999u), 1000ms);  // bounded work
+}
+
 TEST_F(ScannerFaultTest, Reconnect_WithoutAReopener_IsUnsupported) {
   build();
   auto status = scanner_->reconnect();

@@ -22,6 +22,34 @@ TEST(ScanOptions, DirectMinimal_TakesThePaperDefaults) {
   EXPECT_TRUE(std::holds_alternative<driver::CanEndpoint>(*options->device));
 }
 
+TEST(ScanOptions, Reconnect_DefaultsAreLibldoemsAndEachOptionIsRead) {
+  auto defaults = parse_scan_options(words({"--device", "tcp:127.0.0.1:49152", "--out", "a.ply", "--vertical-apex", "0"}));
+  ASSERT_TRUE(defaults) << defaults.error();
+  EXPECT_EQ(defaults->reconnect, driver::ReconnectPolicy{});
+  auto options = parse_scan_options(words({"--device", "tcp:127.0.0.1:49152", "--out", "a.ply", "--reconnect-attempts",
+                                           "40", "--reconnect-interval", "0.25", "--reconnect-backoff", "2"}));
+  ASSERT_TRUE(options) << options.error();
+  EXPECT_EQ(options->reconnect.attempts, 40u);
+  EXPECT_EQ(options->reconnect.interval, std::chrono::milliseconds(250));
+  EXPECT_EQ(options->reconnect.backoff, 2.0);
+  EXPECT_EQ(options->reconnect.max_interval, std::chrono::milliseconds(30000));
+  // A first pause above the 30 s cap raises the cap: evenly spaced pauses of that length.
+  auto long_pause = parse_scan_options(words({"--device", "tcp:127.0.0.1:49152", "--out", "a.ply", "--reconnect-interval", "45"}));
+  ASSERT_TRUE(long_pause) << long_pause.error();
+  EXPECT_EQ(driver::reconnect_pause(long_pause->reconnect, 5), std::chrono::milliseconds(45000));
+  for (const auto& [option, value] : {std::pair{"--reconnect-attempts", "0"}, {"--reconnect-attempts", "1001"},
+                                      {"--reconnect-interval", "0"}, {"--reconnect-interval", "61"},
+                                      {"--reconnect-backoff", "0.5"}, {"--reconnect-backoff", "11"},
+                                      {"--reconnect-backoff", "nan"}}) {
+    const auto refused = parse_scan_options(words({"--device", "tcp:127.0.0.1:49152", "--out", "a.ply", option, value}));
+    EXPECT_FALSE(refused) << option << " " << value;
+  }
+  const auto through_hub = parse_scan_options(
+      words({"--hub", "127.0.0.1:49201", "--hub-device", "left", "--out", "a.ply", "--reconnect-attempts", "3"}));
+  ASSERT_FALSE(through_hub);
+  EXPECT_NE(through_hub.error().find("a hub reconnects"), std::string::npos) << through_hub.error();
+}
+
 TEST(ScanOptions, EveryOption_IsRead) {
   auto options = parse_scan_options(
       words({"--hub", "127.0.0.1:49201", "--hub-device", "left", "--horizontal-apex", "40", "--horizontal-resolution",

@@ -82,6 +82,9 @@ case $name in
     expect_exit 2 --device lpt:pty:/tmp/x --out scan.ply
     expect_exit 2 --hub 127.0.0.1:49200 --out scan.ply
     expect_exit 2 --device tcp:127.0.0.1:1 --hub 127.0.0.1:49200 --hub-device a --out scan.ply
+    expect_exit 2 --device tcp:127.0.0.1:1 --out scan.ply --reconnect-attempts 0
+    expect_exit 2 --device tcp:127.0.0.1:1 --out scan.ply --reconnect-backoff 0.5
+    expect_exit 2 --hub 127.0.0.1:49200 --hub-device a --out scan.ply --reconnect-interval 2
     # A good command line against a port where nothing listens: a runtime failure, exit 1.
     expect_exit 1 --device tcp:127.0.0.1:1 --vertical-apex 0 --out "$work/scan.ply" --timeout 1
     ;;

@@ -209,6 +209,16 @@ void Scanner::sleep_for(std::chrono::milliseconds pause) const {
   }
 }
 
+std::chrono::milliseconds reconnect_pause(const ReconnectPolicy& policy, std::uint32_t attempt) {
+  const double factor = std::max(1.0, policy.backoff);
+  double pause_ms = static_cast<double>(policy.interval.count());
+  for (std::uint32_t k = 2; factor > 1.0 && k < attempt && pause_ms < static_cast<double>(policy.max_interval.count()); ++k) {
+    pause_ms *= factor;
+  }
+  const auto pause = std::chrono::milliseconds(static_cast<std::int64_t>(pause_ms));
+  return std::min(pause, std::max(policy.interval, policy.max_interval));
+}
+
 Expected<p::GetStatusReply, DriverError> Scanner::reconnect() {
   const std::uint16_t status_code = p::code_of(p::Service::get_status);
   if (!options_.reopen) {
@@ -222,7 +232,7 @@ Expected<p::GetStatusReply, DriverError> Scanner::reconnect() {
   DriverError last = error_for(ErrorKind::connection_closed, status_code);
   for (std::uint32_t attempt = 1; attempt <= attempts; ++attempt) {
     if (attempt > 1) {
-      sleep_for(options_.reconnect.interval);
+      sleep_for(reconnect_pause(options_.reconnect, attempt));
     }
     auto opened = options_.reopen();
     if (!opened) {

@@ -24,6 +24,7 @@ base::Expected<std::unique_ptr<driver::Device>, driver::DriverError> open_device
   }
   hub::ScannerDeviceOptions device_options;
   device_options.scanner.request_timeout = options.timeout;
+  device_options.scanner.reconnect = options.reconnect;
   device_options.stepper.step_rate_hz = options.step_rate_hz;
   return std::unique_ptr<driver::Device>(hub::ScannerDevice::from_endpoints(
       driver::format_endpoint(*options.device), *options.device, options.lpt, device_options));

@@ -16,6 +16,10 @@ using base::Unexpected;
 constexpr double kMaxTimeoutSeconds = 7.0 * 24 * 3600;  // a week
 // Enough for any flaky link; a bound so a typo cannot make a dead device hold a scan for hours.
 constexpr std::uint32_t kMaxRetries = 100;
+// Reconnect bounds: at most an hour of a 60 s pause after 60 attempts, never an endless wait.
+constexpr std::uint32_t kMaxReconnectAttempts = 1000;
+constexpr double kMaxReconnectIntervalSeconds = 60.0;
+constexpr double kMaxReconnectBackoff = 10.0;
 using OptionsResult = base::Expected<ScanOptions, std::string>;
 
 Unexpected<std::string> usage_error(std::string text) { return Unexpected<std::string>(std::move(text)); }
@@ -158,6 +162,37 @@ const std::map<std::string_view, Setter>& setters() {
          o.retries = *value;
          return std::nullopt;
        }},
+      {"--reconnect-attempts",
+       [](ScanOptions& o, std::string_view v) -> std::optional<std::string> {
+         const auto value = base::parse_integer<std::uint32_t>(v);
+         if (!value || *value < 1 || *value > kMaxReconnectAttempts) {
+           return "`" + std::string(v) + "` is not a number of attempts in 1.." + std::to_string(kMaxReconnectAttempts);
+         }
+         o.reconnect.attempts = *value;
+         o.reconnect_given = true;
+         return std::nullopt;
+       }},
+      {"--reconnect-interval",
+       [](ScanOptions& o, std::string_view v) -> std::optional<std::string> {
+         const auto seconds = parse_double(v);
+         if (!seconds || !(*seconds >= 0.001 && *seconds <= kMaxReconnectIntervalSeconds)) {
+           return "`" + std::string(v) + "` is not a number of seconds in 0.001..60";
+         }
+         o.reconnect.interval = std::chrono::milliseconds(static_cast<long long>(std::llround(*seconds * 1000.0)));
+         o.reconnect.max_interval = std::max(o.reconnect.max_interval, o.reconnect.interval);
+         o.reconnect_given = true;
+         return std::nullopt;
+       }},
+      {"--reconnect-backoff",
+       [](ScanOptions& o, std::string_view v) -> std::optional<std::string> {
+         const auto factor = parse_double(v);
+         if (!factor || !(*factor >= 1.0 && *factor <= kMaxReconnectBackoff)) {
+           return "`" + std::string(v) + "` is not a backoff factor in 1..10";
+         }
+         o.reconnect.backoff = *factor;
+         o.reconnect_given = true;
+         return std::nullopt;
+       }},
       {"--optical-offset",
        [](ScanOptions& o, std::string_view v) -> std::optional<std::string> {
          const auto offset = parse_vector(v);
@@ -183,6 +218,9 @@ std::optional<std::string> check_combination(const ScanOptions& options) {
   }
   if (options.hub && options.lpt) {
     return "--lpt is for --device; through a hub the hub drives the stepper";
+  }
+  if (options.hub && options.reconnect_given) {
+    return "--reconnect-* are for --device; a hub reconnects to its devices itself";
   }
   if (options.out_path.empty()) {
     return "--out FILE.ply or FILE.pcd is required";
@@ -300,6 +338,10 @@ Output:
                                connection) try the step again up to N times (default 3, 0..100);
                                a lost connection or a device reset is reconnected and configured
                                again first; a device fault (motor nibble, ERROR) is final
+  --reconnect-attempts N       reopen a lost connection at most N times (default 10, 1..1000)
+  --reconnect-interval SECONDS the first pause between two attempts (default 0.5, 0.001..60)
+  --reconnect-backoff F        each next pause F times the last, at most 30 s or the interval
+                               (default 1: evenly spaced; 1..10)
   --help                       this text
 
 The cloud is written to a temporary file beside FILE and renamed only when complete: a failed

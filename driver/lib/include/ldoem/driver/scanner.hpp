@@ -38,13 +38,22 @@ inline constexpr std::chrono::milliseconds kDefaultRotateTimeout{10000};
 
 using TransportOpener = std::function<Expected<std::unique_ptr<Transport>, DriverError>()>;
 
-// How reconnect() tries: `attempts` openings plus GET_STATUS, `interval` apart. The default
-// rides out a power cycle of up to about 5 s (D11 power_cycle's off_s; the LD-OEM boots in
-// that time) and then gives up: bounded, never a loop.
+// How reconnect() tries: `attempts` openings plus GET_STATUS; the first pause is `interval`,
+// each next one `backoff` times the last, at most `max_interval`. The default (10 attempts,
+// 500 ms apart, no backoff) rides out a power cycle of up to about 5 s (D11 power_cycle's off_s;
+// the LD-OEM boots in that time) and then gives up: bounded, never a loop. A device that takes
+// longer to come back (a bench supply, a switch) wants more attempts or a backoff.
 struct ReconnectPolicy {
   std::uint32_t attempts = 10;
   std::chrono::milliseconds interval{500};
+  double backoff = 1.0;                         // >= 1; 2 doubles every pause
+  std::chrono::milliseconds max_interval{30000};
+  bool operator==(const ReconnectPolicy&) const = default;
 };
+
+// The pause before attempt `attempt` (2, 3, ...): interval * backoff^(attempt - 2), capped at
+// max_interval (a backoff below 1 counts as 1).
+std::chrono::milliseconds reconnect_pause(const ReconnectPolicy& policy, std::uint32_t attempt);
 
 struct ScannerOptions {
   std::chrono::milliseconds request_timeout = kDefaultRequestTimeout;

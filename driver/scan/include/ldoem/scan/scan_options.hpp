@@ -11,6 +11,7 @@
 #include "ldoem/cloud/cloud_file.hpp"
 #include "ldoem/cloud/cloud_render.hpp"
 #include "ldoem/driver/endpoint.hpp"
+#include "ldoem/driver/scanner.hpp"
 #include "ldoem/hub/hub_config.hpp"
 #include "ldoem/scan/acquisition.hpp"
 
@@ -44,6 +45,9 @@ struct ScanOptions {
   bool fit = false;
   std::chrono::milliseconds timeout{5000};
   std::uint32_t retries = kDefaultRetries;  // further attempts per step after a retryable fault
+  // How a lost connection is reopened (--reconnect-*; libldoem's defaults); --device only.
+  driver::ReconnectPolicy reconnect;
+  bool reconnect_given = false;
   Vector3 optical_offset_m;
   std::optional<std::string> completion_script;  // --completion bash: print it and exit 0
 };
