@@ -89,5 +89,50 @@ TEST(FaultScenario, HubWithOneFaultedDevice_TellsEveryClient_AndServesTheOther) 
   }
 }
 
+// ldoem-scan through ldoem-hub (in-process here) over scenes/faults/power-cycle-during-profile:
+// the hub's device loses its connection mid-scan; ldoem-scan --retries sees the retryable
+// failure through the hub, re-initializes (the hub reconnects to the device) and completes
+// every layer, and the cloud is written only then.
+TEST(FaultScenario, PowerCycleThroughTheHub_LdoemScanRetriesAndCompletes) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("ldoem-hub-cycle-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string lpt = (dir / "lpt").string();
+  const std::string out = (dir / "scan.ply").string();
+  std::string failure;
+  auto scene = start_scene(scenario("power-cycle-during-profile"), {"--lpt", "pty:" + lpt}, &failure);
+  ASSERT_TRUE(scene) << failure;
+  const auto lpt_endpoint = driver::parse_endpoint("lpt:pty:" + lpt);
+  ASSERT_TRUE(lpt_endpoint);
+  std::vector<hub::DeviceSlot> slots;
+  slots.push_back({"cycled", hub::ScannerDevice::from_endpoints("cycled", driver::Endpoint{scene->endpoint}, *lpt_endpoint)});
+  hub::HubSettings settings;
+  settings.listen = hub::ListenAddress{"127.0.0.1", 0};
+  hub::Hub hub(settings, std::move(slots));
+  ASSERT_TRUE(hub.listen());
+  std::thread loop([&hub] { (void)hub.run(); });
+  struct Stop {
+    hub::Hub& hub;
+    std::thread& loop;
+    ~Stop() {
+      hub.request_stop();
+      loop.join();
+    }
+  } stop{hub, loop};
+
+  // 9 deg at 0.18 deg: 51 layers, about 15 s: the power cycle (5 s, 1.5 s off) comes mid-scan.
+  auto scan = daemon::test::DaemonProcess::start_program(
+      LDOEM_SCAN_PATH, {"--hub", "127.0.0.1:" + std::to_string(hub.port()), "--hub-device", "cycled", "--vertical-apex",
+                        "9", "--retries", "3", "--timeout", "2", "--out", out});
+  ASSERT_TRUE(scan);
+  const auto status = scan->wait(150s);
+  const std::string text = scan->stderr_text();
+  ASSERT_EQ(status, std::optional<int>(0)) << text;
+  EXPECT_NE(text.find("in 51 layers written"), std::string::npos) << text;
+  EXPECT_NE(text.find("; retry 1 of 3"), std::string::npos) << text;
+  EXPECT_NE(text.find("restarts after faults"), std::string::npos) << text;
+  EXPECT_TRUE(std::filesystem::exists(out));
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace ldoem::fault_scenarios
