@@ -50,7 +50,7 @@ enum class MovingIndex : std::uint8_t { swept_slices, motion_blur };
 struct MovingCasterOptions {
   MovingIndex index = MovingIndex::swept_slices;
   // One slice: chosen by BM_MovingObjects (docs/dynamic-scenes.md "Cost"); more slices give
-  // tighter boxes but each costs a refit per window, which outweighed the saving.
+  // tighter boxes but each costs a build per window, which outweighed the saving.
   unsigned slices = 1;  // slices per window (swept_slices) or motion-blur segments (motion_blur)
   // prepare() readies at least this long a window and is free while later batches fall inside
   // it: an Embree commit costs about 0.1 ms however few the boxes, so covering several
