@@ -55,6 +55,34 @@ OffsetBox turned_extent(const LocalExtent& extent, const Eigen::Quaterniond& ori
 
 OffsetBox sphere_extent(const LocalExtent& extent) { return centred(Eigen::Vector3d::Constant(extent.radius_m)); }
 
+OffsetBox spin_extent(const LocalExtent& extent, const Eigen::Quaterniond& orientation, const Eigen::Vector3d& axis) {
+  // Turning about `axis` keeps every point's height along the axis and its distance from it, so
+  // the object stays inside the cylinder that bounds both for its local box's corners (the
+  // extremes of a linear and a convex function over the box are at corners).
+  const Eigen::Matrix3d r = orientation.toRotationMatrix();
+  double low_m = INFINITY;
+  double high_m = -INFINITY;
+  double radius_m = 0.0;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Eigen::Vector3d local((corner & 1) != 0 ? extent.upper_m.x() : extent.lower_m.x(),
+                                (corner & 2) != 0 ? extent.upper_m.y() : extent.lower_m.y(),
+                                (corner & 4) != 0 ? extent.upper_m.z() : extent.lower_m.z());
+    const Eigen::Vector3d p = r * local;
+    const double along_m = p.dot(axis);
+    low_m = std::min(low_m, along_m);
+    high_m = std::max(high_m, along_m);
+    radius_m = std::max(radius_m, (p - along_m * axis).norm());
+  }
+  radius_m = std::min(radius_m, extent.radius_m);  // no point is farther from the origin
+  OffsetBox box = sphere_extent(extent);           // the cylinder's box, within the sphere's
+  for (int i = 0; i < 3; ++i) {
+    const double reach_m = radius_m * std::sqrt(std::max(0.0, 1.0 - axis[i] * axis[i]));
+    box.lower_m[i] = std::max(box.lower_m[i], std::min(low_m * axis[i], high_m * axis[i]) - reach_m);
+    box.upper_m[i] = std::min(box.upper_m[i], std::max(low_m * axis[i], high_m * axis[i]) + reach_m);
+  }
+  return box;
+}
+
 float to_float(double value) {
   constexpr double kFloatMax = std::numeric_limits<float>::max();
   if (value > kFloatMax) return std::numeric_limits<float>::infinity();

@@ -26,6 +26,10 @@ LocalExtent local_extent(const scene::Shape& shape);
 // The world-axis box of the object turned by `orientation`, relative to its origin.
 OffsetBox turned_extent(const LocalExtent& extent, const Eigen::Quaterniond& orientation);
 OffsetBox sphere_extent(const LocalExtent& extent);
+// The box of every orientation the object takes turning about the unit `axis` through its origin,
+// from `orientation` (any one of them): the cylinder about the axis that holds it, cut to the
+// sphere of sphere_extent.
+OffsetBox spin_extent(const LocalExtent& extent, const Eigen::Quaterniond& orientation, const Eigen::Vector3d& axis);
 
 float to_float(double value);
 float round_up_to_float(double value);

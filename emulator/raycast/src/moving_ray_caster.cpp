@@ -137,9 +137,14 @@ void MovingRayCaster::Impl::build_embree() {
 void MovingRayCaster::Impl::fill_boxes(std::vector<RTCBounds>& out, double a_s, double b_s) const {
   for (std::size_t k = 0; k < out.size(); ++k) {
     const scene::PathBounds path = motion.origin_bounds(k, a_s, b_s);
-    const detail::OffsetBox reach = motion.keeps_orientation(k)
-                                        ? detail::turned_extent(extents[k], motion.pose_at(k, a_s).orientation)
-                                        : detail::sphere_extent(extents[k]);
+    detail::OffsetBox reach;
+    if (motion.keeps_orientation(k)) {
+      reach = detail::turned_extent(extents[k], motion.pose_at(k, a_s).orientation);
+    } else if (const auto axis = motion.spin_axis(k)) {
+      reach = detail::spin_extent(extents[k], motion.pose_at(k, a_s).orientation, *axis);
+    } else {
+      reach = detail::sphere_extent(extents[k]);
+    }
     out[k] = detail::to_embree_box(path.lower_m + reach.lower_m - frame_origin_m,
                                    path.upper_m + reach.upper_m - frame_origin_m);
   }

@@ -160,4 +160,14 @@ scene::PathBounds WorldMotion::origin_bounds(std::size_t k, double t0_s, double 
 
 bool WorldMotion::keeps_orientation(std::size_t k) const { return movers_[k].keeps_orientation; }
 
+std::optional<Eigen::Vector3d> WorldMotion::spin_axis(std::size_t k) const {
+  // A constant spin (scene::pose_at turns the start orientation about the angular velocity's
+  // axis through the origin); a move sets other orientations, a body turns freely.
+  const Mover& mover = movers_[k];
+  if (mover.body >= 0 || !mover.moves.empty()) return std::nullopt;
+  const auto* velocity = std::get_if<scene::ConstantVelocity>(&*mover.object.motion);
+  if (velocity == nullptr || velocity->angular_velocity_rad_s.isZero(0.0)) return std::nullopt;
+  return velocity->angular_velocity_rad_s.normalized();
+}
+
 }  // namespace ldoem::world

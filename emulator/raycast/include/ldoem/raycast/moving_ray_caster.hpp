@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace ldoem::raycast {
@@ -36,6 +37,10 @@ class MotionSource {
   virtual scene::PathBounds origin_bounds(std::size_t k, double t0_s, double t1_s) const = 0;
   // True if object k never turns (its box then keeps its axis-aligned extent).
   virtual bool keeps_orientation(std::size_t k) const = 0;
+  // If object k turns only about one fixed axis through its origin (a constant spin), that axis
+  // (unit, world frame): its box is then the cylinder about the axis, tighter than the sphere
+  // that holds any orientation. Nothing otherwise.
+  virtual std::optional<Eigen::Vector3d> spin_axis(std::size_t /*k*/) const { return std::nullopt; }
 };
 
 // When a moving object exists: rays timed in [from_s, until_s) see it (runtime add-object and

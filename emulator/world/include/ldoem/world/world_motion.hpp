@@ -59,6 +59,7 @@ class WorldMotion final : public raycast::MotionSource {
   Eigen::Vector3d position_at(std::size_t k, double t_s) const override;
   scene::PathBounds origin_bounds(std::size_t k, double t0_s, double t1_s) const override;
   bool keeps_orientation(std::size_t k) const override;
+  std::optional<Eigen::Vector3d> spin_axis(std::size_t k) const override;
 
   const RigidBodies& rigid_bodies() const { return bodies_; }
   // Counts accepted moves: an index prepared before a move must be rebuilt (SceneCaster does).
