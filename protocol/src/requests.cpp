@@ -205,12 +205,7 @@ RequestResult decode_params(Service service, Params& p) {
     case Service::trans_idle: return decode_parameterless<TransIdle>(p);
     case Service::trans_rotate: return decode_one_word<TransRotate>(p, kRawWord);
     case Service::trans_measure: return decode_parameterless<TransMeasure>(p);
-    case Service::ld_register_application:
-    case Service::com_attach: case Service::com_detach: case Service::com_initialize:
-    case Service::com_output: case Service::com_data:
-    case Service::file_dir: case Service::file_save: case Service::file_load: case Service::file_delete:
-    case Service::monitor_run: case Service::monitor_profile_log:
-    case Service::service_failure:
+    default:  // has_unpublished_layout(service), and SERVICE_FAILURE (no request of its own)
       break;
   }
   return p.fail(FailureReason::unknown_service, DecodeError::unpublished_layout);
