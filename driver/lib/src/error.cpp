@@ -27,30 +27,11 @@ std::string_view describe(ErrorKind kind) {
   return "unknown error";
 }
 
-bool is_retryable(ErrorKind kind) {
-  switch (kind) {
-    case ErrorKind::timeout:
-    case ErrorKind::busy:
-    case ErrorKind::interrupted:
-    case ErrorKind::framing:
-    case ErrorKind::corrupted_reply:
-    case ErrorKind::connection_closed:
-      return true;
-    case ErrorKind::service_failure:
-    case ErrorKind::device_fault:
-    case ErrorKind::unexpected_reply:
-    case ErrorKind::refused:
-    case ErrorKind::system:
-    case ErrorKind::unsupported:
-    case ErrorKind::invalid_argument:
-    case ErrorKind::wrong_state:
-      return false;
-  }
-  return false;
-}
+namespace {
 
-Recovery recovery_for(const DriverError& error) {
-  switch (error.kind) {
+// What a kind of error asks of the caller, before any detail of the error is known.
+Recovery recovery_of_kind(ErrorKind kind) {
+  switch (kind) {
     case ErrorKind::timeout:
     case ErrorKind::busy:
     case ErrorKind::interrupted:
@@ -59,11 +40,9 @@ Recovery recovery_for(const DriverError& error) {
       return Recovery::retry;
     case ErrorKind::connection_closed:
       return Recovery::reconnect;
-    case ErrorKind::service_failure:
-      // Reason 5: the device saw our frame broken on the way (D2), the request itself is fine.
-      return error.failure_reason == protocol::FailureReason::framing ? Recovery::retry : Recovery::none;
     case ErrorKind::device_fault:
       return Recovery::reset_device;
+    case ErrorKind::service_failure:
     case ErrorKind::unexpected_reply:
     case ErrorKind::refused:
     case ErrorKind::system:
@@ -73,6 +52,21 @@ Recovery recovery_for(const DriverError& error) {
       return Recovery::none;
   }
   return Recovery::none;
+}
+
+}  // namespace
+
+bool is_retryable(ErrorKind kind) {
+  const Recovery recovery = recovery_of_kind(kind);
+  return recovery == Recovery::retry || recovery == Recovery::reconnect;
+}
+
+Recovery recovery_for(const DriverError& error) {
+  // Reason 5: the device saw our frame broken on the way (D2), the request itself is fine.
+  if (error.kind == ErrorKind::service_failure && error.failure_reason == protocol::FailureReason::framing) {
+    return Recovery::retry;
+  }
+  return recovery_of_kind(error.kind);
 }
 
 std::string_view describe(Recovery recovery) {
