@@ -6,6 +6,7 @@
 #include <map>
 
 #include "ldoem/base/command_line.hpp"
+#include "ldoem/base/device_constants.hpp"
 #include "ldoem/base/numbers.hpp"
 #include "ldoem/driver/device.hpp"
 
@@ -104,7 +105,7 @@ const std::map<std::string_view, Setter>& setters() {
       {"--speed",
        [](ScanOptions& o, std::string_view v) -> std::optional<std::string> {
          const auto value = base::parse_integer<std::uint16_t>(v);
-         if (!value || *value < 5 || *value > 20) {
+         if (!value || *value < base::kMinMotorSpeedHz || *value > base::kMaxMotorSpeedHz) {
            return "`" + std::string(v) + "` is not a motor speed of 5..20 Hz (spec 6)";
          }
          o.speed_hz = *value;

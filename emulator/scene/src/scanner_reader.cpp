@@ -171,7 +171,7 @@ void read_flash(const std::string& file, const YAML::Node& node, const std::stri
                 FlashDefaults& flash) {
   MapReader map(file, node, path);
   read_field(map, "sensor_id", flash.sensor_id, 1, 254);
-  read_field(map, "motor_speed_hz", flash.motor_speed_hz, 5, 20);
+  read_field(map, "motor_speed_hz", flash.motor_speed_hz, base::kMinMotorSpeedHz, base::kMaxMotorSpeedHz);
   read_field(map, "angle_step_ticks", flash.angle_step_ticks, 1, std::uint64_t{base::kTicksPerTurn});
   if (auto sectors = map.get("sectors")) read_sectors(file, *sectors, map.child_path("sectors"), flash.sectors);
   if (auto ip = map.get("ip_address")) flash.ip_address = read_ipv4(file, *ip, map.child_path("ip_address"));

@@ -1,5 +1,6 @@
 #include "scanners_reader.hpp"
 
+#include "ldoem/base/device_constants.hpp"
 #include "scanner_reader.hpp"
 
 #include <charconv>
@@ -11,7 +12,6 @@ namespace {
 
 constexpr std::uint16_t kFirstCanRequestId = 0x6C0;  // D1; scanner k: 0x6C0 + 2k / 0x6C1 + 2k
 constexpr unsigned kMaxCanId = 0x7FF;                // 11-bit (D1)
-constexpr std::uint16_t kDefaultTcpPort = 49152;     // spec 4.1, as --tcp HOST
 constexpr std::string_view kLoopback = "127.0.0.1";
 
 bool all_digits(std::string_view text) {
@@ -30,7 +30,7 @@ TcpEndpointConfig read_tcp(const std::string& file, const YAML::Node& node, cons
   const std::string text = read_string(file, node, path);
   const std::string_view view(text);
   const auto colon = view.rfind(':');
-  TcpEndpointConfig tcp{std::string(kLoopback), kDefaultTcpPort};
+  TcpEndpointConfig tcp{std::string(kLoopback), base::kHostTcpPort};  // spec 4.1, as --tcp HOST
   std::string_view port_text;
   if (all_digits(view)) {
     port_text = view;

@@ -15,4 +15,14 @@ static_assert(kTicksPerTurn == 360 * kTicksPerDegree);
 // Spec 4.1: over Ethernet the LD is the TCP server on this port.
 inline constexpr std::uint16_t kHostTcpPort = 49152;
 
+// Spec 6: the head turns at 5..20 Hz (TRANS_ROTATE, the configured motor speed).
+inline constexpr std::uint16_t kMinMotorSpeedHz = 5;
+inline constexpr std::uint16_t kMaxMotorSpeedHz = 20;
+
+// Spec 5 (S1's rules, LD manual p. 22): TRANS_MEASURE refuses a sector table whose pulse
+// frequency, (5760 / angle step) * motor speed, or its mean over the measuring sectors, is above
+// these; the scan tool plans within them.
+inline constexpr std::uint32_t kMaxPulseFrequencyHz = 14400;
+inline constexpr std::uint32_t kMaxMeanPulseFrequencyHz = 10800;
+
 }  // namespace ldoem::base

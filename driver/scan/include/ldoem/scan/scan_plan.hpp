@@ -14,17 +14,16 @@
 
 namespace ldoem::scan {
 
+using base::Expected;
+using base::kMaxMeanPulseFrequencyHz;
+using base::kMaxMotorSpeedHz;
+using base::kMaxPulseFrequencyHz;
+using base::kMinMotorSpeedHz;
 using base::kTicksPerDegree;
 using base::kTicksPerTurn;
-using base::Expected;
 using protocol::StepMode;
 
-// Spec 5 (S1's rules, LD manual p. 22): pulse frequency limits checked by TRANS_MEASURE.
-inline constexpr double kMaxPulseFrequencyHz = 14400.0;
-inline constexpr double kMaxMeanPulseFrequencyHz = 10800.0;
-// Spec 6: motor speeds 5..20 Hz; angle steps are multiples of 0.125 deg (2 ticks, S1's check).
-inline constexpr std::uint16_t kMinMotorSpeedHz = 5;
-inline constexpr std::uint16_t kMaxMotorSpeedHz = 20;
+// Angle steps are multiples of 0.125 deg (2 ticks, S1's check).
 inline constexpr std::uint16_t kAngleStepGranuleTicks = 2;
 
 struct SectorPlan {

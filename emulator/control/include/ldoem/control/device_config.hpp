@@ -14,8 +14,8 @@ namespace ldoem::control {
 // Value ranges (spec 3.4, D1). Where no public source bounds a field the bound is ours and says so.
 inline constexpr std::uint16_t kMinSensorId = 1;
 inline constexpr std::uint16_t kMaxSensorId = 254;
-inline constexpr std::uint16_t kMinMotorSpeedHz = 5;  // spec 6
-inline constexpr std::uint16_t kMaxMotorSpeedHz = 20;
+using base::kMaxMotorSpeedHz;  // spec 6
+using base::kMinMotorSpeedHz;
 inline constexpr std::uint16_t kMinAngleStepTicks = 2;   // spec 3.4: > 1 tick ...
 inline constexpr std::uint16_t kInterlacedAngleStepTicks = 1;  // ... except with interlace (S4)
 inline constexpr std::uint16_t kMaxInterlaceMode = 15;  // ours: S4 uses 3; nothing bounds it

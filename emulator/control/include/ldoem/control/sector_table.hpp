@@ -11,11 +11,9 @@
 
 namespace ldoem::control {
 
+using base::kMaxMeanPulseFrequencyHz;
+using base::kMaxPulseFrequencyHz;
 using base::kTicksPerTurn;
-
-// Spec 5 / 6 (S1's model of the LD manual): pulse-frequency limits checked by TRANS_MEASURE.
-inline constexpr std::uint32_t kMaxPulseFrequencyHz = 14400;
-inline constexpr std::uint32_t kMaxMeanPulseFrequencyHz = 10800;
 
 // Sector functions (spec 3.6).
 enum class SectorFunction : std::uint16_t {
