@@ -9,21 +9,21 @@
 #include <unistd.h>
 
 #include <cmath>
-#include <cstdlib>
-#include <fstream>
-#include <map>
 #include <numbers>
 #include <thread>
 
 #include "daemon_process.hpp"
-#include "gpio_sim_chip.hpp"
 #include "host_link.hpp"
 #include "ldoem/protocol/profile.hpp"
+#include "ldoem/test_support/gpio_sim_chip.hpp"
 
 namespace ldoem::daemon::test {
 namespace {
 
 using namespace std::chrono_literals;
+using test_support::pull_sim_line;
+using test_support::sim_chip;
+using test_support::SimChip;
 
 constexpr int kDirLine = 0;  // D8: DATA0
 constexpr int kClkLine = 1;  // D8: DATA1

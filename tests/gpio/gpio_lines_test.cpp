@@ -3,17 +3,13 @@
 #include "ldoem/io/gpio_lines.hpp"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <chrono>
-#include <cstdio>
-#include <cstdlib>
-#include <fstream>
-#include <map>
-#include <sstream>
 #include <string>
+#include <vector>
 
 #include "ldoem/io/event_loop.hpp"
+#include "ldoem/test_support/gpio_sim_chip.hpp"
 
 namespace ldoem::io {
 namespace {
@@ -24,45 +20,9 @@ const std::vector<std::string> kLptLines{"DIR", "CLK", "MODE"};  // D8: DATA0, D
 constexpr std::size_t kDir = 0;
 constexpr std::size_t kClk = 1;
 
-struct SimChip {
-  std::string label;
-  std::string sysfs;  // /sys/devices/platform/gpio-sim.N/gpiochipM
-};
-
-// The chip that `run.sh --gpio` made (its variables are in the environment), or one made now by
-// the same setup script. Empty when neither works; the caller fails with the reason.
-std::optional<SimChip> sim_chip(std::string& why_not) {
-  const char* label = std::getenv("LDOEM_GPIO_LABEL");
-  const char* sysfs = std::getenv("LDOEM_GPIO_SIM_SYSFS");
-  if (label != nullptr && sysfs != nullptr) {
-    return SimChip{label, sysfs};
-  }
-  char env_file[] = "/tmp/ldoem-gpio-env.XXXXXX";
-  const int fd = ::mkstemp(env_file);
-  if (fd < 0) {
-    why_not = "mkstemp failed";
-    return std::nullopt;
-  }
-  ::close(fd);
-  const std::string command = std::string(LDOEM_GPIO_SIM_SETUP) + " " + env_file;
-  const int status = std::system(command.c_str());
-  std::map<std::string, std::string> values;
-  std::ifstream lines(env_file);
-  for (std::string line; std::getline(lines, line);) {
-    const auto equals = line.find('=');
-    if (line.rfind("export ", 0) == 0 && equals != std::string::npos) {
-      values[line.substr(7, equals - 7)] = line.substr(equals + 1);
-    }
-  }
-  ::unlink(env_file);
-  if (status != 0 || !values.contains("LDOEM_GPIO_LABEL") ||
-      !values.contains("LDOEM_GPIO_SIM_SYSFS")) {
-    why_not = command + " failed (gpio tests run in the gpio-sim UML kernel: scripts/uml/run.sh "
-              "--kernel \"$(scripts/uml/build-gpio-kernel.sh)\" --gpio -- ctest -L gpio)";
-    return std::nullopt;
-  }
-  return SimChip{values["LDOEM_GPIO_LABEL"], values["LDOEM_GPIO_SIM_SYSFS"]};
-}
+using test_support::pull_sim_line;
+using test_support::sim_chip;
+using test_support::SimChip;
 
 class GpioLineReaderTest : public ::testing::Test {
  protected:
@@ -76,13 +36,10 @@ class GpioLineReaderTest : public ::testing::Test {
     }
   }
 
-  // gpio-sim: the pull is the level an input line reads while nobody drives it.
   bool set_pull(std::size_t offset, bool up) {
-    const std::string path = chip_.sysfs + "/sim_gpio" + std::to_string(offset) + "/pull";
-    std::ofstream pull(path);
-    pull << (up ? "pull-up" : "pull-down") << std::flush;
-    EXPECT_TRUE(pull.good()) << "writing " << path;
-    return pull.good();
+    const bool pulled = pull_sim_line(chip_, static_cast<int>(offset), up);
+    EXPECT_TRUE(pulled) << "pulling line " << offset << " of " << chip_.sysfs;
+    return pulled;
   }
 
   GpioLineReader open_reader() {

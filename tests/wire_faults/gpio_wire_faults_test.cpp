@@ -6,7 +6,7 @@
 
 #include <thread>
 
-#include "gpio_sim_chip.hpp"
+#include "ldoem/test_support/gpio_sim_chip.hpp"
 #include "wire_fault_support.hpp"
 
 namespace ldoem::wire_faults::test {
@@ -20,29 +20,29 @@ constexpr int kClkLine = 1;
 constexpr auto kEdgeGap = 10ms;  // one edge at a time (tests/daemon/daemon_gpio_test.cpp says why)
 
 struct GpioLptDaemon {
-  daemon::test::SimChip chip;
+  test_support::SimChip chip;
   std::string why_not;
   TempDir dir;
   std::string control = dir.path("ctl.sock");
   std::optional<FaultyDaemon> daemon;
 
   explicit GpioLptDaemon(const std::string& faults) {
-    auto found = daemon::test::sim_chip(why_not);
+    auto found = test_support::sim_chip(why_not);
     if (!found) return;
     chip = *found;
-    for (const int line : {0, 1, 2}) daemon::test::pull_sim_line(chip, line, false);
+    for (const int line : {0, 1, 2}) test_support::pull_sim_line(chip, line, false);
     std::this_thread::sleep_for(kEdgeGap);
     daemon.emplace(minimal_scene_text() + "faults:\n" + faults,
                    std::vector<std::string>{"--lpt", "gpio:" + chip.label, "--control", control});
   }
   bool ready() { return daemon && daemon->ready(); }
   void steps_up(int count) {
-    ASSERT_TRUE(daemon::test::pull_sim_line(chip, kDirLine, true));
+    ASSERT_TRUE(test_support::pull_sim_line(chip, kDirLine, true));
     std::this_thread::sleep_for(kEdgeGap);
     for (int i = 0; i < count; ++i) {
-      ASSERT_TRUE(daemon::test::pull_sim_line(chip, kClkLine, true));
+      ASSERT_TRUE(test_support::pull_sim_line(chip, kClkLine, true));
       std::this_thread::sleep_for(kEdgeGap);
-      ASSERT_TRUE(daemon::test::pull_sim_line(chip, kClkLine, false));
+      ASSERT_TRUE(test_support::pull_sim_line(chip, kClkLine, false));
       std::this_thread::sleep_for(kEdgeGap);
     }
   }

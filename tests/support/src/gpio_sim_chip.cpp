@@ -1,4 +1,4 @@
-#include "gpio_sim_chip.hpp"
+#include "ldoem/test_support/gpio_sim_chip.hpp"
 
 #include <unistd.h>
 
@@ -6,7 +6,7 @@
 #include <fstream>
 #include <map>
 
-namespace ldoem::daemon::test {
+namespace ldoem::test_support {
 
 std::optional<SimChip> sim_chip(std::string& why_not) {
   const char* label = std::getenv("LDOEM_GPIO_LABEL");
@@ -45,4 +45,4 @@ bool pull_sim_line(const SimChip& chip, int line, bool up) {
   return attribute.good();
 }
 
-}  // namespace ldoem::daemon::test
+}  // namespace ldoem::test_support
