@@ -55,10 +55,6 @@ Status configure_line(int fd, std::uint32_t baud, const std::string& object) {
 
 }  // namespace
 
-SerialTransport::SerialTransport(int fd, std::string name) : fd_(fd), name_(std::move(name)) {}
-
-SerialTransport::~SerialTransport() { close(); }
-
 Expected<std::unique_ptr<SerialTransport>, DriverError> SerialTransport::open(const SerialEndpoint& endpoint) {
   const std::string object = format_endpoint(endpoint);
   base::UniqueFd fd(::open(endpoint.path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC));
@@ -73,16 +69,8 @@ Expected<std::unique_ptr<SerialTransport>, DriverError> SerialTransport::open(co
 }
 
 Status SerialTransport::send(ByteView payload, Deadline deadline) {
-  if (!fd_.valid()) {
-    return fail(make_error(ErrorKind::connection_closed, "send", name_, "transport closed"));
-  }
   // The whole telegram in one buffer (D10); a tty may take it in several writes.
-  const Bytes telegram = protocol::encode_serial_request(payload);
-  auto written = detail::write_when_ready(fd_.get(), telegram, deadline, detail::kSerialLine, name_);
-  if (written) {
-    ++counters_.telegrams_sent;
-  }
-  return written;
+  return send_framed(protocol::encode_serial_request(payload), deadline, detail::kSerialLine);
 }
 
 Expected<Bytes, DriverError> SerialTransport::receive(Deadline deadline) {
@@ -90,13 +78,8 @@ Expected<Bytes, DriverError> SerialTransport::receive(Deadline deadline) {
                                                    received_, counters_);
 }
 
-void SerialTransport::close() { fd_.reset(); }
-
 TransportCounters SerialTransport::counters() const {
-  TransportCounters counters = counters_;
-  counters.dropped_frames = reassembler_.dropped_frames();
-  counters.skipped_bytes = reassembler_.skipped_bytes();
-  return counters;
+  return counters_with(reassembler_.dropped_frames(), reassembler_.skipped_bytes());
 }
 
 }  // namespace ldoem::driver

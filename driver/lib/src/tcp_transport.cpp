@@ -58,10 +58,6 @@ Expected<base::UniqueFd, DriverError> connect_one(const addrinfo& address, Deadl
 
 }  // namespace
 
-TcpTransport::TcpTransport(int fd, std::string name) : fd_(fd), name_(std::move(name)) {}
-
-TcpTransport::~TcpTransport() { close(); }
-
 Expected<std::unique_ptr<TcpTransport>, DriverError> TcpTransport::connect(
     const TcpEndpoint& endpoint, std::chrono::milliseconds connect_timeout) {
   const std::string object = format_endpoint(endpoint);
@@ -88,16 +84,8 @@ Expected<std::unique_ptr<TcpTransport>, DriverError> TcpTransport::connect(
 }
 
 Status TcpTransport::send(ByteView payload, Deadline deadline) {
-  if (!fd_.valid()) {
-    return fail(make_error(ErrorKind::connection_closed, "send", name_, "transport closed"));
-  }
   // The whole frame in one buffer and one send() call: a frame is never split by us (D10).
-  const Bytes frame = protocol::encode_tcp_frame(payload);
-  auto written = detail::write_when_ready(fd_.get(), frame, deadline, detail::kTcpStream, name_);
-  if (written) {
-    ++counters_.telegrams_sent;
-  }
-  return written;
+  return send_framed(protocol::encode_tcp_frame(payload), deadline, detail::kTcpStream);
 }
 
 Expected<Bytes, DriverError> TcpTransport::receive(Deadline deadline) {
@@ -105,13 +93,8 @@ Expected<Bytes, DriverError> TcpTransport::receive(Deadline deadline) {
                                                    counters_, kTcpFrameGap);
 }
 
-void TcpTransport::close() { fd_.reset(); }
-
 TransportCounters TcpTransport::counters() const {
-  TransportCounters counters = counters_;
-  counters.dropped_frames = deframer_.dropped_frames();
-  counters.skipped_bytes = deframer_.skipped_bytes();
-  return counters;
+  return counters_with(deframer_.dropped_frames(), deframer_.skipped_bytes());
 }
 
 }  // namespace ldoem::driver

@@ -2,42 +2,29 @@
 // ASCII hex with CRC-16, the LD's multi-package replies reassembled into one payload.
 #pragma once
 
-#include <deque>
 #include <memory>
 #include <string>
 
-#include "ldoem/base/unique_fd.hpp"
-#include "ldoem/driver/transport.hpp"
+#include "ldoem/driver/descriptor_transport.hpp"
 #include "ldoem/protocol/serial_framing.hpp"
 
 namespace ldoem::driver {
 
-class SerialTransport final : public Transport {
+class SerialTransport final : public DescriptorTransport {
  public:
   // Opens the device (a tty or a pseudo terminal), sets raw mode, 8 data bits, no parity,
   // 1 stop bit, no flow control, and the speed (spec 4.2).
   static Expected<std::unique_ptr<SerialTransport>, DriverError> open(const SerialEndpoint& endpoint);
 
-  ~SerialTransport() override;
-  SerialTransport(const SerialTransport&) = delete;
-  SerialTransport& operator=(const SerialTransport&) = delete;
-
   Status send(ByteView payload, Deadline deadline) override;
   // Packages with a bad CRC, bad hex or out of sequence are dropped and counted.
   Expected<Bytes, DriverError> receive(Deadline deadline) override;
-  std::vector<Bytes> take_arrived(std::size_t limit) override { return take_arrived_now(*this, limit); }
-  void close() override;
-  const std::string& name() const override { return name_; }
   TransportCounters counters() const override;
 
  private:
-  SerialTransport(int fd, std::string name);
+  SerialTransport(int fd, std::string name) : DescriptorTransport(fd, std::move(name)) {}
 
-  base::UniqueFd fd_;
-  std::string name_;
   protocol::SerialReplyReassembler reassembler_;
-  std::deque<Bytes> received_;
-  TransportCounters counters_;
 };
 
 }  // namespace ldoem::driver
