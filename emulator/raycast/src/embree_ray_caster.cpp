@@ -145,6 +145,7 @@ struct EmbreeRayCaster::Impl {
   // Every float box and vertex Embree holds, in its (local) frame: a ray that misses this box
   // needs no Embree call.
   Bounds embree_bounds;
+  double embree_extent_m = 0.0;  // the largest |coordinate| of embree_bounds
 
   explicit Impl(const OdeWorld& w) : world(w) {}
   ~Impl() {
@@ -282,6 +283,9 @@ void EmbreeRayCaster::Impl::build() {
     attach_primitives(world_bounds, padding_m);
   }
   for (MeshRecord& mesh : meshes) attach_mesh(mesh);
+  if (!embree_bounds.empty()) {
+    embree_extent_m = embree_bounds.lower.cwiseAbs().cwiseMax(embree_bounds.upper.cwiseAbs()).maxCoeff();
+  }
   rtcCommitScene(scene);
   if (!device_error.empty()) throw std::runtime_error(device_error);
 }
@@ -313,23 +317,31 @@ std::optional<Hit> EmbreeRayCaster::Impl::mesh_hit(const detail::CheckedRay& ray
 // for them this slab test replaces Embree's call, setup and root node, about a third of a cast.
 bool EmbreeRayCaster::Impl::may_meet_embree_geometry(const Eigen::Vector3d& local_origin, const Eigen::Vector3d& direction,
                                                      double reach_m) const {
+  const Eigen::Vector3d& o = local_origin;
+  const Eigen::Vector3d& box_lower = embree_bounds.lower;
+  const Eigen::Vector3d& box_upper = embree_bounds.upper;
+  // Starting among the objects (a scanner inside a room or a ring of objects): no test needed.
+  if (o.x() >= box_lower.x() && o.x() <= box_upper.x() && o.y() >= box_lower.y() && o.y() <= box_upper.y() &&
+      o.z() >= box_lower.z() && o.z() <= box_upper.z()) {
+    return true;
+  }
   constexpr double kRelativeMargin = 1e-6;
-  const double margin_m = kRelativeMargin * (local_origin.cwiseAbs().maxCoeff() + reach_m +
-                                             embree_bounds.lower.cwiseAbs().cwiseMax(embree_bounds.upper.cwiseAbs()).maxCoeff());
+  const double margin_m =
+      kRelativeMargin * (std::max({std::abs(o.x()), std::abs(o.y()), std::abs(o.z())}) + reach_m + embree_extent_m);
+  const Eigen::Vector3d lower = box_lower - Eigen::Vector3d::Constant(margin_m);
+  const Eigen::Vector3d upper = box_upper + Eigen::Vector3d::Constant(margin_m);
   double enter_m = 0.0;
   double leave_m = reach_m;
   for (int axis = 0; axis < 3; ++axis) {
-    const double lower = embree_bounds.lower[axis] - margin_m;
-    const double upper = embree_bounds.upper[axis] + margin_m;
-    const double start = local_origin[axis];
+    const double start = o[axis];
     if (direction[axis] == 0.0) {
-      if (start < lower || start > upper) return false;
+      if (start < lower[axis] || start > upper[axis]) return false;
       continue;
     }
     // A NaN (0 * inf for a subnormal direction) fails both comparisons below: kept, not skipped.
     const double inverse = 1.0 / direction[axis];
-    double near_m = (lower - start) * inverse;
-    double far_m = (upper - start) * inverse;
+    double near_m = (lower[axis] - start) * inverse;
+    double far_m = (upper[axis] - start) * inverse;
     if (near_m > far_m) std::swap(near_m, far_m);
     if (near_m > enter_m) enter_m = near_m;
     if (far_m < leave_m) leave_m = far_m;
