@@ -1,6 +1,7 @@
 // Hard cases the scanner meets in practice: two surfaces at the same place (the same answer
 // from both casters: the lower object index wins a tie), rays tangent to spheres and cylinders,
-// rays grazing mesh triangles, and a mesh far from the origin.
+// rays grazing mesh triangles, a mesh far from the origin, and rays from outside the box around
+// all of Embree's geometry that only just reach it (Embree's caster skips the others).
 #include "caster_fixture.hpp"
 
 #include <cmath>
@@ -121,6 +122,50 @@ TEST(EmbreeMeshFarAway, QuadAt1e5Metres_RangeExactToANanometre) {
     ASSERT_TRUE(hit.has_value()) << offset;
     EXPECT_NEAR(hit->range_m, 5.0 + offset, 1e-9) << offset;
   }
+}
+
+// EmbreeRayCaster skips a ray whose reach misses the box around its geometry. From outside
+// that box, rays along its faces and edges, and rays whose reach ends at, just before or just
+// past the surface, must get ODE's answer: a skip that is not conservative would drop a hit.
+TEST(EmbreeSkip, RaysThatOnlyJustReachTheGeometry_SameAnswerAsOde) {
+  scene::Scene s;
+  // A unit box at (5, 0, 0.5) is the whole box around Embree's geometry (the plane is not in it).
+  s.objects = {make_object(scene::Plane{Eigen::Vector3d::UnitZ(), 0.0}, Eigen::Vector3d::Zero()),
+               make_object(scene::Box{Eigen::Vector3d::Ones()}, Eigen::Vector3d(5, 0, 0.5))};
+  const OdeWorld world(s);
+  const EmbreeRayCaster embree(world);
+  const OdeRayCaster ode(world);
+  std::vector<Ray> rays;
+  for (int k = -3; k <= 3; ++k) {
+    const double offset_m = k * 1e-12;
+    for (const double z : {1.0 + offset_m, 0.5, 1e-3}) {
+      rays.push_back(make_ray({0, 0.5 + offset_m, z}, {1, 0, 0}, 10));   // along the face y = 0.5
+      rays.push_back(make_ray({0, -0.5 - offset_m, z}, {1, 0, 0}, 10));  // along the face y = -0.5
+    }
+    // Reach ending at the near face x = 4.5, or that far plus or minus a little.
+    for (const double reach_m : {4.5, 4.5 + offset_m, 4.5 - 1e-9, std::nextafter(4.5, 0.0)}) {
+      rays.push_back(make_ray({0, 0.1, 0.5}, {1, 0, 0}, reach_m));
+    }
+    // Diagonal rays through the box's edge at x = 4.5, y = 0.5 and its corner (4.5, 0.5, 1).
+    rays.push_back(make_ray(Eigen::Vector3d(4.5, 0.5, 0.5) + Eigen::Vector3d(-3, 3, 0) + offset_m * Eigen::Vector3d::UnitY(),
+                            {1, -1, 0}, 20));
+    rays.push_back(make_ray(Eigen::Vector3d(4.5, 0.5, 1.0) + Eigen::Vector3d(-2, 2, 2) + offset_m * Eigen::Vector3d::UnitZ(),
+                            {1, -1, -1}, 20));
+  }
+  // From far away: the margin grows with the distance, the answer must not change.
+  rays.push_back(make_ray({-1e6, 0.5, 0.5}, {1, 0, 0}, 2e6));
+  rays.push_back(make_ray({5, 0.5, 1e5}, {0, 0, -1}, 2e5));
+  int hits = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const auto expected = ode.cast(rays[i]);
+    const auto got = embree.cast(rays[i]);
+    ASSERT_EQ(got.has_value(), expected.has_value()) << "ray " << i;
+    if (!expected) continue;
+    ++hits;
+    EXPECT_EQ(got->object_index, expected->object_index) << "ray " << i;
+    EXPECT_NEAR(got->range_m, expected->range_m, 1e-9) << "ray " << i;
+  }
+  EXPECT_GT(hits, static_cast<int>(rays.size()) / 2);  // the rays do reach the box, mostly
 }
 
 }  // namespace

@@ -146,6 +146,8 @@ struct EmbreeRayCaster::Impl {
   // needs no Embree call.
   Bounds embree_bounds;
   double embree_extent_m = 0.0;  // the largest |coordinate| of embree_bounds
+  Eigen::Vector3d embree_centre_m = Eigen::Vector3d::Zero();     // of embree_bounds
+  Eigen::Vector3d embree_half_size_m = Eigen::Vector3d::Zero();  // idem
 
   explicit Impl(const OdeWorld& w) : world(w) {}
   ~Impl() {
@@ -285,6 +287,8 @@ void EmbreeRayCaster::Impl::build() {
   for (MeshRecord& mesh : meshes) attach_mesh(mesh);
   if (!embree_bounds.empty()) {
     embree_extent_m = embree_bounds.lower.cwiseAbs().cwiseMax(embree_bounds.upper.cwiseAbs()).maxCoeff();
+    embree_centre_m = 0.5 * (embree_bounds.lower + embree_bounds.upper);
+    embree_half_size_m = 0.5 * (embree_bounds.upper - embree_bounds.lower);
   }
   rtcCommitScene(scene);
   if (!device_error.empty()) throw std::runtime_error(device_error);
@@ -311,10 +315,10 @@ std::optional<Hit> EmbreeRayCaster::Impl::mesh_hit(const detail::CheckedRay& ray
 // Conservative: false only if Embree's float copy of the ray, up to `reach_m`, surely misses
 // every box and triangle Embree holds, so that skipping rtcIntersect1 changes no answer. That
 // copy deviates from the double ray by at most 2^-24 (|origin| + reach) per coordinate, and
-// Embree's robust traversal widens its boxes by a few float ulps; the margin covers both many
-// times over (1e-6 relative) and is still far below any object's size. Most rays of a scan
-// point where no primitive or mesh is (a scanner sees a few objects and much floor and sky):
-// for them this slab test replaces Embree's call, setup and root node, about a third of a cast.
+// Embree's robust traversal widens its boxes by a few float ulps; the margin covers both, and
+// this test's own rounding, many times over (1e-6 relative) and is still far below any
+// object's size. Most rays of a scan point where no primitive or mesh is (a scanner sees a few
+// objects and much floor and sky): for them this replaces Embree's call, setup and root node.
 bool EmbreeRayCaster::Impl::may_meet_embree_geometry(const Eigen::Vector3d& local_origin, const Eigen::Vector3d& direction,
                                                      double reach_m) const {
   const Eigen::Vector3d& o = local_origin;
@@ -328,25 +332,17 @@ bool EmbreeRayCaster::Impl::may_meet_embree_geometry(const Eigen::Vector3d& loca
   constexpr double kRelativeMargin = 1e-6;
   const double margin_m =
       kRelativeMargin * (std::max({std::abs(o.x()), std::abs(o.y()), std::abs(o.z())}) + reach_m + embree_extent_m);
-  const Eigen::Vector3d lower = box_lower - Eigen::Vector3d::Constant(margin_m);
-  const Eigen::Vector3d upper = box_upper + Eigen::Vector3d::Constant(margin_m);
-  double enter_m = 0.0;
-  double leave_m = reach_m;
-  for (int axis = 0; axis < 3; ++axis) {
-    const double start = o[axis];
-    if (direction[axis] == 0.0) {
-      if (start < lower[axis] || start > upper[axis]) return false;
-      continue;
-    }
-    // A NaN (0 * inf for a subnormal direction) fails both comparisons below: kept, not skipped.
-    const double inverse = 1.0 / direction[axis];
-    double near_m = (lower[axis] - start) * inverse;
-    double far_m = (upper[axis] - start) * inverse;
-    if (near_m > far_m) std::swap(near_m, far_m);
-    if (near_m > enter_m) enter_m = near_m;
-    if (far_m < leave_m) leave_m = far_m;
-    if (enter_m > leave_m) return false;
-  }
+  // Separating axes of a segment and a box (no division): the box's three axes, then the
+  // segment's direction crossed with each of them. m: segment centre from box centre; h: half
+  // the segment; e: the box's half sizes with the margin.
+  const Eigen::Vector3d h = (0.5 * reach_m) * direction;
+  const Eigen::Vector3d m = o + h - embree_centre_m;
+  const Eigen::Vector3d a = h.cwiseAbs();
+  const Eigen::Vector3d e = embree_half_size_m + Eigen::Vector3d::Constant(margin_m);
+  if (std::abs(m.x()) > e.x() + a.x() || std::abs(m.y()) > e.y() + a.y() || std::abs(m.z()) > e.z() + a.z()) return false;
+  if (std::abs(m.y() * h.z() - m.z() * h.y()) > e.y() * a.z() + e.z() * a.y()) return false;
+  if (std::abs(m.z() * h.x() - m.x() * h.z()) > e.x() * a.z() + e.z() * a.x()) return false;
+  if (std::abs(m.x() * h.y() - m.y() * h.x()) > e.x() * a.y() + e.y() * a.x()) return false;
   return true;
 }
 
