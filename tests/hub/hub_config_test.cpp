@@ -16,6 +16,7 @@ devices:
     lpt: lpt:pty:/tmp/ldoem-lpt
     stepper: { rate_hz: 400 }
     request_timeout_ms: 2000
+    reconnect: { attempts: 30, interval_ms: 250, backoff: 2, max_interval_ms: 4000 }
   - name: right
     scanner: can:vcan0
 )");
@@ -26,6 +27,9 @@ devices:
   EXPECT_EQ(config->devices[0].name, "left");
   EXPECT_EQ(config->devices[0].stepper.step_rate_hz, 400.0);
   EXPECT_EQ(config->devices[0].request_timeout, std::chrono::milliseconds(2000));
+  EXPECT_EQ(config->devices[0].reconnect, (driver::ReconnectPolicy{30, std::chrono::milliseconds(250), 2.0,
+                                                                     std::chrono::milliseconds(4000)}));
+  EXPECT_EQ(config->devices[1].reconnect, driver::ReconnectPolicy{});  // libldoem's default
   EXPECT_TRUE(config->devices[0].lpt);
   EXPECT_FALSE(config->devices[1].lpt);
   EXPECT_TRUE(std::holds_alternative<driver::CanEndpoint>(config->devices[1].scanner));
@@ -42,6 +46,11 @@ TEST(HubConfig, Mistakes_AreOneLineErrors) {
       "devices:\n  - name: a b\n    scanner: tcp:h\n",
       "devices:\n  - name: a\n    scanner: tcp:h\n    colour: red\n",
       "devices:\n  - name: a\n    scanner: tcp:h\n    stepper: { rate_hz: -1 }\n",
+      "devices:\n  - name: a\n    scanner: tcp:h\n    reconnect: { attempts: 0 }\n",
+      "devices:\n  - name: a\n    scanner: tcp:h\n    reconnect: { backoff: 0.5 }\n",
+      "devices:\n  - name: a\n    scanner: tcp:h\n    reconnect: { interval_ms: -5 }\n",
+      "devices:\n  - name: a\n    scanner: tcp:h\n    reconnect: { tries: 3 }\n",
+      "devices:\n  - name: a\n    scanner: tcp:h\n    reconnect: 3\n",
       "listen: nowhere\ndevices:\n  - name: a\n    scanner: tcp:h\n",
       "devices: [ unclosed",
   };

@@ -20,6 +20,7 @@ std::vector<DeviceSlot> make_devices(const HubConfig& config) {
   for (const DeviceConfig& device : config.devices) {
     ScannerDeviceOptions options;
     options.scanner.request_timeout = device.request_timeout;
+    options.scanner.reconnect = device.reconnect;
     options.stepper = device.stepper;
     slots.push_back(DeviceSlot{device.name,
                                ScannerDevice::from_endpoints(device.name, device.scanner, device.lpt, options),

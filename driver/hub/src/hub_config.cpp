@@ -38,6 +38,46 @@ base::Expected<std::chrono::milliseconds, std::string> milliseconds_of(const YAM
   return std::chrono::milliseconds(value);
 }
 
+// `reconnect: {attempts, interval_ms, backoff, max_interval_ms}`, each optional (libldoem's
+// ReconnectPolicy; bounded like ldoem-scan's --reconnect-* so that a typo cannot hold a device
+// in reconnects for hours).
+std::optional<std::string> parse_reconnect(const YAML::Node& node, const std::string& where, driver::ReconnectPolicy& policy) {
+  if (!node.IsMap()) {
+    return where + " is not a map";
+  }
+  for (const auto& entry : node) {
+    const auto key = entry.first.as<std::string>();
+    if (key != "attempts" && key != "interval_ms" && key != "backoff" && key != "max_interval_ms") {
+      return where + ": unknown key `" + key + "`";
+    }
+  }
+  if (node["attempts"]) {
+    const auto attempts = node["attempts"].as<long long>();
+    if (attempts < 1 || attempts > 1000) {
+      return where + ".attempts must be in 1..1000";
+    }
+    policy.attempts = static_cast<std::uint32_t>(attempts);
+  }
+  for (const auto& [key, field] : {std::pair{"interval_ms", &driver::ReconnectPolicy::interval},
+                                   std::pair{"max_interval_ms", &driver::ReconnectPolicy::max_interval}}) {
+    if (node[key]) {
+      const auto value = node[key].as<long long>();
+      if (value < 1 || value > 600000) {
+        return where + "." + key + " must be in 1..600000";
+      }
+      policy.*field = std::chrono::milliseconds(value);
+    }
+  }
+  if (node["backoff"]) {
+    const double backoff = node["backoff"].as<double>();
+    if (!std::isfinite(backoff) || backoff < 1.0 || backoff > 10.0) {
+      return where + ".backoff must be in [1, 10]";
+    }
+    policy.backoff = backoff;
+  }
+  return std::nullopt;
+}
+
 base::Expected<DeviceConfig, std::string> parse_device(const YAML::Node& node, std::size_t index) {
   const std::string where = "devices[" + std::to_string(index) + "]";
   if (!node.IsMap()) {
@@ -46,7 +86,7 @@ base::Expected<DeviceConfig, std::string> parse_device(const YAML::Node& node, s
   for (const auto& entry : node) {
     const auto key = entry.first.as<std::string>();
     static const std::set<std::string> kKnown{"name", "scanner", "lpt", "stepper", "request_timeout_ms",
-                                              "profile_timeout_ms"};
+                                              "profile_timeout_ms", "reconnect"};
     if (!kKnown.contains(key)) {
       return config_error(where + ": unknown key `" + key + "`");
     }
@@ -102,6 +142,11 @@ base::Expected<DeviceConfig, std::string> parse_device(const YAML::Node& node, s
       return config_error(timeout.error());
     }
     device.profile_timeout = timeout.value();
+  }
+  if (const YAML::Node reconnect = node["reconnect"]) {
+    if (auto problem = parse_reconnect(reconnect, where + ".reconnect", device.reconnect)) {
+      return config_error(*problem);
+    }
   }
   return device;
 }

@@ -47,6 +47,7 @@ struct DeviceConfig {
   StepperDefaults stepper;
   std::chrono::milliseconds request_timeout = driver::kDefaultRequestTimeout;
   std::chrono::milliseconds profile_timeout = kDefaultProfileTimeout;
+  driver::ReconnectPolicy reconnect;  // how the hub reopens a lost connection to the device
   bool operator==(const DeviceConfig&) const = default;
 };
 
