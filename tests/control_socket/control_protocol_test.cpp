@@ -54,6 +54,34 @@ TEST(ControlProtocol, IdIsEchoedAsGivenAndLeftOutWithout) {
   EXPECT_FALSE(ask(target, R"({"execute": "query-status"})").contains("id"));
 }
 
+TEST(ControlProtocol, ScannerArgument_SendsAFaultCommandToThatScanner) {
+  FakeTarget first;
+  FakeTarget side;
+  first.other = &side;
+  first.other_name = "side";
+  EXPECT_EQ(ask(first, R"({"execute": "inject-fault", "arguments": {"kind": "motor_stall", "scanner": "side"}})"),
+            json::parse(R"({"return": {"id": 1}})"));
+  EXPECT_EQ(ask(first, R"({"execute": "power-cycle", "arguments": {"off_s": 1, "scanner": "side"}})"),
+            json::parse(R"({"return": {"id": 2}})"));
+  ask(first, R"({"execute": "clear-fault", "arguments": {"id": 1, "scanner": "side"}})");
+  EXPECT_TRUE(first.injected.empty());
+  EXPECT_TRUE(first.cleared.empty());
+  ASSERT_EQ(side.injected.size(), 2u);
+  EXPECT_EQ(side.injected[1].kind, faults::FaultKind::power_cycle);
+  ASSERT_EQ(side.cleared.size(), 1u);
+  EXPECT_EQ(ask(first, R"({"execute": "query-status", "arguments": {"scanner": "side"}})")["return"]["state"], "IDLE");
+  // Without it the command is the first scanner's, as with one scanner.
+  ask(first, R"({"execute": "inject-fault", "arguments": {"kind": "motor_stall"}})");
+  EXPECT_EQ(first.injected.size(), 1u);
+  const json unknown = ask(first, R"({"execute": "query-faults", "arguments": {"scanner": "rear"}, "id": 3})");
+  EXPECT_EQ(unknown, json::parse(R"({"error": {"class": "GenericError", "desc": "scanner: no scanner named 'rear'"}, "id": 3})"));
+  EXPECT_EQ(ask(first, R"({"execute": "query-status", "arguments": {"scanner": 2}})")["error"]["desc"],
+            "scanner: must be a scanner's name");
+  // Not a fault command: quit and the object commands act on the daemon, "scanner" is no argument of theirs.
+  EXPECT_TRUE(ask(first, R"({"execute": "quit", "arguments": {"scanner": "side"}})").contains("error"));
+  EXPECT_FALSE(first.quit_asked);
+}
+
 TEST(ControlProtocol, ClearAndQuit) {
   FakeTarget target;
   EXPECT_EQ(ask(target, R"({"execute": "clear-fault"})"), json::parse(R"({"return": {}})"));

@@ -1,6 +1,8 @@
 // A ControlTarget that records what it was asked, for the protocol and server tests.
 #pragma once
 
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "ldoem/control_socket/control_protocol.hpp"
@@ -25,6 +27,10 @@ class FakeTarget final : public ControlTarget {
   nlohmann::json query_faults() override { return nlohmann::json::array(); }
   nlohmann::json query_status() override { return {{"state", "IDLE"}}; }
   void quit() override { quit_asked = true; }
+  // Issue 15: another scanner of the same daemon, reached by the "scanner" argument.
+  FakeTarget* other = nullptr;
+  std::string other_name;
+  ControlTarget* scanner(std::string_view name) override { return other != nullptr && name == other_name ? other : nullptr; }
 };
 
 }  // namespace ldoem::control_socket::test

@@ -161,6 +161,48 @@ TEST(DaemonFaults, EncoderErrorThroughTheControlSocket_StatusB4OverTcp) {
   EXPECT_EQ(fd.daemon->wait(), 0);
 }
 
+// Issue 15: with several scanners a fault command's "scanner" argument picks the device; the
+// others carry on, and every event names its scanner.
+TEST(DaemonFaults, TwoScanners_TheScannerArgumentPutsTheFaultOnThatScannerOnly) {
+  TempDir dir;
+  const std::string control_path = dir.path("ctl.sock");
+  const std::string scene = dir.write("two.yaml", minimal_scene_text() +
+                                                      "scanners:\n  - {name: a, endpoints: {tcp: 0}}\n"
+                                                      "  - {name: b, pivot_pose: {position_m: [0, 1, 0]}, endpoints: {tcp: 0}}\n");
+  auto daemon = DaemonProcess::start(
+      {"--scene", scene, "--no-can", "--no-flash", "--virtual-time", "--control", control_path});
+  ASSERT_TRUE(daemon && daemon->wait_ready()) << (daemon ? daemon->stderr_text() : "");
+  auto control = ControlClient::connect(control_path);
+  ASSERT_TRUE(control && control->next());
+  auto host = TcpHost::connect(daemon->tcp_port());  // the last "tcp" line printed: scanner b's
+  ASSERT_TRUE(host);
+  EXPECT_EQ(reply_text(*host, "TRANS_ROTATE 0000"), "TRANS_ROTATE reply 0000 0002");
+  EXPECT_EQ(reply_text(*host, "TRANS_MEASURE"), "TRANS_MEASURE reply 0000 0003 0000");
+  const auto injected = control->execute(
+      {{"execute", "inject-fault"}, {"arguments", {{"kind", "encoder_error"}, {"scanner", "b"}}}});
+  ASSERT_TRUE(injected && injected->contains("return")) << (injected ? injected->dump() : "none");
+  EXPECT_EQ(reply_text(*host, "GET_STATUS"), "GET_STATUS reply 0000 00b4");
+  const auto event = control->wait_event("FAULT_INJECTED", 5s, "kind", "encoder_error");
+  ASSERT_TRUE(event);
+  EXPECT_EQ((*event)["data"]["scanner"], "b");
+  const auto changed = control->wait_event("STATE_CHANGED", 5s, "to", "ERROR");
+  ASSERT_TRUE(changed);
+  EXPECT_EQ((*changed)["data"]["scanner"], "b");
+  const auto b = control->execute({{"execute", "query-status"}, {"arguments", {{"scanner", "b"}}}});
+  ASSERT_TRUE(b);
+  EXPECT_EQ((*b)["return"]["state"], "ERROR");
+  EXPECT_EQ((*b)["return"]["faults_active"], 1);
+  const auto a = control->execute({{"execute", "query-status"}});  // no argument: the first scanner
+  ASSERT_TRUE(a);
+  EXPECT_EQ((*a)["return"]["state"], "IDLE");
+  EXPECT_EQ((*a)["return"]["faults_active"], 0);
+  const auto unknown = control->execute({{"execute", "query-faults"}, {"arguments", {{"scanner", "c"}}}});
+  ASSERT_TRUE(unknown);
+  EXPECT_EQ((*unknown)["error"]["desc"], "scanner: no scanner named 'c'");
+  ASSERT_TRUE(control->execute({{"execute", "quit"}}));
+  EXPECT_EQ(daemon->wait(), 0);
+}
+
 TEST(DaemonFaults, SceneDropsTheSecondGetStatusReplyOnTcp) {
   FaultDaemon fd(minimal_scene_text() + "faults:\n  - kind: drop_reply\n    on: {service: GET_STATUS, nth: 2}\n");
   ASSERT_TRUE(fd.ready()) << fd.daemon->stderr_text();

@@ -107,6 +107,18 @@ std::string handle_line(std::string_view line, ControlTarget& target) {
   }
   try {
     if (command == "qmp_capabilities") return reply(json{{"return", json::object()}}, id);
+    // The fault commands act on one scanner: "scanner" names it, else the daemon's first.
+    ControlTarget* chosen = &target;
+    const bool per_scanner = command == "inject-fault" || command == "power-cycle" || command == "clear-fault" ||
+                             command == "query-faults" || command == "query-status";
+    if (per_scanner && arguments.contains("scanner")) {
+      if (!arguments["scanner"].is_string()) return error_line(kGenericError, "scanner: must be a scanner's name", id);
+      const std::string name = arguments["scanner"].get<std::string>();
+      chosen = target.scanner(name);
+      if (chosen == nullptr) return error_line(kGenericError, "scanner: no scanner named '" + name + "'", id);
+      arguments.erase("scanner");
+    }
+    ControlTarget& target_of_command = *chosen;
     if (command == "inject-fault" || command == "power-cycle") {
       if (command == "power-cycle") {
         for (const auto& [key, value] : arguments.items()) {
@@ -118,7 +130,7 @@ std::string handle_line(std::string_view line, ControlTarget& target) {
       if (auto* problem = std::get_if<faults::FieldError>(&spec)) {
         return error_line(kGenericError, field_error_text(*problem), id);
       }
-      return result_line(target.inject_fault(std::get<faults::FaultSpec>(spec)), id);
+      return result_line(target_of_command.inject_fault(std::get<faults::FaultSpec>(spec)), id);
     }
     if (command == "clear-fault") {
       std::optional<std::uint64_t> fault_id;
@@ -127,12 +139,12 @@ std::string handle_line(std::string_view line, ControlTarget& target) {
         if (!value.is_number_unsigned()) return error_line(kGenericError, "id: must be a fault id (query-faults)", id);
         fault_id = value.get<std::uint64_t>();
       }
-      return result_line(target.clear_fault(fault_id), id);
+      return result_line(target_of_command.clear_fault(fault_id), id);
     }
     if (command == "query-faults" || command == "query-status" || command == "quit") {
       if (auto problem = no_arguments(arguments, command)) return error_line(kGenericError, *problem, id);
-      if (command == "query-faults") return reply(json{{"return", target.query_faults()}}, id);
-      if (command == "query-status") return reply(json{{"return", target.query_status()}}, id);
+      if (command == "query-faults") return reply(json{{"return", target_of_command.query_faults()}}, id);
+      if (command == "query-status") return reply(json{{"return", target_of_command.query_status()}}, id);
       target.quit();
       return reply(json{{"return", json::object()}}, id);
     }

@@ -211,10 +211,9 @@ std::optional<StartFailure> Daemon::Impl::build_faults() {
   if (options.event_log_path) setup.event_log_path = options.event_log_path->string();
   setup.version = LDOEM_VERSION;
   setup.world = world.get();
-  auto wiring = FaultWiring::create(scene, *devices.front(), *this, *loop, logger, std::move(setup), [this] { loop->stop(); });
+  auto wiring = FaultWiring::create(scene, devices, *this, *loop, logger, std::move(setup), [this] { loop->stop(); });
   if (!wiring) return StartFailure{kExitUsageError, wiring.error()};
   faults = std::move(*wiring);
-  devices.front()->set_wire_tap(faults.get());
   if (options.control_path) out << "control " << options.control_path->string() << "\n";
   return std::nullopt;
 }

@@ -29,23 +29,22 @@ FaultWiring::~FaultWiring() {
   if (deadline_) scheduler_.cancel(*deadline_);
   device_.set_fault_hook(nullptr);
   device_.set_connection_observer(nullptr);
+  if (device_.wire_tap() == this) device_.set_wire_tap(nullptr);
 }
 
 base::Expected<std::unique_ptr<FaultWiring>, std::string> FaultWiring::create(
-    const scene::Scene& scene, DeviceInstance& device, endpoints::Scheduler& scheduler, io::EventLoop& loop,
-    const endpoints::Logger& logger, Setup setup, std::function<void()> stop) {
-  std::unique_ptr<FaultWiring> wiring(new FaultWiring(device, scheduler, logger, std::move(stop)));
+    const scene::Scene& scene, const std::vector<std::unique_ptr<DeviceInstance>>& devices,
+    endpoints::Scheduler& scheduler, io::EventLoop& loop, const endpoints::Logger& logger, Setup setup,
+    std::function<void()> stop) {
+  std::unique_ptr<FaultWiring> wiring(new FaultWiring(*devices.front(), scheduler, logger, stop));
   wiring->world_ = setup.world;
-  wiring->injector_ = std::make_unique<fault_injection::FaultInjector>(
-      scene.faults, scene.seed, scene.effects.has(scene::Effect::head_dynamics), device.unit_for_faults());
-  FaultWiring* self = wiring.get();
-  wiring->endpoint_faults_ = std::make_unique<EndpointFaults>(
-      *wiring->injector_, [self](fault_injection::InjectorOutput output) { self->take(std::move(output)); });
-  device.set_fault_hook(wiring->endpoint_faults_.get());
+  wiring->several_ = devices.size() > 1;
+  if (!scene.scanners.empty()) wiring->name_ = scene.scanners.front().name;
   if (setup.event_log_path) {
     wiring->event_log_.open(*setup.event_log_path, std::ios::out | std::ios::trunc);
     if (!wiring->event_log_) return base::Unexpected("--event-log " + *setup.event_log_path + ": cannot open");
   }
+  FaultWiring* self = wiring.get();
   if (setup.control_path) {
     auto server = control_socket::ControlServer::open(
         loop, *setup.control_path, control_socket::greeting_line(setup.version),
@@ -53,15 +52,56 @@ base::Expected<std::unique_ptr<FaultWiring>, std::string> FaultWiring::create(
     if (!server) return base::Unexpected("--control: " + server.error().message());
     wiring->server_ = std::move(*server);
   }
-  FaultWiring* observer = wiring.get();
-  device.set_connection_observer([observer](bool opened, control::ConnectionId connection, std::string_view peer) {
-    observer->on_connection(opened, connection, peer);
-  });
-  wiring->take(wiring->injector_->advance(scheduler.now()));
+  wiring->attach(scene.faults, scene.seed, scene.effects.has(scene::Effect::head_dynamics));
+  // Scanner k draws with the seed + k, as its noise does (docs/scenes.md).
+  for (std::size_t k = 1; k < devices.size() && k < scene.scanners.size(); ++k) {
+    std::unique_ptr<FaultWiring> other(new FaultWiring(*devices[k], scheduler, logger, stop));
+    other->name_ = scene.scanners[k].name;
+    other->first_ = self;
+    other->attach({}, scene.seed + k, scene.scanners[k].effects.has(scene::Effect::head_dynamics));
+    wiring->others_.push_back(std::move(other));
+  }
   return wiring;
 }
 
+void FaultWiring::attach(std::vector<faults::FaultSpec> scene_faults, std::uint64_t seed, bool head_dynamics) {
+  injector_ = std::make_unique<fault_injection::FaultInjector>(std::move(scene_faults), seed, head_dynamics,
+                                                               device_.unit_for_faults());
+  endpoint_faults_ = std::make_unique<EndpointFaults>(
+      *injector_, [this](fault_injection::InjectorOutput output) { take(std::move(output)); });
+  device_.set_fault_hook(endpoint_faults_.get());
+  device_.set_connection_observer([this](bool opened, control::ConnectionId connection, std::string_view peer) {
+    on_connection(opened, connection, peer);
+  });
+  device_.set_wire_tap(this);
+  take(injector_->advance(scheduler_.now()));
+}
+
+std::uint64_t FaultWiring::injections() const {
+  std::uint64_t all = injector_->injections();
+  for (const auto& other : others_) all += other->injections();
+  return all;
+}
+
+control_socket::ControlTarget* FaultWiring::scanner(std::string_view name) {
+  if (name == name_) return this;
+  for (const auto& other : others_) {
+    if (name == other->name_) return other.get();
+  }
+  return nullptr;
+}
+
 void FaultWiring::publish(const fault_injection::InjectorEvent& event) {
+  if (first_ != nullptr) {
+    first_->publish_for(name_, event);
+  } else {
+    publish_for(name_, event);
+  }
+}
+
+// With several scanners every event names its scanner; with one the lines stay as they were.
+void FaultWiring::publish_for(const std::string& scanner, fault_injection::InjectorEvent event) {
+  if (several_ && (event.data.is_object() || event.data.is_null())) event.data["scanner"] = scanner;
   const std::string line = control_socket::event_line(event.name, event.data, event.at);
   if (event.name == "FAULT_INJECTED") logger_.log(LogLevel::info, "fault: " + line);  // D11: info level
   if (event_log_.is_open()) {

@@ -52,6 +52,9 @@ class ControlTarget {
   virtual CommandResult remove_object(const nlohmann::json& arguments) { return no_world("remove-object", arguments); }
   // quit: the daemon stops after this reply.
   virtual void quit() = 0;
+  // The target of one scanner by its scene name, for the fault commands' "scanner" argument
+  // (issue 15: several scanners in one daemon); nullptr when there is no such scanner.
+  virtual ControlTarget* scanner(std::string_view /*name*/) { return nullptr; }
 
  private:
   static CommandResult no_world(std::string_view command, const nlohmann::json& /*arguments*/) {

@@ -13,6 +13,8 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "ldoem/control_socket/control_protocol.hpp"
 #include "ldoem/control_socket/control_server.hpp"
@@ -32,10 +34,14 @@ class FaultWiring final : public endpoints::WireTap, public control_socket::Cont
     std::string version;
     plant::SceneWorld* world = nullptr;  // for the object commands (object_control.cpp); must outlive it
   };
-  // `device`, `scheduler`, `loop` and `logger` must outlive it. quit() calls `stop`.
+  // One wiring per device, `devices` in the scene's order (issue 15): the scene's faults, the
+  // control socket and the event log belong to the first; the others start without faults and
+  // take the fault commands that name them ("scanner"). Each becomes its device's wire tap.
+  // `devices`, `scheduler`, `loop` and `logger` must outlive it. quit() calls `stop`.
   static base::Expected<std::unique_ptr<FaultWiring>, std::string> create(
-      const scene::Scene& scene, DeviceInstance& device, endpoints::Scheduler& scheduler, io::EventLoop& loop,
-      const endpoints::Logger& logger, Setup setup, std::function<void()> stop);
+      const scene::Scene& scene, const std::vector<std::unique_ptr<DeviceInstance>>& devices,
+      endpoints::Scheduler& scheduler, io::EventLoop& loop, const endpoints::Logger& logger, Setup setup,
+      std::function<void()> stop);
   ~FaultWiring() override;
 
   // --- WireTap ---
@@ -47,18 +53,23 @@ class FaultWiring final : public endpoints::WireTap, public control_socket::Cont
   nlohmann::json query_faults() override;
   nlohmann::json query_status() override;
   void quit() override;
+  ControlTarget* scanner(std::string_view name) override;
   // object_control.cpp: D12 runtime changes through plant::SceneWorld, on the loop's thread.
   control_socket::CommandResult move_object(const nlohmann::json& arguments) override;
   control_socket::CommandResult add_object(const nlohmann::json& arguments) override;
   control_socket::CommandResult remove_object(const nlohmann::json& arguments) override;
 
-  std::uint64_t injections() const { return injector_->injections(); }
+  // Every scanner's together.
+  std::uint64_t injections() const;
 
  private:
   FaultWiring(DeviceInstance& device, endpoints::Scheduler& scheduler, const endpoints::Logger& logger,
               std::function<void()> stop);
+  // The injector, the endpoints' fault hook and the connection observer of `device_`.
+  void attach(std::vector<faults::FaultSpec> scene_faults, std::uint64_t seed, bool head_dynamics);
   void take(fault_injection::InjectorOutput output);
   void publish(const fault_injection::InjectorEvent& event);
+  void publish_for(const std::string& scanner, fault_injection::InjectorEvent event);
   void on_connection(bool opened, control::ConnectionId connection, std::string_view peer);
   void arm_deadline();
   endpoints::WireVerdict to_host(endpoints::WireTelegram& telegram);
@@ -76,6 +87,10 @@ class FaultWiring final : public endpoints::WireTap, public control_socket::Cont
   std::set<control::ConnectionId> connections_;  // seen from hosts; a power cycle drops them
   std::map<control::ConnectionId, std::string> peers_;  // open TCP connections' addresses
   plant::SceneWorld* world_ = nullptr;
+  std::string name_;                 // the scanner's name in the scene (empty: a scanner: section)
+  FaultWiring* first_ = nullptr;     // the first scanner's wiring, which publishes for all; null in it
+  bool several_ = false;             // events name their scanner
+  std::vector<std::unique_ptr<FaultWiring>> others_;  // the other scanners' (in the first only)
 };
 
 }  // namespace ldoem::daemon
