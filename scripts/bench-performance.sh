@@ -73,7 +73,7 @@ for key, label, primitives_only in casters:
     b = runs[f"BM_Casters/{key}/iterations:1"]
     tri_ok = b["ratio_vs_triangles"] >= 1.0
     tri_ratio = (f"{b['ratio_vs_triangles']:.2f}x (IQR {b['ratio_vs_triangles_q1']:.2f}..{b['ratio_vs_triangles_q3']:.2f}, "
-                 f"{int(b['ratio_rounds'])} rounds)")
+                 f"{int(b['ratio_rounds'])} rounds, {b['preemptions_per_round']:.1f} preemptions/round)")
     if primitives_only:
         match = f"{int(b['ode_mismatches'])} of {int(b['ode_rays_compared'])}"
         match_ok = b["ode_mismatches"] == 0
@@ -164,8 +164,11 @@ accuracy each speed buys is in [accuracy-vs-time.md](accuracy-vs-time.md).
   phase of the machine hits every contender alike. Primitives against triangles (a target within
   a few per cent of 1.0): many short alternating rounds on the same rays (primitives, triangles,
   primitives, ..., about @RATIO_BUDGET@ CPU s per scene), one ratio per round; the table gives
-  the median ratio (the target applies to it) and its interquartile range (IQR: half of the
-  rounds fall inside). Against plain ODE: 5 interleaved rounds, the fastest of each. The
+  the median ratio (the target applies to it), its interquartile range (IQR: half of the
+  rounds fall inside) and how often other processes took the core per round (involuntary
+  context switches: each refills part of the caches; at a load average of 10 on 2 cores one
+  whole run came out up to 30 % lower on every scene with tight IQRs, while the runs before
+  and after agreed within a few per cent: trust a run taken at low preemption). Against plain ODE: 5 interleaved rounds, the fastest of each. The
   on-demand check: 15 rounds, the fastest of each, repeated. Debian's libbenchmark prints
   "Library was built as DEBUG"; that concerns the harness, not the code measured.
 

@@ -22,6 +22,7 @@
 #include <ldoem/sensor/sensor_model.hpp>
 
 #include <benchmark/benchmark.h>
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <cmath>
@@ -73,6 +74,13 @@ struct CasterSetup {
   }
 };
 
+// This thread's involuntary context switches so far (another process was given the core).
+long involuntary_switches() {
+  rusage usage{};
+  getrusage(RUSAGE_THREAD, &usage);
+  return usage.ru_nivcsw;
+}
+
 double cast_all(const raycast::RayCaster& caster, const std::vector<raycast::Ray>& rays,
                 std::vector<std::optional<raycast::Hit>>* answers = nullptr) {
   double range_sum = 0.0;
@@ -116,13 +124,16 @@ void bm_casters(benchmark::State& state, const std::function<scene::Scene()>& ma
   const std::function<void()> cast_triangles = [&] { benchmark::DoNotOptimize(cast_all(*setup.triangles, setup.rays)); };
   std::vector<double> fastest;
   std::vector<std::vector<double>> rounds_s;
+  long preemptions = 0;
   for (auto _ : state) {
     // Against triangles (the target, within a few per cent of 1.0): many short interleaved
     // rounds on the same rays (each caster always runs right after the other), one ratio per
     // round, so that the median and quartiles show how much the machine moved it.
     const int rounds = rounds_for_budget(cast_embree, cast_triangles, triangle_ratio_budget_s, kMinRatioRounds, kMaxRatioRounds);
     const std::function<void()> pair[] = {cast_embree, cast_triangles};
+    const long switches_before = involuntary_switches();
     rounds_s = interleaved_rounds(pair, rounds);
+    preemptions = involuntary_switches() - switches_before;
     // Against plain ODE (tens of times slower): a few interleaved rounds, the fastest of each.
     const std::function<void()> jobs[] = {cast_embree, [&] { benchmark::DoNotOptimize(cast_all(*setup.ode, ode_rays)); }};
     fastest = fastest_interleaved(jobs, kRounds);
@@ -142,6 +153,9 @@ void bm_casters(benchmark::State& state, const std::function<scene::Scene()>& ma
   state.counters["ratio_vs_triangles_q1"] = ratio.lower_quartile;
   state.counters["ratio_vs_triangles_q3"] = ratio.upper_quartile;
   state.counters["ratio_rounds"] = static_cast<double>(rounds_s[0].size());
+  // How often other processes took the core during those rounds: each time, the caches both
+  // casters rely on were partly refilled by someone else (a load that CPU time does not show).
+  state.counters["preemptions_per_round"] = static_cast<double>(preemptions) / static_cast<double>(rounds_s[0].size());
   // Both from the fastest of the same interleaved rounds (ODE casts a subset, hence rays/s).
   state.counters["ratio_vs_ode"] = (rays / fastest[0]) / ode_rays_s;
   state.counters["ode_mismatches"] = static_cast<double>(mismatches);
