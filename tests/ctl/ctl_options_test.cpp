@@ -73,6 +73,24 @@ TEST(CtlOptions, ObjectCommands) {
             json::parse(R"({"execute": "remove-object", "arguments": {"name": "c"}})"));
 }
 
+TEST(CtlOptions, ScannerGoesIntoTheFaultCommandsArguments) {
+  EXPECT_EQ(*plan_of({"--control", "p", "--scanner", "side", "inject-fault", "motor_stall"}).request,
+            json::parse(R"({"execute": "inject-fault", "arguments": {"kind": "motor_stall", "scanner": "side"}})"));
+  EXPECT_EQ(*plan_of({"--control", "p", "--scanner", "side", "query-status"}).request,
+            json::parse(R"({"execute": "query-status", "arguments": {"scanner": "side"}})"));
+  EXPECT_EQ(*plan_of({"--control", "p", "--scanner", "side", "clear-fault", "3"}).request,
+            json::parse(R"({"execute": "clear-fault", "arguments": {"id": 3, "scanner": "side"}})"));
+  for (const std::vector<std::string>& daemon_wide :
+       {std::vector<std::string>{"--control", "p", "--scanner", "side", "quit"},
+        std::vector<std::string>{"--control", "p", "--scanner", "side", "remove-object", "crate"},
+        std::vector<std::string>{"--control", "p", "--scanner", "side", "events"},
+        std::vector<std::string>{"--control", "p", "--scanner", "side", "send", "{\"execute\": \"quit\"}"}}) {
+    const CtlExit exit = exit_of(daemon_wide);
+    EXPECT_EQ(exit.code, 2);
+    EXPECT_NE(exit.text.find("--scanner: only with"), std::string::npos) << exit.text;
+  }
+}
+
 TEST(CtlOptions, HelpIsExitZeroWithExamples) {
   const CtlExit help = exit_of({"--help"});
   EXPECT_EQ(help.code, kExitOk);

@@ -30,6 +30,7 @@ std::variant<CtlPlan, CtlExit> parse_ctl_options(const std::vector<std::string>&
   app.footer("Examples:\n"
              "  ldoem-ctl --control /tmp/ldoem.ctl inject-fault motor_stall --duration 2\n"
              "  ldoem-ctl --control /tmp/ldoem.ctl inject-fault drop_reply --on GET_STATUS:3 --transport tcp\n"
+             "  ldoem-ctl --control /tmp/ldoem.ctl --scanner side query-status\n"
              "  ldoem-ctl --control /tmp/ldoem.ctl query-faults\n"
              "  ldoem-ctl --control /tmp/ldoem.ctl events --count 5 --timeout 10\n"
              "  ldoem-ctl --control /tmp/ldoem.ctl move-object door --position 2,0.5,0 --rpy 0,0,90 --at 3\n"
@@ -41,6 +42,9 @@ std::variant<CtlPlan, CtlExit> parse_ctl_options(const std::vector<std::string>&
   app.add_flag("--json", plan.json_output, "print the raw JSON lines");
   app.add_option("--timeout", timeout_s, "seconds to wait for the reply (events: to follow; 0 = forever)")
       ->default_val(5.0)->check(CLI::Range(0.0, 86400.0));
+  std::string scanner;
+  app.add_option("--scanner", scanner, "the scanner a fault command acts on, by its scene name (several scanners "
+                                       "in one daemon; default: the first)");
 
   json arguments = json::object();
   auto* inject = app.add_subcommand("inject-fault", "inject a D11 fault now (or at --at)");
@@ -179,6 +183,15 @@ std::variant<CtlPlan, CtlExit> parse_ctl_options(const std::vector<std::string>&
     for (const char* name : {"query-faults", "query-status", "quit"}) {
       if (app.got_subcommand(name)) plan.request = request(name, json::object());
     }
+  }
+  if (!scanner.empty()) {
+    // Only the fault commands act on one scanner (docs/faults.md); the others on the daemon.
+    const std::string command = plan.request ? plan.request->value("execute", "") : "";
+    if (send->parsed() || !(command == "inject-fault" || command == "power-cycle" || command == "clear-fault" ||
+                            command == "query-faults" || command == "query-status")) {
+      return usage("--scanner: only with inject-fault, power-cycle, clear-fault, query-faults and query-status");
+    }
+    (*plan.request)["arguments"]["scanner"] = scanner;
   }
   return plan;
 }
