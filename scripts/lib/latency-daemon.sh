@@ -37,7 +37,7 @@ start_daemon() {
     sleep 0.05
   done
   grep -q '^ready$' "$out" ||
-    { echo "$tool: $emud $* not ready: $(cat "$work/daemon.err")" >&2; exit 1; }
+    { echo "$tool: $emud $* not ready; its output: $(cat "$out") $(cat "$work/daemon.err")" >&2; exit 1; }
   tcp_port=$(sed -n 's/^tcp .*:\([0-9]*\)$/\1/p' "$out")
 }
 stop_daemon() { kill "$daemon_pid" 2>/dev/null || true; wait "$daemon_pid" 2>/dev/null || true; daemon_pid=; }
