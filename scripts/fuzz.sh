@@ -34,18 +34,20 @@ for target in build/fuzz/tests/fuzz/fuzz_*; do
   [ -d "tests/fuzz/corpus/$name" ] && seeds=("tests/fuzz/corpus/$name")
   echo "=== $name for ${seconds}s"
   log="build/fuzz/corpus/$name.log"
-  if "$target" -max_total_time="$seconds" -max_len=8192 -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+  if /usr/bin/time -f '%U %S' -o "$log.cpu" "$target" -max_total_time="$seconds" -max_len=8192 -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
       "$corpus" "${seeds[@]}" >"$log" 2>&1; then
     execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log")
     rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log")
     cov=$(grep -oE 'cov: [0-9]+' "$log" | tail -n 1 | cut -d' ' -f2)
     units=$(find "$corpus" -type f | wc -l)
-    echo "    $execs executions, $rate per second, coverage $cov, corpus $units files"
-    rows+="| \`$name\` | $seconds | $execs | $rate | $cov | $units |"$'\n'
+    cpu=$(awk '{printf "%.0f", $1 + $2}' "$log.cpu")
+    per_cpu=$(awk -v e="$execs" '{c = $1 + $2; printf "%.0f", c > 0 ? e / c : 0}' "$log.cpu")
+    echo "    $execs executions, $rate per second ($per_cpu per CPU second), coverage $cov, corpus $units files"
+    rows+="| \`$name\` | $seconds | $cpu | $execs | $rate | $per_cpu | $cov | $units |"$'\n'
     total=$((total + execs))
   else
     tail -n 40 "$log"; echo "fuzz: $name FAILED (log: $log)" >&2; status=1
-    rows+="| \`$name\` | $seconds | FAILED | | | |"$'\n'
+    rows+="| \`$name\` | $seconds | | FAILED | | | | |"$'\n'
   fi
 done
 if [ -n "$report" ]; then
@@ -54,11 +56,15 @@ if [ -n "$report" ]; then
     echo
     echo "Written by \`scripts/fuzz.sh $seconds --report $report\` on $(date -u +%Y-%m-%d) ($(nproc) cores,"
     echo "$(clang --version | head -n 1); each target built with libFuzzer, ASan and UBSan, run alone"
-    echo "for $seconds s from its committed seeds in \`tests/fuzz/corpus/\`). CI runs every target for"
-    echo "20000 executions (\`ctest --test-dir build/fuzz -L fuzz\`)."
+    echo "for $seconds s from its committed seeds in \`tests/fuzz/corpus/\`, one process, no -jobs). CI runs"
+    echo "every target for 20000 executions (\`ctest --test-dir build/fuzz -L fuzz\`)."
     echo
-    echo "| Target | Seconds | Executions | Executions/s | Coverage (edges) | Corpus files |"
-    echo "|---|---:|---:|---:|---:|---:|"
+    echo "Load average at the end: $(cut -d' ' -f1-3 /proc/loadavg). Executions per second are wall-clock"
+    echo "figures: on a shared machine they say as much about the other load as about the code;"
+    echo "executions per CPU second (user + system time of the fuzzer, from /usr/bin/time) do not."
+    echo
+    echo "| Target | Seconds | CPU seconds | Executions | Executions/s | Executions per CPU second | Coverage (edges) | Corpus files |"
+    echo "|---|---:|---:|---:|---:|---:|---:|---:|"
     printf '%s' "$rows"
     echo
     echo "Total: $total executions. What each target checks is in the comment at the top of its"

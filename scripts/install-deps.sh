@@ -17,7 +17,7 @@ packages=(
   libode-dev libyaml-cpp-dev libembree-dev libassimp-dev libeigen3-dev
   libsocketcan-dev libgpiod-dev gpiod libpng-dev libpcap-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  can-utils user-mode-linux kmod iproute2 procps python3
+  can-utils user-mode-linux kmod iproute2 procps python3 time
   gnuplot-nox
   # the Wireshark dissector's tests
   tshark
