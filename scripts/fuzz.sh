@@ -40,8 +40,10 @@ for target in build/fuzz/tests/fuzz/fuzz_*; do
     rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log")
     cov=$(grep -oE 'cov: [0-9]+' "$log" | tail -n 1 | cut -d' ' -f2)
     units=$(find "$corpus" -type f | wc -l)
-    cpu=$(awk '{printf "%.0f", $1 + $2}' "$log.cpu")
-    per_cpu=$(awk -v e="$execs" '{c = $1 + $2; printf "%.0f", c > 0 ? e / c : 0}' "$log.cpu")
+    # The last line of /usr/bin/time's output; the parentheses keep awk from reading the ">" of
+    # the condition as a redirection to a file.
+    cpu=$(awk 'END {printf "%.0f", $1 + $2}' "$log.cpu")
+    per_cpu=$(awk -v e="$execs" 'END {c = $1 + $2; printf "%.0f", (c > 0 ? e / c : 0)}' "$log.cpu")
     echo "    $execs executions, $rate per second ($per_cpu per CPU second), coverage $cov, corpus $units files"
     rows+="| \`$name\` | $seconds | $cpu | $execs | $rate | $per_cpu | $cov | $units |"$'\n'
     total=$((total + execs))
