@@ -1,6 +1,6 @@
 // Runs ldoem-emud as a child process for the integration tests (qtest style, STYLE.md section 4):
 // stdout on a pipe (the endpoint lines and "ready"), stderr to a file the test can read, and a
-// hard limit so that a stuck daemon never hangs the test.
+// hard limit so that a stuck daemon never hangs the test (test_support::Child spawns and reaps).
 #pragma once
 
 #include <sys/types.h>
@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "ldoem/test_support/child.hpp"
 #include "ldoem/test_support/temp_dir.hpp"
 
 namespace ldoem::daemon::test {
@@ -32,8 +33,8 @@ class DaemonProcess {
   const std::map<std::string, std::string>& endpoints() const { return endpoints_; }
   std::uint16_t tcp_port() const;
 
-  void signal(int signal_number);
-  pid_t pid() const { return pid_; }
+  void signal(int signal_number) { child_.signal(signal_number); }
+  pid_t pid() const { return child_.pid(); }
   // Still running (not exited, not reaped).
   bool alive();
   // VmRSS from /proc/PID/status in KiB; nothing once the process is gone.
@@ -44,14 +45,13 @@ class DaemonProcess {
   const std::string& stdout_text() const { return stdout_; }
 
  private:
-  DaemonProcess(pid_t pid, int stdout_fd, std::string stderr_path)
-      : pid_(pid), stdout_fd_(stdout_fd), stderr_path_(std::move(stderr_path)) {}
-  pid_t pid_ = -1;
+  DaemonProcess(test_support::Child child, int stdout_fd, std::string stderr_path)
+      : child_(std::move(child)), stdout_fd_(stdout_fd), stderr_path_(std::move(stderr_path)) {}
+  test_support::Child child_;
   int stdout_fd_ = -1;
   std::string stderr_path_;
   std::string stdout_;
   std::map<std::string, std::string> endpoints_;
-  std::optional<int> exit_status_;
 };
 
 // Scene files for a test go into a fresh temporary folder that is removed at the end.

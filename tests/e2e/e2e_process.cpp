@@ -1,100 +1,31 @@
 #include "e2e_process.hpp"
 
-#include <fcntl.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
 #include <sstream>
-#include <stdexcept>
 #include <thread>
-
-extern char** environ;
 
 namespace ldoem::e2e {
 namespace {
 
 constexpr std::chrono::milliseconds kPollInterval{20};
 
-int exit_status_of(int wait_status) {
-  if (WIFEXITED(wait_status)) return WEXITSTATUS(wait_status);
-  if (WIFSIGNALED(wait_status)) return 128 + WTERMSIG(wait_status);
-  return -1;
-}
-
 }  // namespace
 
 std::optional<ChildProcess> ChildProcess::start(const std::string& program, const std::vector<std::string>& arguments,
                                                 const std::string& log_prefix,
                                                 const std::vector<std::string>& environment) {
-  std::vector<std::string> argv_text{program};
-  argv_text.insert(argv_text.end(), arguments.begin(), arguments.end());
-  std::vector<char*> argv;
-  for (std::string& text : argv_text) argv.push_back(text.data());
-  argv.push_back(nullptr);
-
-  std::vector<std::string> env_text;
-  for (char** entry = environ; *entry != nullptr; ++entry) env_text.emplace_back(*entry);
-  env_text.insert(env_text.end(), environment.begin(), environment.end());
-  std::vector<char*> envp;
-  for (std::string& text : env_text) envp.push_back(text.data());
-  envp.push_back(nullptr);
-
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, (log_prefix + ".out").c_str(),
-                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, (log_prefix + ".err").c_str(),
-                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  pid_t pid = -1;
-  const int error = posix_spawn(&pid, program.c_str(), &actions, nullptr, argv.data(), envp.data());
-  posix_spawn_file_actions_destroy(&actions);
-  if (error != 0) return std::nullopt;
-  return ChildProcess(pid, log_prefix);
-}
-
-ChildProcess::ChildProcess(ChildProcess&& other) noexcept
-    : pid_(other.pid_), log_prefix_(std::move(other.log_prefix_)), exit_status_(other.exit_status_) {
-  other.pid_ = -1;
+  std::vector<std::string> argv{program};
+  argv.insert(argv.end(), arguments.begin(), arguments.end());
+  test_support::ChildSetup setup;
+  setup.out.path = log_prefix + ".out";
+  setup.err.path = log_prefix + ".err";
+  setup.environment = environment;
+  auto child = test_support::Child::spawn(argv, setup);
+  if (!child) return std::nullopt;
+  return ChildProcess(std::move(*child), log_prefix);
 }
 
 ChildProcess::~ChildProcess() {
-  if (pid_ > 0 && !exit_status_) stop(std::chrono::seconds(2));
-}
-
-bool ChildProcess::reap(bool block) {
-  if (exit_status_) return true;
-  int status = 0;
-  const pid_t done = waitpid(pid_, &status, block ? 0 : WNOHANG);
-  if (done != pid_) return false;
-  exit_status_ = exit_status_of(status);
-  return true;
-}
-
-std::optional<int> ChildProcess::wait(std::chrono::milliseconds limit) {
-  const auto give_up = std::chrono::steady_clock::now() + limit;
-  while (!reap(false)) {
-    if (std::chrono::steady_clock::now() >= give_up) return std::nullopt;
-    std::this_thread::sleep_for(kPollInterval);
-  }
-  return exit_status_;
-}
-
-int ChildProcess::stop(std::chrono::milliseconds grace) {
-  if (pid_ <= 0) return -1;
-  if (!reap(false)) {
-    kill(pid_, SIGTERM);
-    if (!wait(grace)) {
-      kill(pid_, SIGKILL);
-      reap(true);
-    }
-  }
-  return *exit_status_;
+  if (child_.pid() > 0 && !child_.exited()) child_.stop(std::chrono::seconds(2));
 }
 
 bool ChildProcess::wait_for_line(const std::string& text, bool in_stderr, std::chrono::milliseconds limit) {
@@ -107,7 +38,7 @@ bool ChildProcess::wait_for_line(const std::string& text, bool in_stderr, std::c
       if (lines.eof()) break;
       if (line.find(text) != std::string::npos) return true;
     }
-    if (reap(false) || std::chrono::steady_clock::now() >= give_up) return false;
+    if (child_.exited() || std::chrono::steady_clock::now() >= give_up) return false;
     std::this_thread::sleep_for(kPollInterval);
   }
 }

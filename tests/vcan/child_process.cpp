@@ -2,15 +2,10 @@
 
 #include <fcntl.h>
 #include <poll.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <array>
 #include <utility>
-
-extern char** environ;
 
 namespace ldoem::test {
 
@@ -19,38 +14,24 @@ std::optional<ChildProcess> ChildProcess::start(const std::vector<std::string>& 
   if (::pipe2(pipe_fds, O_CLOEXEC) != 0) {
     return std::nullopt;
   }
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], 1);
-  std::vector<char*> args;
-  for (const std::string& arg : argv) {
-    args.push_back(const_cast<char*>(arg.c_str()));
-  }
-  args.push_back(nullptr);
-  pid_t pid = -1;
-  const int error = ::posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
+  test_support::ChildSetup setup;
+  setup.out.fd = pipe_fds[1];
+  auto child = test_support::Child::spawn(argv, setup);
   ::close(pipe_fds[1]);
-  if (error != 0) {
+  if (!child) {
     ::close(pipe_fds[0]);
     return std::nullopt;
   }
-  return ChildProcess(pid, pipe_fds[0]);
+  return ChildProcess(std::move(*child), pipe_fds[0]);
 }
 
 ChildProcess::ChildProcess(ChildProcess&& other) noexcept
-    : pid_(std::exchange(other.pid_, -1)),
+    : child_(std::move(other.child_)),
       stdout_fd_(std::exchange(other.stdout_fd_, -1)),
-      output_(std::move(other.output_)),
-      exit_status_(other.exit_status_) {}
+      output_(std::move(other.output_)) {}
 
 ChildProcess::~ChildProcess() {
-  if (pid_ > 0 && !exit_status_) {
-    ::kill(pid_, SIGKILL);
-    int status = 0;
-    ::waitpid(pid_, &status, 0);
-  }
+  child_.kill_now();
   if (stdout_fd_ >= 0) {
     ::close(stdout_fd_);
   }
@@ -68,26 +49,13 @@ void ChildProcess::collect_output(std::chrono::milliseconds max_wait) {
   }
 }
 
-bool ChildProcess::running() {
-  if (exit_status_) {
-    return false;
-  }
-  int status = 0;
-  if (::waitpid(pid_, &status, WNOHANG) == pid_) {
-    exit_status_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    return false;
-  }
-  return true;
-}
+bool ChildProcess::running() { return !child_.exited(); }
 
 std::optional<int> ChildProcess::wait(std::chrono::milliseconds limit) {
   const auto end = std::chrono::steady_clock::now() + limit;
   while (running()) {
     if (std::chrono::steady_clock::now() > end) {
-      ::kill(pid_, SIGKILL);
-      int status = 0;
-      ::waitpid(pid_, &status, 0);
-      exit_status_ = 128 + SIGKILL;
+      child_.kill_now();
       return std::nullopt;
     }
     collect_output(std::chrono::milliseconds(20));
@@ -99,7 +67,7 @@ std::optional<int> ChildProcess::wait(std::chrono::milliseconds limit) {
       break;
     }
   }
-  return exit_status_;
+  return child_.wait(std::chrono::milliseconds(0));
 }
 
 std::optional<int> run_program(const std::vector<std::string>& argv) {

@@ -1,5 +1,6 @@
 // Runs a helper program (cansend, candump, ip) for a test, with its stdout on a pipe the test
-// can poll, and a hard limit so a stuck child never hangs the test.
+// can poll, and a hard limit so a stuck child never hangs the test (test_support::Child spawns
+// and reaps).
 #pragma once
 
 #include <sys/types.h>
@@ -9,11 +10,13 @@
 #include <string>
 #include <vector>
 
+#include "ldoem/test_support/child.hpp"
+
 namespace ldoem::test {
 
 class ChildProcess {
  public:
-  // posix_spawnp(argv) with stdin /dev/null and stdout captured; stderr inherited.
+  // argv[0] from PATH, stdin /dev/null and stdout captured; stderr inherited.
   static std::optional<ChildProcess> start(const std::vector<std::string>& argv);
   ChildProcess(ChildProcess&& other) noexcept;
   ChildProcess& operator=(ChildProcess&&) = delete;
@@ -27,11 +30,10 @@ class ChildProcess {
   const std::string& output() const { return output_; }
 
  private:
-  ChildProcess(pid_t pid, int stdout_fd) : pid_(pid), stdout_fd_(stdout_fd) {}
-  pid_t pid_ = -1;
+  ChildProcess(test_support::Child child, int stdout_fd) : child_(std::move(child)), stdout_fd_(stdout_fd) {}
+  test_support::Child child_;
   int stdout_fd_ = -1;
   std::string output_;
-  std::optional<int> exit_status_;
 };
 
 // Runs argv to completion (limit 10 s) and returns its exit status (nothing if it was killed).
