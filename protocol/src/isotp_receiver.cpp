@@ -42,6 +42,18 @@ std::optional<FirstFrameHeader> parse_first_frame(const CanFrame& frame) {
   return FirstFrameHeader{escaped_length, kEscapedFirstFrameHeaderBytes};
 }
 
+// The counter an error adds to.
+std::uint64_t& counter_of(IsoTpReceiverCounters& counters, IsoTpReceiveError error) {
+  switch (error) {
+    case IsoTpReceiveError::bad_sequence: return counters.bad_sequence;
+    case IsoTpReceiveError::unexpected_frame: return counters.unexpected_frame;
+    case IsoTpReceiveError::too_large: return counters.too_large;
+    case IsoTpReceiveError::timeout: return counters.timeout;
+    case IsoTpReceiveError::malformed: return counters.malformed;
+  }
+  return counters.malformed;  // not reached: the switch names every error
+}
+
 }  // namespace
 
 IsoTpReceiver::IsoTpReceiver(IsoTpReceiverConfig config)
@@ -216,23 +228,7 @@ void IsoTpReceiver::drop(IsoTpReceiveError error, IsoTpReceiveResult& result) {
 }
 
 void IsoTpReceiver::count(IsoTpReceiveError error, IsoTpReceiveResult& result) {
-  switch (error) {
-    case IsoTpReceiveError::bad_sequence:
-      ++counters_.bad_sequence;
-      break;
-    case IsoTpReceiveError::unexpected_frame:
-      ++counters_.unexpected_frame;
-      break;
-    case IsoTpReceiveError::too_large:
-      ++counters_.too_large;
-      break;
-    case IsoTpReceiveError::timeout:
-      ++counters_.timeout;
-      break;
-    case IsoTpReceiveError::malformed:
-      ++counters_.malformed;
-      break;
-  }
+  ++counter_of(counters_, error);
   if (!result.error) {
     result.error = error;
   }

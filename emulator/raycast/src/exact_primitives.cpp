@@ -166,18 +166,16 @@ ExactPrimitive exact_primitive_of(const OdeWorld& world, std::size_t object_inde
       p.kind = PrimitiveKind::sphere;
       p.radius_m = dGeomSphereGetRadius(geom);
       break;
-    case dCylinderClass: {
-      dReal radius_m = 0, length_m = 0;
-      dGeomCylinderGetParams(geom, &radius_m, &length_m);
-      p.kind = PrimitiveKind::cylinder;
-      p.radius_m = radius_m;
-      p.half_length_m = 0.5 * length_m;
-      break;
-    }
+    case dCylinderClass:
     case dCapsuleClass: {
+      const bool capsule = dGeomGetClass(geom) == dCapsuleClass;
       dReal radius_m = 0, length_m = 0;
-      dGeomCapsuleGetParams(geom, &radius_m, &length_m);
-      p.kind = PrimitiveKind::capsule;
+      if (capsule) {
+        dGeomCapsuleGetParams(geom, &radius_m, &length_m);
+      } else {
+        dGeomCylinderGetParams(geom, &radius_m, &length_m);
+      }
+      p.kind = capsule ? PrimitiveKind::capsule : PrimitiveKind::cylinder;
       p.radius_m = radius_m;
       p.half_length_m = 0.5 * length_m;
       break;
