@@ -305,5 +305,17 @@ TEST(DaemonScanners, FlashDirThatIsNoFolder_ExitsTwoBeforeStarting) {
       << process->stderr_text();
 }
 
+TEST(DaemonScanners, FlashInAFolderThatDoesNotExist_ExitsTwoBeforeStarting) {
+  TempDir dir;
+  const std::string scene = dir.write("cell.yaml", "scanner: {}\n");
+  const std::string flash = dir.path("missing") + "/cell.flash";
+  auto process = DaemonProcess::start({"--scene", scene, "--no-can", "--tcp", "127.0.0.1:0", "--flash", flash});
+  ASSERT_TRUE(process);
+  EXPECT_EQ(process->wait(), std::optional<int>(2));
+  EXPECT_NE(process->stderr_text().find("--flash " + flash + ": the folder " + dir.path("missing") + " does not exist"),
+            std::string::npos)
+      << process->stderr_text();
+}
+
 }  // namespace
 }  // namespace ldoem::daemon::test

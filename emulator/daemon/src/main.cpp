@@ -51,6 +51,15 @@ int run_emud(int argc, char** argv) {
     std::cerr << "ldoem-emud: --flash-dir " << options.flash_dir->string() << ": not a folder\n";
     return kExitUsageError;
   }
+  if (options.flash_mode == FlashMode::file && !options.flash_dir) {
+    const std::filesystem::path folder =
+        options.flash_path.has_parent_path() ? options.flash_path.parent_path() : std::filesystem::path(".");
+    if (std::error_code error; !std::filesystem::is_directory(folder, error)) {
+      std::cerr << "ldoem-emud: --flash " << options.flash_path.string() << ": the folder " << folder.string()
+                << " does not exist\n";
+      return kExitUsageError;
+    }
+  }
   // --record: the capture is open before the first telegram can arrive.
   std::unique_ptr<ldoem::capture::CaptureWriter> recording;
   if (options.record_path) {
