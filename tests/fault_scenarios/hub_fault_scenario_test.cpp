@@ -20,6 +20,30 @@ using namespace std::chrono_literals;
 
 std::string minimal_scene() { return std::string(LDOEM_SOURCE_DIR) + "/scenes/minimal.yaml"; }
 
+// ldoem-hub in this process on an ephemeral port, its loop on a thread stopped and joined on scope exit.
+struct InProcessHub {
+  hub::Hub hub;
+  bool listening;
+  std::thread loop;
+
+  explicit InProcessHub(std::vector<hub::DeviceSlot> slots)
+      : hub(settings(), std::move(slots)), listening(hub.listen()) {
+    if (listening) loop = std::thread([this] { (void)hub.run(); });
+  }
+  ~InProcessHub() {
+    if (!loop.joinable()) return;
+    hub.request_stop();
+    loop.join();
+  }
+  std::uint16_t port() const { return hub.port(); }
+
+  static hub::HubSettings settings() {
+    hub::HubSettings settings;
+    settings.listen = hub::ListenAddress{"127.0.0.1", 0};
+    return settings;
+  }
+};
+
 TEST(FaultScenario, HubWithOneFaultedDevice_TellsEveryClient_AndServesTheOther) {
   // The minimal scene with an encoder that fails at power-up and stays failed.
   std::ifstream in(minimal_scene());
@@ -37,19 +61,8 @@ TEST(FaultScenario, HubWithOneFaultedDevice_TellsEveryClient_AndServesTheOther) 
   std::vector<hub::DeviceSlot> slots;
   slots.push_back({"good", hub::ScannerDevice::from_endpoints("good", driver::Endpoint{good->endpoint}, std::nullopt)});
   slots.push_back({"bad", hub::ScannerDevice::from_endpoints("bad", driver::Endpoint{bad->endpoint}, std::nullopt)});
-  hub::HubSettings settings;
-  settings.listen = hub::ListenAddress{"127.0.0.1", 0};
-  hub::Hub hub(settings, std::move(slots));
-  ASSERT_TRUE(hub.listen());
-  std::thread loop([&hub] { (void)hub.run(); });
-  struct Stop {
-    hub::Hub& hub;
-    std::thread& loop;
-    ~Stop() {
-      hub.request_stop();
-      loop.join();
-    }
-  } stop{hub, loop};
+  InProcessHub hub(std::move(slots));
+  ASSERT_TRUE(hub.listening);
 
   const hub::ListenAddress address{"127.0.0.1", hub.port()};
   auto asker = hub::HubClient::connect(address, 5000ms);
@@ -105,19 +118,8 @@ TEST(FaultScenario, PowerCycleThroughTheHub_LdoemScanRetriesAndCompletes) {
   ASSERT_TRUE(lpt_endpoint);
   std::vector<hub::DeviceSlot> slots;
   slots.push_back({"cycled", hub::ScannerDevice::from_endpoints("cycled", driver::Endpoint{scene->endpoint}, *lpt_endpoint)});
-  hub::HubSettings settings;
-  settings.listen = hub::ListenAddress{"127.0.0.1", 0};
-  hub::Hub hub(settings, std::move(slots));
-  ASSERT_TRUE(hub.listen());
-  std::thread loop([&hub] { (void)hub.run(); });
-  struct Stop {
-    hub::Hub& hub;
-    std::thread& loop;
-    ~Stop() {
-      hub.request_stop();
-      loop.join();
-    }
-  } stop{hub, loop};
+  InProcessHub hub(std::move(slots));
+  ASSERT_TRUE(hub.listening);
 
   // 9 deg at 0.18 deg: 51 layers, about 15 s: the power cycle (5 s, 1.5 s off) comes mid-scan.
   auto scan = daemon::test::DaemonProcess::start_program(
