@@ -350,10 +350,7 @@ TEST(WireFaultsCan, SameSeedAndConversationGiveTheSameFramesAndEventsTwice) {
     d.process->wait();
     return std::pair{transcript, d.events()};
   };
-  const auto first = run();
-  const auto second = run();
-  EXPECT_EQ(first.first, second.first);
-  EXPECT_EQ(first.second, second.second);
+  const auto first = run_twice_expect_same(run);
   // Each fault acted at least once, and not on every request.
   for (const char* kind : {"garbage", "drop_reply", "isotp_repeat_cf", "isotp_bad_sn", "isotp_fc_overflow"}) {
     EXPECT_NE(first.second.find("\"kind\":\"" + std::string(kind) + "\""), std::string::npos) << kind << "\n" << first.second;

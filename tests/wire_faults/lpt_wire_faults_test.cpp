@@ -130,10 +130,7 @@ TEST(WireFaultsLpt, SameSeedAndConversationGiveTheSameStepsAndEventsTwice) {
     d.daemon.process->wait();
     return std::pair{transcript, d.daemon.events()};
   };
-  const auto first = run();
-  const auto second = run();
-  EXPECT_EQ(first.first, second.first);
-  EXPECT_EQ(first.second, second.second);
+  const auto first = run_twice_expect_same(run);
   std::string expected_tail;
   for (const std::uint64_t steps : expected_steps) expected_tail += " steps " + std::to_string(steps) + "\n";
   std::string steps_seen;

@@ -244,10 +244,7 @@ TEST(WireFaultsTcp, SameSeedAndConversationGiveTheSameBytesAndEventsTwice) {
     d.process->wait();
     return std::pair{transcript, d.events()};
   };
-  const auto first = run();
-  const auto second = run();
-  EXPECT_EQ(first.first, second.first);
-  EXPECT_EQ(first.second, second.second);
+  const auto first = run_twice_expect_same(run);
   EXPECT_NE(first.first.find("GET_STATUS -> " + kCorruptStatusFrame), std::string::npos) << first.first;
   EXPECT_NE(first.first.find("GET_STATUS -> " + kGoodStatusFrame), std::string::npos) << first.first;
   std::size_t garbled = 0;  // replies with bytes before their header
@@ -294,10 +291,7 @@ TEST(WireFaultsSerial, SameSeedAndConversationGiveTheSameBytesAndEventsTwice) {
     d.process->wait();
     return std::pair{transcript, d.events()};
   };
-  const auto first = run();
-  const auto second = run();
-  EXPECT_EQ(first.first, second.first);
-  EXPECT_EQ(first.second, second.second);
+  const auto first = run_twice_expect_same(run);
   const std::string good = "GET_STATUS -> " + to_hex(as_bytes(kSerialStatusReply)) + "\n";
   EXPECT_NE(first.first.find(good), std::string::npos) << first.first;
   EXPECT_NE(first.first.find("GET_STATUS -> (nothing)"), std::string::npos) << first.first;  // dropped

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "daemon_process.hpp"
@@ -69,5 +70,16 @@ struct InProcessTcp {
     return daemon->run_until(done, wall_limit);
   }
 };
+
+// The determinism tests' check: one conversation run twice gives the same bytes (.first) and the
+// same event log (.second); returns the first run for the test's own expectations.
+template <typename Run>
+auto run_twice_expect_same(const Run& run) {
+  auto first = run();
+  const auto second = run();
+  EXPECT_EQ(first.first, second.first);
+  EXPECT_EQ(first.second, second.second);
+  return first;
+}
 
 }  // namespace ldoem::wire_faults::test
