@@ -317,5 +317,49 @@ TEST(DaemonScanners, FlashInAFolderThatDoesNotExist_ExitsTwoBeforeStarting) {
       << process->stderr_text();
 }
 
+// Issue 11, no data lost: a flash that cannot be saved at exit is exit 1 with a line naming the
+// file and the OS error, not a clean stop. We run as root, so the folder is taken away instead
+// of made read-only.
+TEST(DaemonScanners, FlashFolderRemovedWhileRunning_SigtermExitsOneNamingTheFile) {
+  TempDir dir;
+  const std::string scene = dir.write("cell.yaml", "scanner: {}\n");
+  const std::filesystem::path state = dir.path("state");
+  std::filesystem::create_directory(state);
+  const std::string flash = (state / "cell.flash").string();
+  auto process = DaemonProcess::start({"--scene", scene, "--no-can", "--tcp", "127.0.0.1:0", "--flash", flash});
+  ASSERT_TRUE(process);
+  ASSERT_TRUE(process->wait_ready()) << process->stderr_text();
+  std::filesystem::remove_all(state);
+  process->signal(SIGTERM);
+  EXPECT_EQ(process->wait(), std::optional<int>(1)) << process->stderr_text();
+  EXPECT_NE(process->stderr_text().find("error: flash " + flash + " not saved: mkstemp: No such file or directory"),
+            std::string::npos)
+      << process->stderr_text();
+}
+
+// One scanner's folder replaced by a file: its flash is lost (exit 1), the next one's is saved.
+TEST(DaemonScanners, OneScannersFlashFolderReplacedByAFile_TheOthersIsStillSaved) {
+  TempDir dir;
+  const std::string scene = dir.write("cell.yaml", "scanners:\n  - {name: a, flash_file: gone/a.img, endpoints: {tcp: 0}}\n"
+                                                   "  - {name: b, flash_file: b.img, endpoints: {tcp: 0}}\n");
+  const std::filesystem::path gone = dir.path("gone");
+  std::filesystem::create_directory(gone);
+  auto process = DaemonProcess::start({"--scene", scene, "--no-can"});
+  ASSERT_TRUE(process);
+  ASSERT_TRUE(process->wait_ready()) << process->stderr_text();
+  std::filesystem::remove_all(gone);
+  std::ofstream(gone) << "a file where the folder was\n";
+  ASSERT_FALSE(std::filesystem::exists(dir.path("b.img")));  // nothing written before exit
+  process->signal(SIGTERM);
+  EXPECT_EQ(process->wait(), std::optional<int>(1)) << process->stderr_text();
+  EXPECT_NE(process->stderr_text().find("flash " + (gone / "a.img").string() + " not saved: mkstemp: Not a directory"),
+            std::string::npos)
+      << process->stderr_text();
+  std::ifstream saved(dir.path("b.img"));
+  std::string first_line;
+  std::getline(saved, first_line);
+  EXPECT_EQ(first_line, "ldoem-flash 1");
+}
+
 }  // namespace
 }  // namespace ldoem::daemon::test

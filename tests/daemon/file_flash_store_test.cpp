@@ -46,8 +46,9 @@ TEST_F(FlashFile, ASymlinkAtTheOldFixedTemporaryNameIsNotFollowed) {
 
 TEST_F(FlashFile, UnwritableFolder_IsReportedAndLeavesNothing) {
   FileFlashStore store(folder_ / "missing" / "scene.flash");
-  store.save(protocol::Bytes{'x'});
-  EXPECT_NE(store.last_error(), "");
+  EXPECT_FALSE(store.save(protocol::Bytes{'x'}));
+  EXPECT_EQ(store.last_error(), "flash " + (folder_ / "missing" / "scene.flash").string() +
+                                    " not saved: mkstemp: No such file or directory");
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder_), {}), 0);
 }
 

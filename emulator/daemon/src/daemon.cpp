@@ -367,8 +367,12 @@ int Daemon::run() {
   while (!d.loop->stop_requested() && d.round()) {
   }
   sd_notify(0, "STOPPING=1");
-  for (const auto& device : d.devices) device->close();
+  // Every device's flash is tried; one lost flash makes the exit a failure, even after SIGTERM
+  // (the services' SuccessExitStatus=143 would otherwise hide it).
+  bool every_flash_saved = true;
+  for (const auto& device : d.devices) every_flash_saved = device->close() && every_flash_saved;
   d.logger.log(endpoints::LogLevel::info, format_counters(d.counters()));
+  if (!every_flash_saved) return kExitRuntimeFailure;
   if (d.stop_signal) return kExitSignalBase + *d.stop_signal;
   return d.fatal ? kExitRuntimeFailure : kExitOk;
 }

@@ -187,18 +187,17 @@ void DeviceInstance::send_to_host(ConnectionId to, protocol::ByteView payload, b
   if (route != route_.end()) route->second->send(to, payload);
 }
 
-void DeviceInstance::save_flash(protocol::ByteView image) {
-  flash_->save(image);
-  if (auto* file = dynamic_cast<FileFlashStore*>(flash_.get()); file && !file->last_error().empty()) {
-    logger_.log(LogLevel::error, file->last_error());
-  }
+bool DeviceInstance::save_flash(protocol::ByteView image) {
+  if (flash_->save(image)) return true;
+  const auto* file = dynamic_cast<const FileFlashStore*>(flash_.get());
+  logger_.log(LogLevel::error, file != nullptr ? file->last_error() : "flash not saved");
+  return false;
 }
 
-void DeviceInstance::close() {
+bool DeviceInstance::close() {
   for (const auto& endpoint : endpoints_) endpoint->close();
-  if (dynamic_cast<FileFlashStore*>(flash_.get()) != nullptr) {
-    save_flash(control::serialise_flash_image(unit_->state().flash));
-  }
+  if (dynamic_cast<FileFlashStore*>(flash_.get()) == nullptr) return true;
+  return save_flash(control::serialise_flash_image(unit_->state().flash));
 }
 
 Counters DeviceInstance::counters() const {

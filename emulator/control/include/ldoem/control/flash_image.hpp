@@ -58,13 +58,17 @@ class FlashStore {
   virtual ~FlashStore() = default;
   // The stored bytes; empty when nothing was ever saved.
   virtual protocol::Bytes load() const = 0;
-  virtual void save(protocol::ByteView image) = 0;
+  // False when the image was not stored (a file store: a removed folder, a full disk).
+  virtual bool save(protocol::ByteView image) = 0;
 };
 
 class MemoryFlashStore final : public FlashStore {
  public:
   protocol::Bytes load() const override { return image_; }
-  void save(protocol::ByteView image) override { image_.assign(image.begin(), image.end()); }
+  bool save(protocol::ByteView image) override {
+    image_.assign(image.begin(), image.end());
+    return true;
+  }
 
  private:
   protocol::Bytes image_;

@@ -68,8 +68,9 @@ class DeviceInstance final : public endpoints::EndpointSink, public endpoints::L
   void disconnect(control::ConnectionId connection);
 
   bool waiting_for_host() const;
-  // Flushes the endpoints and saves the flash (at exit).
-  void close();
+  // Flushes the endpoints and saves the flash (at exit). False when the flash was not saved
+  // (the error is logged): the daemon then exits 1.
+  [[nodiscard]] bool close();
   Counters counters() const;
   const control::ControlUnit& unit() const { return *unit_; }
   // The fault machinery (D11, fault_wiring.hpp) acts on the control unit directly and hands the
@@ -96,7 +97,7 @@ class DeviceInstance final : public endpoints::EndpointSink, public endpoints::L
   // Runs `input` now, or after the Actions being performed when called from inside them.
   void accept_input(std::function<void()> input);
   void perform(base::SimTime at, const control::Actions& actions);
-  void save_flash(protocol::ByteView image);
+  bool save_flash(protocol::ByteView image);  // logs a failure
 
   endpoints::Scheduler& scheduler_;
   const endpoints::Logger& logger_;

@@ -23,8 +23,8 @@ class FileFlashStore final : public control::FlashStore {
   base::Expected<protocol::Bytes, std::string> read() const;
   // read(), with an unreadable file as empty (the FlashStore interface has no error channel).
   protocol::Bytes load() const override;
-  // Failures are remembered in last_error() (the interface has no error channel).
-  void save(protocol::ByteView image) override;
+  // False on failure; last_error() then names the flash file, the step and the OS error.
+  bool save(protocol::ByteView image) override;
 
   const std::filesystem::path& path() const { return path_; }
   const std::string& last_error() const { return last_error_; }
