@@ -32,6 +32,7 @@ std::string_view describe(FailureReason reason) {
     case FailureReason::wrong_state: return "not allowed in the current state";
     case FailureReason::out_of_range: return "parameter out of range";
     case FailureReason::framing: return "framing error";
+    case FailureReason::flash_not_stored: return "flash write failed";
   }
   return "unlisted failure reason";
 }

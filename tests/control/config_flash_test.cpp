@@ -151,6 +151,37 @@ TEST(FlashPersistence, UnchangedFlash_IsNotRewritten) {
   EXPECT_EQ(bench.flash_writes.size(), 1u);
 }
 
+// A flash store that refuses every write (the daemon's file store with its folder gone).
+class RefusingFlashStore final : public FlashStore {
+ public:
+  protocol::Bytes load() const override { return {}; }
+  bool save(protocol::ByteView) override {
+    ++attempts;
+    return false;
+  }
+  int attempts = 0;
+};
+
+// L-flash-1: a flash write that is not stored is never answered as a success, and changes
+// neither RAM nor flash: each service answers its own error, SET_FILTER (which has none) reason 6.
+TEST(FlashPersistence, AWriteTheStoreRefuses_IsAnsweredAsAnErrorAndChangesNothing) {
+  RefusingFlashStore store;
+  ControlUnit::Setup setup;
+  setup.flash_store = &store;
+  Bench bench(setup);
+  const DeviceState before = bench.unit.state();
+  EXPECT_EQ(bench.reply_text(kTcp1, "SET_CONFIG 0010 0001 000c 0004"), "SET_CONFIG reply 0001");
+  EXPECT_EQ(bench.reply_text(kTcp1, "SET_FILTER 0001 0001"), "SERVICE_FAILURE 0209 0006");
+  EXPECT_EQ(bench.reply_text(kTcp1, "SET_FUNCTION 0000 0003 0800 0001"), "SET_FUNCTION reply ffff");
+  EXPECT_EQ(store.attempts, 3);
+  EXPECT_TRUE(bench.flash_writes.empty());
+  EXPECT_EQ(bench.unit.state(), before);
+  // What needs no flash still works: a SET_CONFIG that changes nothing, and a RAM-only sector.
+  EXPECT_EQ(bench.reply_text(kTcp1, "SET_CONFIG 0010 0001 000a 0004"), "SET_CONFIG reply 0000");
+  EXPECT_EQ(bench.reply_text(kTcp1, "SET_FUNCTION 0000 0003 0800 0000"), "SET_FUNCTION reply 0000");
+  EXPECT_EQ(store.attempts, 3);
+}
+
 TEST(SetFunction, InvalidRequests_AnswerFFFFAndChangeNothing) {
   for (const char* request : {"SET_FUNCTION 0008 0003 0800 0000", "SET_FUNCTION 0000 0002 0800 0000",
                               "SET_FUNCTION 0000 0005 0800 0000", "SET_FUNCTION 0000 0003 1688 0000",

@@ -12,6 +12,7 @@
 #include "host_link.hpp"
 #include "ldoem/daemon/scanner_options.hpp"
 #include "ldoem/protocol/profile.hpp"
+#include "ldoem/protocol/text.hpp"
 #include "ldoem/scene/scene.hpp"
 #include "ldoem/scene/scene_loader.hpp"
 
@@ -358,6 +359,44 @@ TEST(DaemonScanners, OneScannersFlashFolderReplacedByAFile_TheOthersIsStillSaved
   std::ifstream saved(dir.path("b.img"));
   std::string first_line;
   std::getline(saved, first_line);
+  EXPECT_EQ(first_line, "ldoem-flash 1");
+}
+
+// L-flash-1: with the flash's folder gone, a host's flash write is answered as the service's
+// error (SET_FILTER, which has none: SERVICE_FAILURE reason 6), never as a success, and the
+// device keeps what it had.
+TEST(DaemonScanners, FlashFolderRemovedWhileRunning_FlashWritesAreAnsweredAsErrors) {
+  TempDir dir;
+  const std::string scene = dir.write("cell.yaml", "scanner: {}\n");
+  const std::filesystem::path state = dir.path("state");
+  std::filesystem::create_directory(state);
+  const std::string flash = (state / "cell.flash").string();
+  auto process = DaemonProcess::start(
+      {"--scene", scene, "--no-can", "--tcp", "127.0.0.1:0", "--flash", flash, "--timeout", "60"});
+  ASSERT_TRUE(process);
+  ASSERT_TRUE(process->wait_ready()) << process->stderr_text();
+  auto host = TcpHost::connect(process->tcp_port());
+  ASSERT_TRUE(host);
+  const auto answer = [&](std::string_view request) {
+    host->send(telegram(request));
+    const auto payload = host->next_payload();
+    return payload ? protocol::format_telegram(*payload) : std::string("(no reply)");
+  };
+  std::filesystem::remove_all(state);
+  EXPECT_EQ(answer("SET_CONFIG 0010 0001 000c 0004"), "SET_CONFIG reply 0001");
+  EXPECT_EQ(answer("SET_FILTER 0001 0001"), "SERVICE_FAILURE 0209 0006");
+  EXPECT_EQ(answer("SET_FUNCTION 0000 0003 0800 0001"), "SET_FUNCTION reply ffff");
+  EXPECT_EQ(answer("GET_CONFIG 0010"), "GET_CONFIG reply 0010 0001 000a 0004");  // unchanged
+  EXPECT_EQ(answer("GET_FUNCTION 0000"), "GET_FUNCTION reply 0000 0003 0870");
+  EXPECT_NE(process->stderr_text().find("error: flash " + flash + " not saved: mkstemp: No such file or directory"),
+            std::string::npos)
+      << process->stderr_text();
+  // The folder back: the same write is stored and answered as a success.
+  std::filesystem::create_directory(state);
+  EXPECT_EQ(answer("SET_FILTER 0001 0001"), "SET_FILTER reply 0001");
+  std::ifstream image(flash);
+  std::string first_line;
+  std::getline(image, first_line);
   EXPECT_EQ(first_line, "ldoem-flash 1");
 }
 

@@ -85,6 +85,7 @@ TEST(FailureReason, WordValues_MatchD2) {
   EXPECT_EQ(static_cast<std::uint16_t>(FailureReason::wrong_state), 3);
   EXPECT_EQ(static_cast<std::uint16_t>(FailureReason::out_of_range), 4);
   EXPECT_EQ(static_cast<std::uint16_t>(FailureReason::framing), 5);
+  EXPECT_EQ(static_cast<std::uint16_t>(FailureReason::flash_not_stored), 6);  // ours, L-flash-1
   EXPECT_EQ(failure_reason_for_framing(DecodeError::bad_crc), FailureReason::framing);
   EXPECT_EQ(failure_reason_for_framing(DecodeError::bad_checksum), FailureReason::framing);
   EXPECT_EQ(failure_reason_for_framing(DecodeError::bad_length), FailureReason::wrong_length);

@@ -29,7 +29,7 @@ code_names[0x8301] = "PROFILE"
 local sensor_modes = { [1] = "IDLE", [2] = "ROTATE", [3] = "MEASURE", [4] = "ERROR" }
 local motor_modes = { [0] = "OK", [4] = "spin too low", [9] = "spin too high", [11] = "stopped or encoder error" }
 local failure_reasons = { [1] = "unknown service", [2] = "wrong length", [3] = "not allowed in this state",
-                          [4] = "parameter out of range", [5] = "framing error" }
+                          [4] = "parameter out of range", [5] = "framing error", [6] = "flash write failed" }
 local ident_items = { [0x00] = "LD part number", [0x01] = "LD name", [0x02] = "LD version", [0x03] = "LD serial number",
                       [0x04] = "EDM serial number", [0x10] = "firmware part number", [0x11] = "firmware name",
                       [0x12] = "firmware version", [0x20] = "application part number", [0x21] = "application name",

@@ -192,10 +192,13 @@ TimerId ControlUnit::arm_timer(Actions& out, SimTime at) {
   return id;
 }
 
-void ControlUnit::write_flash(Actions& out, const DeviceConfig& flash) {
-  if (flash == state_.flash) return;
+bool ControlUnit::write_flash(Actions& out, const DeviceConfig& flash) {
+  if (flash == state_.flash) return true;
+  protocol::Bytes image = serialise_flash_image(flash);
+  if (setup_.flash_store != nullptr && !setup_.flash_store->save(image)) return false;
   state_.flash = flash;
-  out.flash_image = serialise_flash_image(flash);
+  out.flash_image = std::move(image);
+  return true;
 }
 
 namespace {

@@ -45,8 +45,11 @@ void ControlUnit::serve(const Event& event, const protocol::SetConfig& request) 
   DeviceConfig flash = state_.flash;
   [[maybe_unused]] const auto flash_issue = apply_config_body(flash, request.body);
   if (protocol::key_of(request.body) == protocol::ConfigKey::global) flash.sectors = ram.sectors;
+  if (!write_flash(event.out, flash)) {  // L-flash-1: not stored, nothing changes
+    reply(event, protocol::SetConfigReply{protocol::kSetConfigRefused});
+    return;
+  }
   state_.ram = ram;
-  write_flash(event.out, flash);
   reply(event, protocol::SetConfigReply{protocol::kSetConfigSuccess});
 }
 
@@ -88,10 +91,13 @@ void ControlUnit::serve(const Event& event, const protocol::SetFilter& request) 
     return;
   }
   // Spec 3.3: the filter setting is stored in flash. D14 (near_field_filter.hpp) says what it does.
-  state_.ram.near_field_filter_on = request.value == 1;
   DeviceConfig flash = state_.flash;
-  flash.near_field_filter_on = state_.ram.near_field_filter_on;
-  write_flash(event.out, flash);
+  flash.near_field_filter_on = request.value == 1;
+  if (!write_flash(event.out, flash)) {  // L-flash-1: SET_FILTER has no in-band error
+    fail(event, Service::set_filter, FailureReason::flash_not_stored);
+    return;
+  }
+  state_.ram.near_field_filter_on = flash.near_field_filter_on;
   reply(event, protocol::SetFilterReply{request.item});
 }
 
@@ -102,13 +108,16 @@ void ControlUnit::serve(const Event& event, const protocol::SetFunction& request
     reply(event, protocol::SetFunctionReply{protocol::kSetFunctionInvalid});
     return;
   }
-  state_.ram.sectors[request.sector] = sector;
   constexpr std::uint16_t kWriteToFlash = 1;  // spec 3.3: any other value is temporary
   if (request.flash_flag == kWriteToFlash) {
     DeviceConfig flash = state_.flash;
     flash.sectors[request.sector] = sector;
-    write_flash(event.out, flash);
+    if (!write_flash(event.out, flash)) {  // L-flash-1: not stored, nothing changes
+      reply(event, protocol::SetFunctionReply{protocol::kSetFunctionInvalid});
+      return;
+    }
   }
+  state_.ram.sectors[request.sector] = sector;
   reply(event, protocol::SetFunctionReply{request.sector});  // D3
 }
 

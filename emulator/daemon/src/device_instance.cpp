@@ -19,6 +19,7 @@ DeviceInstance::DeviceInstance(const scene::Scene& scene, plant::SceneWorld& wor
   setup.flash = flash_config;
   setup.identification = plant::identification_from(scene.scanner.identification);
   setup.power_up_time = SimTime::zero();
+  setup.flash_store = this;
   unit_ = std::make_unique<control::ControlUnit>(std::move(setup), plant_.head_model(), plant_.measurement());
 }
 
@@ -161,9 +162,6 @@ void DeviceInstance::perform(SimTime at, const control::Actions& actions) {
       timer_keys_.erase(id.value);
       perform(now, unit_->on_timer(now, id, *this));
     });
-  }
-  if (actions.flash_image) {
-    save_flash(*actions.flash_image);
   }
   if (actions.head_target_hz) {
     plant_.follow_head_target(at, *actions.head_target_hz);  // D9 head_dynamics

@@ -39,6 +39,7 @@ enum class FailureReason : std::uint16_t {
   wrong_state = 0x0003,      // not allowed in the current state (spec 5 with D2's entries)
   out_of_range = 0x0004,     // parameter out of range
   framing = 0x0005,          // TCP bad header/checksum, serial bad CRC/hex
+  flash_not_stored = 0x0006, // the flash write failed; nothing changed (ours, L-flash-1)
 };
 
 std::string_view describe(FailureReason reason);

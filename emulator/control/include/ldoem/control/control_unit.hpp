@@ -15,8 +15,8 @@
 //   on close:        run(unit.on_connection_closed(now, connection));
 // where run() sends the telegrams in order (each in one piece, D10), drops the cancelled
 // timers, arms the new ones (on_timer(at, id) when simulated time reaches `at`), saves
-// flash_image through the FlashStore when present, and passes a new head target or CAN
-// configuration on (ports.hpp Actions).
+// and passes a new head target or CAN configuration on (ports.hpp Actions). Flash writes go to
+// Setup::flash_store before the reply is built; Actions::flash_image reports what was stored.
 #pragma once
 
 #include <cstdint>
@@ -29,6 +29,7 @@
 #include "ldoem/control/device_clock.hpp"
 #include "ldoem/control/device_config.hpp"
 #include "ldoem/control/device_faults.hpp"
+#include "ldoem/control/flash_image.hpp"
 #include "ldoem/control/identification.hpp"
 #include "ldoem/control/ports.hpp"
 #include "ldoem/protocol/framing.hpp"
@@ -122,6 +123,10 @@ class ControlUnit {
     DeviceConfig flash = factory_config();  // what flash holds at power-up (load_flash_or)
     IdentificationTexts identification = default_identification();
     SimTime power_up_time{};
+    // Where a service's flash write is stored, before its reply (must outlive the unit; null:
+    // nowhere, every write succeeds). A write it refuses leaves RAM and flash as they were and
+    // the host gets the service's error (docs/decisions-local.md L-flash-1), never a success.
+    FlashStore* flash_store = nullptr;
   };
 
   // head and measurement must outlive the control unit.
@@ -204,8 +209,9 @@ class ControlUnit {
   void reply(const Event& event, const protocol::Response& response);
   void fail(const Event& event, protocol::Service service, protocol::FailureReason reason);
   TimerId arm_timer(Actions& out, SimTime at);
-  // Stores `flash` as the new flash content; emits the image when it changed.
-  void write_flash(Actions& out, const DeviceConfig& flash);
+  // Stores `flash` as the new flash content (through Setup::flash_store) and emits the image
+  // when it changed. False when the store refused it: state_.flash is then unchanged.
+  [[nodiscard]] bool write_flash(Actions& out, const DeviceConfig& flash);
   protocol::StatusBlock status_block() const;
 
   // Head and revolutions (control_unit_motion.cpp).

@@ -63,7 +63,8 @@ struct TimerRequest {
 };
 
 // Everything one event makes the daemon do, in order: send `telegrams` in vector order, drop
-// `cancelled_timers`, arm `timers`, and if `flash_image` is set, store it (FlashStore::save).
+// `cancelled_timers`, arm `timers`. `flash_image` is the image this event wrote to flash, already
+// stored through ControlUnit::Setup::flash_store.
 // The daemon is told what changed; it never compares the unit's state after an event:
 // - head_target_hz: the head's target speed changed at this event's time (a spin-up began, or
 //   the head stopped); the D9 head_dynamics model follows it.

@@ -3,10 +3,11 @@
 // scanners in one daemon): each has its own plant, flash and endpoints, and all use the daemon's
 // loop and clock.
 //
-// The instance is the endpoints' sink and the control unit's TransportQuery. It performs what the
-// control unit returns (Actions) and nothing else: telegrams to the endpoints (through the
-// WireTap when one is set), timers to the scheduler (stale ones cancelled), flash images to the
-// store, a new head target to the plant, a new CAN configuration to the endpoints. Input that
+// The instance is the endpoints' sink and the control unit's TransportQuery and FlashStore (a
+// flash write is stored before its reply is built). It performs what the control unit returns
+// (Actions) and nothing else: telegrams to the endpoints (through the WireTap when one is set),
+// timers to the scheduler (stale ones cancelled), a new head target to the plant, a new CAN
+// configuration to the endpoints. Input that
 // arrives while Actions are being performed (a connection that a send dropped) waits until they
 // are done: no call re-enters the control unit from its own output.
 #pragma once
@@ -32,7 +33,10 @@ namespace ldoem::daemon {
 using endpoints::Counters;
 using endpoints::HostEndpoint;
 
-class DeviceInstance final : public endpoints::EndpointSink, public endpoints::LptSink, private control::TransportQuery {
+class DeviceInstance final : public endpoints::EndpointSink,
+                             public endpoints::LptSink,
+                             private control::TransportQuery,
+                             private control::FlashStore {
  public:
   // Builds the plant on `world` and the control unit powered up with `flash_config` (what
   // `flash` holds, or the scene's defaults, D4). `scene`, `world`, `scheduler` and `logger` must
@@ -94,6 +98,10 @@ class DeviceInstance final : public endpoints::EndpointSink, public endpoints::L
 
  private:
   bool busy(control::ConnectionId connection) const override;  // D10, asked by the control unit
+  // The control unit's flash store: a write the file store refuses is logged, and the unit
+  // answers the service's error (L-flash-1).
+  protocol::Bytes load() const override { return flash_->load(); }
+  bool save(protocol::ByteView image) override { return save_flash(image); }
   // Runs `input` now, or after the Actions being performed when called from inside them.
   void accept_input(std::function<void()> input);
   void perform(base::SimTime at, const control::Actions& actions);
