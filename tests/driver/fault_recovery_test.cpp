@@ -13,12 +13,15 @@
 #include "ldoem/protocol/messages.hpp"
 #include "ldoem/protocol/tcp_framing.hpp"
 #include "tcp_server.hpp"
+#include "test_support.hpp"
 
 namespace ldoem::driver {
 namespace {
 
 namespace p = protocol;
+using test::encoded;
 using test::FakeTransport;
+using test::kStatusIdle;
 using namespace std::chrono_literals;
 
 // ------------------------------------------------------------------------ classification
@@ -101,10 +104,6 @@ TEST(DeviceFaultIn, MotorNibbleOrErrorMode_IsDeviceFaultWithTheByte) {
 }
 
 // ---------------------------------------------------------------------------- Scanner
-
-Bytes encoded(const p::Response& response) { return p::encode_response(response); }
-Bytes encoded(const p::Request& request) { return p::encode_request(request); }
-const Bytes kStatusIdle = encoded(p::Response{p::GetStatusReply{p::make_status_block(p::SensorMode::idle, p::MotorMode::ok), {}}});
 
 class ScannerFaultTest : public ::testing::Test {
  protected:

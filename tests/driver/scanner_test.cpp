@@ -15,22 +15,21 @@ namespace ldoem::driver {
 namespace {
 
 namespace p = protocol;
+using test::encoded;
 using test::FakeTransport;
 using test::hex_text;
+using test::kStatusIdle;
 using test::SpecVectors;
 using test::tcp_payload;
 using namespace std::chrono_literals;
 
 Bytes request_payload(const std::string& name) { return tcp_payload(SpecVectors::get().request(name)); }
 Bytes reply_payload(const std::string& name) { return tcp_payload(SpecVectors::get().reply(name)); }
-Bytes encoded(const p::Response& response) { return p::encode_response(response); }
-Bytes encoded(const p::Request& request) { return p::encode_request(request); }
 
 Bytes failure(std::uint16_t request_code, p::FailureReason reason) {
   return encoded(p::Response{p::ServiceFailure{request_code, reason}});
 }
 
-const Bytes kStatusIdle = reply_payload("GET_STATUS, IDLE, motor OK");
 const Bytes kProfileRange = reply_payload(
     "Profile 0x39FF: sent 1, count 100, layer 0, sector 0, step 0.5°, 3 points, t 0x1234→0x1236 ms, 0°→1°, "
     "distances 1 m / 2.5 m / 0");

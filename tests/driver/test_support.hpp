@@ -1,4 +1,5 @@
-// Helpers shared by the driver tests: hex text, the spec section 7 vectors, frame payloads.
+// Helpers shared by the driver tests: hex text, the spec section 7 vectors, frame payloads,
+// protocol's encoder for the telegrams the spec has no row for.
 #pragma once
 
 #include <yaml-cpp/yaml.h>
@@ -10,6 +11,7 @@
 #include <string>
 
 #include "ldoem/protocol/bytes.hpp"
+#include "ldoem/protocol/messages.hpp"
 
 namespace ldoem::driver::test {
 
@@ -45,6 +47,9 @@ inline std::string hex_text(const Bytes& bytes) {
 
 // The payload inside a whole TCP frame (spec 4.1): bytes 8 .. size-1.
 inline Bytes tcp_payload(const Bytes& frame) { return Bytes(frame.begin() + 8, frame.end() - 1); }
+
+inline Bytes encoded(const protocol::Response& response) { return protocol::encode_response(response); }
+inline Bytes encoded(const protocol::Request& request) { return protocol::encode_request(request); }
 
 // tests/vectors/spec-section7.yaml, section by section, keyed by the row name.
 struct SpecVectors {
@@ -86,5 +91,8 @@ struct SpecVectors {
     return vectors;
   }
 };
+
+// GET_STATUS's reply with the sensor idle and the motor ok: the payload of spec 7.2's row.
+inline const Bytes kStatusIdle = tcp_payload(SpecVectors::get().reply("GET_STATUS, IDLE, motor OK"));
 
 }  // namespace ldoem::driver::test
