@@ -10,7 +10,8 @@ namespace {
 
 using namespace std::chrono_literals;
 
-protocol::CanFrame frame(std::uint32_t id, std::size_t length) {
+// A frame of `length` zero bytes: the pacer only looks at the length.
+protocol::CanFrame zero_filled_frame(std::uint32_t id, std::size_t length) {
   protocol::CanFrame out;
   out.id = id;
   out.length = static_cast<std::uint8_t>(length);
@@ -35,8 +36,8 @@ TEST(CanFrameDuration, NominalBitsWithoutStuffing_AtTheBitRate) {
 
 TEST(CanBusPacer, FramesLeaveBackToBackWhenTheirLastBitIsOnTheBus) {
   CanBusPacer bus(1'000'000);
-  bus.push(SimTime::zero(), frame(0x6C1, 8));
-  bus.push(SimTime::zero(), frame(0x6C1, 2));
+  bus.push(SimTime::zero(), zero_filled_frame(0x6C1, 8));
+  bus.push(SimTime::zero(), zero_filled_frame(0x6C1, 2));
   EXPECT_EQ(bus.deadline(), std::optional<SimTime>(111us));
   EXPECT_TRUE(bus.take_due(110us).empty());
   EXPECT_TRUE(bus.pending_for(0x6C1));
@@ -50,16 +51,16 @@ TEST(CanBusPacer, FramesLeaveBackToBackWhenTheirLastBitIsOnTheBus) {
 
 TEST(CanBusPacer, IdleBus_StartsAFrameWhenItIsPushed) {
   CanBusPacer bus(500'000);
-  bus.push(10ms, frame(0x6C1, 8));
+  bus.push(10ms, zero_filled_frame(0x6C1, 8));
   EXPECT_EQ(bus.deadline(), std::optional<SimTime>(10ms + 222us));
   EXPECT_FALSE(bus.pending_for(0x6C3));
 }
 
 TEST(CanBusPacer, NewBitRate_AppliesToFramesPushedAfterIt) {
   CanBusPacer bus(1'000'000);
-  bus.push(SimTime::zero(), frame(0x6C1, 8));
+  bus.push(SimTime::zero(), zero_filled_frame(0x6C1, 8));
   bus.set_bit_rate(125'000);
-  bus.push(SimTime::zero(), frame(0x6C1, 8));
+  bus.push(SimTime::zero(), zero_filled_frame(0x6C1, 8));
   EXPECT_EQ(bus.bus_free_at(), 111us + 888us);
 }
 
