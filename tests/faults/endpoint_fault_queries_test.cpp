@@ -6,12 +6,13 @@
 #include <algorithm>
 
 #include "ldoem/faults/fault_scheduler.hpp"
+#include "request_codes.hpp"
 
 namespace ldoem::faults {
 namespace {
 
 using namespace std::chrono_literals;
-constexpr std::uint16_t kGetStatus = 0x0102;
+using test::kGetStatus;
 
 TEST(FaultGarbage, IsAPureFunctionOfSeedAndIdWithoutAFrameStart) {
   const auto bytes = fault_garbage(7, 1, 4096);

@@ -3,12 +3,14 @@
 
 #include <gtest/gtest.h>
 
+#include "request_codes.hpp"
+
 namespace ldoem::faults {
 namespace {
 
 using namespace std::chrono_literals;
-constexpr std::uint16_t kGetStatus = 0x0102;
-constexpr std::uint16_t kGetProfile = 0x0301;
+using test::kGetProfile;
+using test::kGetStatus;
 
 FaultSpec spec_of(FaultKind kind, Trigger trigger = TriggerNow{}) {
   FaultSpec spec;
