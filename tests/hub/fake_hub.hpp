@@ -18,6 +18,9 @@ namespace ldoem::hub::hub_testing {
 using driver::Clock;
 using std::chrono::milliseconds;
 
+// The deadline of every wait in the hub's tests: far beyond a loaded machine's need, but bounded.
+inline Deadline soon() { return Clock::now() + milliseconds(10000); }
+
 // Answers are functions of the device number and the request, so a reply shows where it came
 // from: status byte 0 = device number, byte 1 = the ROTATE frequency asked for.
 class FakeDevice final : public Device {

@@ -12,9 +12,8 @@ namespace {
 
 using driver::Clock;
 using hub_testing::RunningHub;
+using hub_testing::soon;
 using std::chrono::milliseconds;
-
-Deadline soon() { return Clock::now() + milliseconds(10000); }
 
 TEST(HubFaults, OneFaultedDevice_EveryClientHearsOfIt_AndTheOtherDeviceIsServed) {
   RunningHub running(2);

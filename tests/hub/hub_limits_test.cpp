@@ -22,9 +22,8 @@ namespace {
 
 using driver::Clock;
 using hub_testing::RunningHub;
+using hub_testing::soon;
 using std::chrono::milliseconds;
-
-Deadline soon() { return Clock::now() + milliseconds(10000); }
 
 // A plain TCP connection to the hub (HubClient would read for us; these tests must not).
 class RawClient {

@@ -18,9 +18,8 @@ namespace {
 using driver::Clock;
 using hub_testing::FakeDevice;
 using hub_testing::RunningHub;
+using hub_testing::soon;
 using std::chrono::milliseconds;
-
-Deadline soon() { return Clock::now() + milliseconds(10000); }
 
 TEST(Hub, SixteenClientsOnThreeDevices_EveryReplyReachesItsSenderUnmixed) {
   constexpr int kClients = 16;
