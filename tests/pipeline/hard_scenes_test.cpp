@@ -12,18 +12,15 @@
 #include <filesystem>
 #include <numbers>
 
+#include "committed_scenes.hpp"
+
 namespace ldoem::sensor {
 namespace {
 
 using scene::Effect;
 
-const std::filesystem::path kScenes = std::filesystem::path(LDOEM_SOURCE_DIR) / "scenes";
-
-const std::vector<std::string> kSceneFiles{
-    "corridor.yaml",           "minimal.yaml",           "hard/box_edges.yaml",
-    "hard/far_from_origin.yaml", "hard/grazing_plane.yaml", "hard/mesh_edges.yaml",
-    "hard/scanner_inside_box.yaml", "hard/tiny_and_huge.yaml",
-};
+using test::kSceneFiles;
+using test::kScenes;
 
 const std::vector<std::vector<Effect>> kAllSensorEffects{
     {Effect::waveform, Effect::snr_noise, Effect::intensity, Effect::incidence, Effect::atmosphere,

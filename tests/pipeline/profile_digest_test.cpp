@@ -16,12 +16,15 @@
 #include <string>
 #include <vector>
 
+#include "committed_scenes.hpp"
+
 namespace ldoem::sensor {
 namespace {
 
 using scene::Effect;
 
-const std::filesystem::path kScenes = std::filesystem::path(LDOEM_SOURCE_DIR) / "scenes";
+using test::kSceneFiles;
+using test::kScenes;
 
 // FNV-1a over the samples' bytes (distance and echo, little-endian): any changed bit shows.
 std::uint64_t digest(const std::vector<BeamSample>& samples) {
@@ -70,12 +73,6 @@ const std::vector<EffectCombination> kPreD13Combinations{
     {"noise", {Effect::noise}},
     {"intensity_incidence", {Effect::intensity, Effect::incidence}},
     {"paper_mixed", {Effect::noise, Effect::intensity, Effect::incidence, Effect::mixed_pixels}},
-};
-
-const std::vector<std::string> kSceneFiles{
-    "corridor.yaml",           "minimal.yaml",           "hard/box_edges.yaml",
-    "hard/far_from_origin.yaml", "hard/grazing_plane.yaml", "hard/mesh_edges.yaml",
-    "hard/scanner_inside_box.yaml", "hard/tiny_and_huge.yaml",
 };
 
 // Recorded on main at 8ee7987 (before D13) with this very grid; key "scene|combination". A
