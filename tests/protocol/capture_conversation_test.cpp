@@ -13,10 +13,10 @@ namespace ldoem::protocol {
 namespace {
 
 using test::hex;
+using test::kStatusReply;
 using std::chrono::milliseconds;
 
 const Bytes kGetStatus = hex("01 02");
-const Bytes kStatusReply = hex("81 02 00 00 00 01");
 
 TcpSegment to_device(std::uint32_t sequence, ByteView payload, std::uint16_t host_port = 40000) {
   return TcpSegment{0x7F000001, 0x7F000002, host_port, base::kHostTcpPort, sequence, 0, kTcpAck, Bytes(payload.begin(), payload.end())};

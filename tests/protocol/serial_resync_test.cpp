@@ -11,14 +11,14 @@ namespace {
 
 using test::concat;
 using test::hex;
+using test::kClockReply;
+using test::kIdleReply;
+using test::kStatusReply;
 using test::telegrams_of;
 
-const Bytes kStatusReply = hex("81 02 00 00 00 01");
-const Bytes kIdleReply = hex("84 02 00 00 00 01");
-const Bytes kClockReply = hex("82 05 12 34");
 
 // good, cut short (no CRC, no ETX), good, garbage, bad CRC, good.
-Bytes faulty_stream() {
+Bytes faulty_serial_stream() {
   Bytes cut = encode_serial_reply(kIdleReply);
   cut.resize(cut.size() - 6);  // the CRC's last hex digits and ETX lost on the line
   Bytes bad_crc = encode_serial_reply(kClockReply);
@@ -27,22 +27,22 @@ Bytes faulty_stream() {
                  bad_crc, encode_serial_reply(kClockReply)});
 }
 
-const std::vector<Bytes> kSurvivors{kStatusReply, kIdleReply, kClockReply};
+const std::vector<Bytes> kSerialSurvivors{kStatusReply, kIdleReply, kClockReply};
 
 TEST(SerialResync, CutBadCrcAndGarbage_CostOnlyTheirOwnReply) {
   SerialReplyReassembler reassembler;
-  EXPECT_EQ(telegrams_of(reassembler.feed(faulty_stream())), kSurvivors);
+  EXPECT_EQ(telegrams_of(reassembler.feed(faulty_serial_stream())), kSerialSurvivors);
   EXPECT_EQ(reassembler.dropped_frames(), 2u);  // the cut package and the bad CRC
 }
 
 TEST(SerialResync, SplitAtEveryOffset_SameReplies) {
-  const Bytes stream = faulty_stream();
+  const Bytes stream = faulty_serial_stream();
   for (std::size_t split = 0; split <= stream.size(); ++split) {
     SerialReplyReassembler reassembler;
     auto events = reassembler.feed(ByteView(stream.data(), split));
     auto rest = reassembler.feed(ByteView(stream.data() + split, stream.size() - split));
     events.insert(events.end(), rest.begin(), rest.end());
-    EXPECT_EQ(telegrams_of(events), kSurvivors) << "split at " << split;
+    EXPECT_EQ(telegrams_of(events), kSerialSurvivors) << "split at " << split;
   }
 }
 

@@ -11,12 +11,12 @@ namespace {
 
 using test::concat;
 using test::hex;
+using test::kClockReply;
+using test::kIdleReply;
+using test::kStatusReply;
 using test::telegrams_of;
 
-const Bytes kStatusReply = hex("81 02 00 00 00 01");
-const Bytes kIdleReply = hex("84 02 00 00 00 01");
 const Bytes kProfileLike = hex("83 01 00 00 00 05 01 02 03 04 05 06 07 08");
-const Bytes kClockReply = hex("82 05 12 34");
 
 // A frame whose header promises `claimed` payload bytes but only `payload` follows: the bytes of
 // the next frames fill the promise (a frame truncated on the wire).
@@ -35,18 +35,18 @@ Bytes corrupted_frame(const Bytes& payload) {
 }
 
 // good, cut (claims 20 bytes, has 3), good, good, garbage, corrupted, good.
-Bytes faulty_stream() {
+Bytes faulty_tcp_stream() {
   return concat({encode_tcp_frame(kStatusReply), cut_frame(hex("81 02 00"), 20), encode_tcp_frame(kIdleReply),
                  encode_tcp_frame(kProfileLike), hex("FF 02 55 00 13 37 02"), corrupted_frame(kClockReply),
                  encode_tcp_frame(kClockReply)});
 }
 
-const std::vector<Bytes> kSurvivors{kStatusReply, kIdleReply, kProfileLike, kClockReply};
+const std::vector<Bytes> kTcpSurvivors{kStatusReply, kIdleReply, kProfileLike, kClockReply};
 
 TEST(TcpResync, RescanDropped_WholeStream_LosesOnlyTheBrokenFrames) {
   TcpDeframer deframer(kMaxTelegramPayload, TcpResync::rescan_dropped);
-  const auto events = deframer.feed(faulty_stream());
-  EXPECT_EQ(telegrams_of(events), kSurvivors);
+  const auto events = deframer.feed(faulty_tcp_stream());
+  EXPECT_EQ(telegrams_of(events), kTcpSurvivors);
   EXPECT_EQ(deframer.dropped_frames(), 2u);  // the cut frame (its checksum byte is wrong) and the corrupted one
   EXPECT_FALSE(deframer.in_frame());
 }
@@ -54,30 +54,30 @@ TEST(TcpResync, RescanDropped_WholeStream_LosesOnlyTheBrokenFrames) {
 TEST(TcpResync, AfterError_TheCutFrameSwallowsTheNextOne) {
   // The emulator's mode, for contrast: the reply after the cut frame is lost with it.
   TcpDeframer deframer;
-  const auto payloads = telegrams_of(deframer.feed(faulty_stream()));
-  EXPECT_LT(payloads.size(), kSurvivors.size());
+  const auto payloads = telegrams_of(deframer.feed(faulty_tcp_stream()));
+  EXPECT_LT(payloads.size(), kTcpSurvivors.size());
 }
 
 TEST(TcpResync, RescanDropped_SplitAtEveryOffset_SameTelegrams) {
-  const Bytes stream = faulty_stream();
+  const Bytes stream = faulty_tcp_stream();
   for (std::size_t split = 0; split <= stream.size(); ++split) {
     TcpDeframer deframer(kMaxTelegramPayload, TcpResync::rescan_dropped);
     auto events = deframer.feed(ByteView(stream.data(), split));
     auto rest = deframer.feed(ByteView(stream.data() + split, stream.size() - split));
     events.insert(events.end(), rest.begin(), rest.end());
-    EXPECT_EQ(telegrams_of(events), kSurvivors) << "split at " << split;
+    EXPECT_EQ(telegrams_of(events), kTcpSurvivors) << "split at " << split;
   }
 }
 
 TEST(TcpResync, RescanDropped_ByteByByte_SameTelegrams) {
-  const Bytes stream = faulty_stream();
+  const Bytes stream = faulty_tcp_stream();
   TcpDeframer deframer(kMaxTelegramPayload, TcpResync::rescan_dropped);
   std::vector<DeframerEvent> events;
   for (const auto byte : stream) {
     auto some = deframer.feed(ByteView(&byte, 1));
     events.insert(events.end(), some.begin(), some.end());
   }
-  EXPECT_EQ(telegrams_of(events), kSurvivors);
+  EXPECT_EQ(telegrams_of(events), kTcpSurvivors);
 }
 
 TEST(TcpResync, AbandonFrame_RecoversWhatACutFrameWasHoldingAtEverySplit) {

@@ -118,6 +118,11 @@ void expect_events_every_split(MakeDecoder make, const Bytes& stream, const std:
   }
 }
 
+// Reply payloads the framing and capture tests carry: GET_STATUS, TRANS_IDLE, GET_SYNC_CLOCK.
+inline const Bytes kStatusReply = hex("81 02 00 00 00 01");
+inline const Bytes kIdleReply = hex("84 02 00 00 00 01");
+inline const Bytes kClockReply = hex("82 05 12 34");
+
 inline DeframerEvent telegram(Bytes payload) { return Telegram{std::move(payload)}; }
 inline DeframerEvent framing_error(DecodeError detail, std::uint16_t request_code = 0) {
   return FramingError{detail, request_code};
