@@ -6,50 +6,19 @@
 #include <algorithm>
 #include <cerrno>
 
-#include "ldoem/hub/scanner_device.hpp"
-#include "ldoem/protocol/service_codes.hpp"
 #include "ldoem/scan/acquisition.hpp"
-#include "scripted_ld.hpp"
+#include "scanner_bench.hpp"
 
 namespace ldoem::scan {
 namespace {
 
+using test::ScannerBench;
 using test::ScriptedLd;
 using Fault = ScriptedLd::Fault;
 
 std::uint16_t scripted_range(std::uint32_t beam, std::int64_t tilt_half_steps) {
   return static_cast<std::uint16_t>(512 + beam + 2 * (tilt_half_steps + 1000));
 }
-
-struct SharedPort final : driver::LptPort {
-  explicit SharedPort(std::shared_ptr<test::TiltLptPort> port) : port_(std::move(port)) {}
-  driver::Status write_data(std::uint8_t value) override { return port_->write_data(value); }
-  const std::string& name() const override { return port_->name(); }
-  std::shared_ptr<test::TiltLptPort> port_;
-};
-
-struct Bench {
-  std::shared_ptr<test::TiltLptPort> port = std::make_shared<test::TiltLptPort>();
-  ScriptedLd ld{scripted_range, [this] { return port->position_half_steps(); }};
-  std::unique_ptr<hub::ScannerDevice> device;
-  int transports_opened = 0;
-
-  Bench() {
-    hub::TransportFactory transport = [this]() -> driver::Expected<std::unique_ptr<driver::Transport>, driver::DriverError> {
-      ++transports_opened;
-      return std::unique_ptr<driver::Transport>(std::make_unique<test::ScriptedTransport>(ld));
-    };
-    hub::LptFactory lpt = [this]() -> driver::Expected<std::unique_ptr<driver::LptPort>, driver::DriverError> {
-      return std::unique_ptr<driver::LptPort>(std::make_unique<SharedPort>(port));
-    };
-    device = std::make_unique<hub::ScannerDevice>("bench", transport, lpt, std::make_unique<test::VirtualSleeper>());
-  }
-
-  std::size_t count(protocol::Service service) const {
-    return static_cast<std::size_t>(
-        std::count(ld.requests.begin(), ld.requests.end(), static_cast<std::uint16_t>(service)));
-  }
-};
 
 AcquisitionPlan small_plan(std::uint32_t retries = 3) {
   AcquisitionPlan plan;
@@ -70,7 +39,7 @@ struct Run {
   std::vector<Retry> retries;
 };
 
-Run scan_with(Bench& bench, const AcquisitionPlan& plan) {
+Run scan_with(ScannerBench& bench, const AcquisitionPlan& plan) {
   std::vector<Retry> retries;
   AcquisitionHooks hooks;
   hooks.sleep = [](std::chrono::milliseconds) {};
@@ -91,7 +60,7 @@ bool same_cloud(const cloud::PointCloud& a, const cloud::PointCloud& b) {
 }
 
 cloud::PointCloud healthy_cloud() {
-  Bench bench;
+  ScannerBench bench(scripted_range);
   auto run = scan_with(bench, small_plan());
   EXPECT_TRUE(run.scan);
   return run.scan ? run.scan->cloud : cloud::PointCloud{};
@@ -101,7 +70,7 @@ TEST(AcquireFaults, DroppedOrTruncatedProfile_IsRetried_SameCloud) {
   const cloud::PointCloud expected = healthy_cloud();
   for (const auto& [fault, kind] : {std::pair{Fault::drop_reply, driver::ErrorKind::timeout},
                                     std::pair{Fault::truncate_reply, driver::ErrorKind::corrupted_reply}}) {
-    Bench bench;
+    ScannerBench bench(scripted_range);
     bench.ld.faults_at_profile_request[4] = fault;
     auto run = scan_with(bench, small_plan());
     ASSERT_TRUE(run.scan) << describe(run.scan.error());
@@ -119,7 +88,7 @@ TEST(AcquireFaults, DroppedOrTruncatedProfile_IsRetried_SameCloud) {
 
 TEST(AcquireFaults, ConnectionLost_ReconnectsConfiguresAgain_AndCompletes) {
   const cloud::PointCloud expected = healthy_cloud();
-  Bench bench;
+  ScannerBench bench(scripted_range);
   bench.ld.faults_at_profile_request[6] = Fault::connection_lost;  // a power cycle mid-scan
   auto run = scan_with(bench, small_plan());
   ASSERT_TRUE(run.scan) << describe(run.scan.error());
@@ -135,7 +104,7 @@ TEST(AcquireFaults, ConnectionLost_ReconnectsConfiguresAgain_AndCompletes) {
 
 TEST(AcquireFaults, SpontaneousReset_MeasuresAgain_AndCompletes) {
   const cloud::PointCloud expected = healthy_cloud();
-  Bench bench;
+  ScannerBench bench(scripted_range);
   bench.ld.faults_at_profile_request[8] = Fault::reset_spontaneous;
   auto run = scan_with(bench, small_plan());
   ASSERT_TRUE(run.scan) << describe(run.scan.error());
@@ -145,7 +114,7 @@ TEST(AcquireFaults, SpontaneousReset_MeasuresAgain_AndCompletes) {
 }
 
 TEST(AcquireFaults, MotorStall_IsFinal_NamedWithItsStatus_NoRetry) {
-  Bench bench;
+  ScannerBench bench(scripted_range);
   bench.ld.faults_at_profile_request[5] = Fault::motor_stall;
   auto run = scan_with(bench, small_plan());
   ASSERT_FALSE(run.scan);
@@ -166,7 +135,7 @@ TEST(AcquireFaults, MotorStall_IsFinal_NamedWithItsStatus_NoRetry) {
 }
 
 TEST(AcquireFaults, RetriesZero_FirstRetryableFaultEndsTheScan) {
-  Bench bench;
+  ScannerBench bench(scripted_range);
   bench.ld.faults_at_profile_request[2] = Fault::drop_reply;
   auto run = scan_with(bench, small_plan(0));
   ASSERT_FALSE(run.scan);
@@ -175,7 +144,7 @@ TEST(AcquireFaults, RetriesZero_FirstRetryableFaultEndsTheScan) {
 }
 
 TEST(AcquireFaults, RetriesUsedUp_EndsWithTheLastFault) {
-  Bench bench;
+  ScannerBench bench(scripted_range);
   for (std::size_t n = 3; n <= 6; ++n) {
     bench.ld.faults_at_profile_request[n] = Fault::drop_reply;
   }

@@ -10,48 +10,21 @@
 #include <filesystem>
 
 #include "ldoem/cloud/cloud_file.hpp"
-#include "ldoem/hub/scanner_device.hpp"
 #include "ldoem/protocol/service_codes.hpp"
-#include "scripted_ld.hpp"
+#include "scanner_bench.hpp"
 
 namespace ldoem::scan {
 namespace {
 
-using test::ScriptedLd;
-using test::ScriptedTransport;
-using test::TiltLptPort;
+using test::ScannerBench;
 
 // Range in 1/256 m: 2 m plus a few mm per beam and per half-step of tilt.
-std::uint16_t scripted_range(std::uint32_t beam, std::int64_t tilt_half_steps) {
+std::uint16_t range_without_echo_on_beam_7(std::uint32_t beam, std::int64_t tilt_half_steps) {
   if (beam == 7) {
     return 0;  // no echo on one beam
   }
   return static_cast<std::uint16_t>(512 + beam + 2 * (tilt_half_steps + 1000));
 }
-
-struct Bench {
-  std::shared_ptr<TiltLptPort> port_holder = std::make_shared<TiltLptPort>();
-  ScriptedLd ld{scripted_range, [this] { return port_holder->position_half_steps(); }};
-  std::unique_ptr<hub::ScannerDevice> device;
-
-  Bench() {
-    hub::TransportFactory transport = [this]() -> driver::Expected<std::unique_ptr<driver::Transport>, driver::DriverError> {
-      return std::unique_ptr<driver::Transport>(std::make_unique<ScriptedTransport>(ld));
-    };
-    hub::LptFactory lpt = [this]() -> driver::Expected<std::unique_ptr<driver::LptPort>, driver::DriverError> {
-      return std::unique_ptr<driver::LptPort>(std::make_unique<SharedPort>(port_holder));
-    };
-    device = std::make_unique<hub::ScannerDevice>("bench", transport, lpt, std::make_unique<test::VirtualSleeper>());
-  }
-
-  // Forwards to the shared port so the test can read the position after the device is gone.
-  struct SharedPort final : driver::LptPort {
-    explicit SharedPort(std::shared_ptr<TiltLptPort> port) : port_(std::move(port)) {}
-    driver::Status write_data(std::uint8_t value) override { return port_->write_data(value); }
-    const std::string& name() const override { return port_->name(); }
-    std::shared_ptr<TiltLptPort> port_;
-  };
-};
 
 AcquisitionPlan small_plan(bool half_step) {
   AcquisitionPlan plan;
@@ -62,7 +35,7 @@ AcquisitionPlan small_plan(bool half_step) {
 }
 
 TEST(Acquire, ScriptedDevice_CloudMatchesTheScriptedRanges) {
-  Bench bench;
+  ScannerBench bench(range_without_echo_on_beam_7);
   const AcquisitionPlan plan = small_plan(false);
   std::vector<std::uint32_t> progress;
   AcquisitionHooks hooks;
@@ -83,7 +56,7 @@ TEST(Acquire, ScriptedDevice_CloudMatchesTheScriptedRanges) {
       if (beam == 7) {
         continue;
       }
-      const double range_m = scripted_range(beam, half_steps) / 256.0;
+      const double range_m = range_without_echo_on_beam_7(beam, half_steps) / 256.0;
       const double theta = (-10.0 + 0.25 * beam) * M_PI / 180.0;
       const cloud::PointRecord point = scan->cloud.record(index++);
       EXPECT_NEAR(point.position.x_m, range_m * std::cos(theta) * std::cos(phi), 1e-5) << layer << "/" << beam;
@@ -96,13 +69,13 @@ TEST(Acquire, ScriptedDevice_CloudMatchesTheScriptedRanges) {
   }
   // The scan ends in IDLE with the plate home.
   EXPECT_EQ(bench.ld.mode(), protocol::SensorMode::idle);
-  EXPECT_EQ(bench.port_holder->position_half_steps(), 0);
+  EXPECT_EQ(bench.port->position_half_steps(), 0);
   EXPECT_EQ(bench.ld.global().angle_step_ticks, 4);
   EXPECT_EQ(bench.ld.profiles_sent(), layers);
 }
 
 TEST(Acquire, Sequence_FollowsThePaper) {
-  Bench bench;
+  ScannerBench bench(range_without_echo_on_beam_7);
   auto scan = acquire(*bench.device, small_plan(true));
   ASSERT_TRUE(scan) << describe(scan.error());
   const auto& seen = bench.ld.requests;
@@ -118,11 +91,11 @@ TEST(Acquire, Sequence_FollowsThePaper) {
   EXPECT_LT(first(protocol::Service::trans_measure), first(protocol::Service::get_profile));
   EXPECT_EQ(std::count(seen.begin(), seen.end(), code(protocol::Service::get_profile)), 11);
   EXPECT_EQ(seen.back(), code(protocol::Service::trans_idle));
-  EXPECT_EQ(bench.port_holder->position_half_steps(), 0);
+  EXPECT_EQ(bench.port->position_half_steps(), 0);
 }
 
 TEST(Acquire, DeviceRefusesMidScan_ReportsTheLayerAndCleansUp) {
-  Bench bench;
+  ScannerBench bench(range_without_echo_on_beam_7);
   bench.ld.refuse_profiles_after = 3;
   auto scan = acquire(*bench.device, small_plan(false));
   ASSERT_FALSE(scan);
@@ -132,11 +105,11 @@ TEST(Acquire, DeviceRefusesMidScan_ReportsTheLayerAndCleansUp) {
   EXPECT_EQ(scan.error().error->kind, driver::ErrorKind::service_failure);
   EXPECT_FALSE(scan.error().cleanup_error);
   EXPECT_EQ(bench.ld.mode(), protocol::SensorMode::idle);
-  EXPECT_EQ(bench.port_holder->position_half_steps(), 0);
+  EXPECT_EQ(bench.port->position_half_steps(), 0);
 }
 
 TEST(Acquire, StopRequest_EndsWithCleanUp) {
-  Bench bench;
+  ScannerBench bench(range_without_echo_on_beam_7);
   int polls = 0;
   AcquisitionHooks hooks;
   hooks.should_stop = [&polls] { return ++polls > 4; };
@@ -144,11 +117,11 @@ TEST(Acquire, StopRequest_EndsWithCleanUp) {
   ASSERT_FALSE(scan);
   EXPECT_EQ(scan.error().failure, AcquisitionFailure::stopped);
   EXPECT_EQ(bench.ld.mode(), protocol::SensorMode::idle);
-  EXPECT_EQ(bench.port_holder->position_half_steps(), 0);
+  EXPECT_EQ(bench.port->position_half_steps(), 0);
 }
 
 TEST(Acquire, CloudFile_RoundTripsThroughPly) {
-  Bench bench;
+  ScannerBench bench(range_without_echo_on_beam_7);
   auto scan = acquire(*bench.device, small_plan(false));
   ASSERT_TRUE(scan) << describe(scan.error());
   const auto path = std::filesystem::temp_directory_path() / ("ldoem_scan_test_" + std::to_string(::getpid()) + ".ply");

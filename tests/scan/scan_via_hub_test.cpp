@@ -97,13 +97,6 @@ std::uint16_t ranges(std::uint32_t beam, std::int64_t tilt_half_steps) {
   return static_cast<std::uint16_t>(700 + 3 * beam + static_cast<std::int64_t>(5 * (tilt_half_steps + 100)));
 }
 
-struct SharedPort final : driver::LptPort {
-  explicit SharedPort(std::shared_ptr<test::TiltLptPort> port) : port_(std::move(port)) {}
-  driver::Status write_data(std::uint8_t value) override { return port_->write_data(value); }
-  const std::string& name() const override { return port_->name(); }
-  std::shared_ptr<test::TiltLptPort> port_;
-};
-
 TEST(ScanViaHub, ScriptedLdOverTcp_CloudMatchesTheScriptedRanges) {
   auto tilt_port = std::make_shared<test::TiltLptPort>();
   test::ScriptedLd ld(ranges, [tilt_port] { return tilt_port->position_half_steps(); });
@@ -114,7 +107,7 @@ TEST(ScanViaHub, ScriptedLdOverTcp_CloudMatchesTheScriptedRanges) {
     return driver::open_transport(driver::TcpEndpoint{"127.0.0.1", ld_port});
   };
   hub::LptFactory lpt = [tilt_port]() -> driver::Expected<std::unique_ptr<driver::LptPort>, driver::DriverError> {
-    return std::unique_ptr<driver::LptPort>(std::make_unique<SharedPort>(tilt_port));
+    return std::unique_ptr<driver::LptPort>(std::make_unique<test::SharedTiltPort>(tilt_port));
   };
   std::vector<hub::DeviceSlot> slots;
   slots.push_back({"bench", std::make_unique<hub::ScannerDevice>("bench", transport, lpt,

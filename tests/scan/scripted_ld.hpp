@@ -9,6 +9,7 @@
 #include <array>
 #include <deque>
 #include <map>
+#include <memory>
 #include <functional>
 #include <mutex>
 #include <string>
@@ -52,6 +53,17 @@ class TiltLptPort final : public driver::LptPort {
   std::int64_t position_half_steps_ = 0;
   std::size_t writes_ = 0;
   std::string name_ = "lpt:test";
+};
+
+// Forwards to a shared TiltLptPort, so a test can read the position after the device is gone.
+class SharedTiltPort final : public driver::LptPort {
+ public:
+  explicit SharedTiltPort(std::shared_ptr<TiltLptPort> port) : port_(std::move(port)) {}
+  driver::Status write_data(std::uint8_t value) override { return port_->write_data(value); }
+  const std::string& name() const override { return port_->name(); }
+
+ private:
+  std::shared_ptr<TiltLptPort> port_;
 };
 
 class VirtualSleeper final : public driver::Sleeper {
