@@ -6,16 +6,14 @@
 
 #include <numbers>
 
+#include "scene_sources.hpp"
+
 namespace ldoem::scene {
 namespace {
 
-const Eigen::Quaterniond kIdentity = Eigen::Quaterniond::Identity();
+using test::load_ok;
 
-Scene load_ok(const std::string& yaml) {
-  auto scene = load_scene_from_string(yaml, "motion.yaml");
-  EXPECT_TRUE(scene.has_value()) << (scene ? "" : scene.error().message());
-  return scene ? *scene : Scene{};
-}
+const Eigen::Quaterniond kIdentity = Eigen::Quaterniond::Identity();
 
 TEST(MotionKeys, StaticSceneMovesNothing) {
   const Scene scene = load_ok("objects: [{box: {size_m: [1, 1, 1]}}]");

@@ -5,10 +5,12 @@
 
 #include <filesystem>
 
+#include "scene_sources.hpp"
+
 namespace ldoem::scene {
 namespace {
 
-const std::filesystem::path kScenes = std::filesystem::path(LDOEM_SOURCE_DIR) / "scenes";
+using test::kScenes;
 
 const SceneObject* find(const Scene& scene, std::string_view name) {
   for (const auto& object : scene.objects) {

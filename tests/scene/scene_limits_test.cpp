@@ -9,11 +9,12 @@
 
 #include <unistd.h>
 #include "ldoem/test_support/temp_dir.hpp"
+#include "scene_sources.hpp"
 
 namespace ldoem::scene {
 namespace {
 
-const std::filesystem::path kScenes = std::filesystem::path(LDOEM_SOURCE_DIR) / "scenes";
+using test::kScenes;
 
 class SceneLimits : public ::testing::Test {
  protected:

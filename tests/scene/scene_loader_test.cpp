@@ -8,14 +8,12 @@
 #include <fstream>
 #include <numbers>
 
+#include "scene_sources.hpp"
+
 namespace ldoem::scene {
 namespace {
 
-Scene load_ok(std::string_view yaml, std::string_view name = "test.yaml") {
-  auto result = load_scene_from_string(yaml, name);
-  EXPECT_TRUE(result.has_value()) << (result ? "" : result.error().message());
-  return result ? std::move(result).value() : Scene{};
-}
+using test::load_ok;
 
 TEST(SceneLoader, EmptyMap_GivesDefaults) {
   const Scene scene = load_ok("{}");
