@@ -4,10 +4,12 @@
 
 #include <numbers>
 
+#include "degrees.hpp"
+
 namespace ldoem::sensor {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using testing::kDeg;
 constexpr double kTolerance = 1e-12;
 
 void expect_near(const Eigen::Vector3d& actual, const Eigen::Vector3d& expected) {

@@ -34,6 +34,11 @@ class PlaneCaster final : public raycast::RayCaster {
   double reflectance_;
 };
 
+// A wall facing the scanner at x = distance (normal -x towards the origin).
+inline PlaneCaster wall_at(double distance_m, double reflectance = 1.0) {
+  return PlaneCaster(Eigen::Vector3d::UnitX(), distance_m, reflectance);
+}
+
 // Sphere of a radius at a centre, hit from outside.
 class SphereCaster final : public raycast::RayCaster {
  public:

@@ -1,4 +1,5 @@
 #include "fake_casters.hpp"
+#include "degrees.hpp"
 
 #include <ldoem/scene/optics.hpp>
 #include <ldoem/sensor/beam_geometry.hpp>
@@ -19,19 +20,14 @@ using testing::BrokenRangeCaster;
 using testing::DepthStepCaster;
 using testing::MissCaster;
 using testing::PlaneCaster;
-
-constexpr double kDeg = std::numbers::pi / 180.0;
+using testing::kDeg;
+using testing::wall_at;
 
 scene::Scene make_scene(std::initializer_list<Effect> effects) {
   scene::Scene scene;
   scene.scanner.optics.calibration = scene::calibration_for_max_range(scene.scanner.optics, 63.1);
   for (Effect effect : effects) scene.effects.add(effect);
   return scene;
-}
-
-// A wall facing the scanner at x = distance (normal -x towards the origin).
-PlaneCaster wall_at(double distance_m, double reflectance = 1.0) {
-  return PlaneCaster(Eigen::Vector3d::UnitX(), distance_m, reflectance);
 }
 
 BeamSample measure_one(const scene::Scene& scene, const raycast::RayCaster& caster, double head_rad = 0.0,

@@ -17,16 +17,14 @@ namespace {
 
 using scene::Effect;
 using testing::PlaneCaster;
+using testing::wall_at;
 
-scene::Scene make_scene(std::initializer_list<Effect> effects) {
+// A scene whose range limit is 250 m, far beyond a white wall's reach at the threshold (63.1 m).
+scene::Scene long_range_scene(std::initializer_list<Effect> effects) {
   scene::Scene scene;
   scene.scanner.max_range_m = 250.0;
   for (Effect effect : effects) scene.effects.add(effect);
   return scene;
-}
-
-PlaneCaster wall_at(double distance_m, double reflectance = 1.0) {
-  return PlaneCaster(Eigen::Vector3d::UnitX(), distance_m, reflectance);
 }
 
 // `count` beams straight ahead, each its own noise stream (beam index i).
@@ -65,14 +63,14 @@ RangeStatistics statistics(const std::vector<BeamSample>& samples) {
 
 TEST(SnrNoise, AtTheThreshold_DetectedAboutHalfTheTime) {
   // A white wall at exactly l_max = 63.1 m returns I_rs_min: a fair coin for every beam.
-  const auto stats = statistics(measure_straight(make_scene({Effect::snr_noise}), wall_at(63.1), 4000));
+  const auto stats = statistics(measure_straight(long_range_scene({Effect::snr_noise}), wall_at(63.1), 4000));
   EXPECT_NEAR(stats.detected_share, 0.5, 0.04);
 }
 
 // The stage alone on a white wall at `distance_m`, `count` beams: the unquantised ranges
 // (1/256 m steps would blur a 1.5 mm sigma).
 RangeStatistics stage_statistics(double distance_m, int count) {
-  const auto stage = make_snr_noise_stage(make_scene({}).scanner, false);
+  const auto stage = make_snr_noise_stage(long_range_scene({}).scanner, false);
   const PlaneCaster wall = wall_at(distance_m);
   double sum = 0.0;
   double sum_squares = 0.0;
@@ -115,7 +113,7 @@ TEST(SnrNoise, WeakReturn_SigmaGrowsAsTheSnrFalls) {
 }
 
 TEST(SnrNoise, SameSeed_SameSamples_MissesDrawNothing) {
-  const scene::Scene scene = make_scene({Effect::snr_noise, Effect::intensity});
+  const scene::Scene scene = long_range_scene({Effect::snr_noise, Effect::intensity});
   EXPECT_EQ(measure_straight(scene, wall_at(60.0), 200), measure_straight(scene, wall_at(60.0), 200));
   MeasureStats stats;
   (void)measure_straight(scene, testing::MissCaster(), 10, &stats);
@@ -123,7 +121,7 @@ TEST(SnrNoise, SameSeed_SameSamples_MissesDrawNothing) {
 }
 
 TEST(Atmosphere, TwoWayBeerLambert_OnTheEcho) {
-  scene::Scene clear = make_scene({Effect::intensity});
+  scene::Scene clear = long_range_scene({Effect::intensity});
   clear.scanner.optics.echo_scale = scene::EchoScale::log;
   scene::Scene foggy = clear;
   foggy.effects.add(Effect::atmosphere);
@@ -142,13 +140,13 @@ TEST(Atmosphere, TwoWayBeerLambert_OnTheEcho) {
 }
 
 TEST(RetroReflective, SeenFarBeyondAWhiteWallsReach) {
-  const scene::Scene scene = make_scene({Effect::intensity});
+  const scene::Scene scene = long_range_scene({Effect::intensity});
   EXPECT_EQ(measure_straight(scene, wall_at(200.0, 1.0), 1)[0].distance, 0);
   EXPECT_NE(measure_straight(scene, wall_at(200.0, scene::kRetroReflectiveGain), 1)[0].distance, 0);
 }
 
 TEST(EchoScale, LogScale_CorridorDistancesDoNotSaturate) {
-  scene::Scene scene = make_scene({Effect::intensity});
+  scene::Scene scene = long_range_scene({Effect::intensity});
   scene.scanner.optics.echo_scale = scene::EchoScale::log;
   std::uint16_t previous = 65535;
   for (double distance_m : {0.95, 2.8, 4.18, 10.0, 30.0}) {

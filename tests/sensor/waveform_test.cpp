@@ -2,6 +2,7 @@
 // one surface or the other, never mid-air; a clean pulse is measured at its centre whatever its
 // height; a slanted surface stretches the pulse and its range walks; the threshold is D6's.
 #include "fake_casters.hpp"
+#include "degrees.hpp"
 
 #include <ldoem/scene/optics.hpp>
 #include <ldoem/sensor/beam_geometry.hpp>
@@ -19,7 +20,7 @@ using testing::DepthStepCaster;
 using testing::MissCaster;
 using testing::PlaneCaster;
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using testing::kDeg;
 
 scene::ScannerConfig scanner_with(scene::EchoDetection detection = scene::EchoDetection::first) {
   scene::ScannerConfig scanner;
