@@ -7,10 +7,9 @@
 namespace ldoem::world {
 namespace {
 
+using testing::kG;
 using testing::ray_at;
 using testing::scene_from;
-
-constexpr double kG = 9.81;
 
 // dWorldStep integrates velocity first (semi-implicit Euler): after n steps of h the fall is
 // g h^2 n (n + 1) / 2, i.e. g t^2 / 2 + g h t / 2. Interpolating between steps adds at most

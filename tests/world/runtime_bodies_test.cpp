@@ -9,10 +9,10 @@
 namespace ldoem::world {
 namespace {
 
+using testing::kG;
 using testing::ray_at;
 using testing::scene_from;
 
-constexpr double kG = 9.81;
 constexpr double kStep_s = 1e-3;
 
 const std::string kFloor =

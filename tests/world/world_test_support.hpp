@@ -1,5 +1,5 @@
 // Helpers for the D12 tests: scenes from YAML text, rays at an instant, a caster that remembers
-// the exact ranges it answered (before the sensor quantises them).
+// the exact ranges it answered (before the sensor quantises them), the scenes' gravity.
 #pragma once
 
 #include "ldoem/scene/scene_loader.hpp"
@@ -12,6 +12,9 @@
 #include <vector>
 
 namespace ldoem::world::testing {
+
+// The magnitude of scene::WorldConfig's default gravity (m/s^2), which the falling bodies feel.
+inline constexpr double kG = 9.81;
 
 inline scene::Scene scene_from(const std::string& yaml) {
   auto scene = scene::load_scene_from_string(yaml, "test.yaml");
