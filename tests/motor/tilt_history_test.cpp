@@ -6,13 +6,15 @@
 
 #include <gtest/gtest.h>
 
+#include "tilt_pulses.hpp"
+
 namespace ldoem::motor {
 namespace {
 
 using namespace std::chrono_literals;
 
-const scene::TiltMotorConfig kConfig{};
-const double kFullStep = 2 * half_step_rad(kConfig);
+using test::kConfig;
+using test::kFullStep;
 
 TEST(TiltHistory, IdealMotor_RecordsOnlyAtPulsesAndAnswersThePast) {
   TiltHistory history;

@@ -6,26 +6,18 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <numbers>
+
+#include "tilt_pulses.hpp"
 
 namespace ldoem::motor {
 namespace {
 
 using namespace std::chrono_literals;
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-const scene::TiltMotorConfig kConfig{};
-const double kFullStep = 2 * half_step_rad(kConfig);
-
-SimTime pulse_train(TiltMotor& motor, SimTime start, std::int64_t count, int direction, double rate_hz) {
-  const auto interval = std::chrono::duration_cast<SimTime>(std::chrono::duration<double>(1.0 / rate_hz));
-  SimTime at = start;
-  for (std::int64_t i = 0; i < count; ++i) {
-    motor.on_step_pulse(at, direction, false);
-    at += interval;
-  }
-  return at;
-}
+using test::kConfig;
+using test::kDeg;
+using test::kFullStep;
+using test::pulse_train;
 
 // The paper's timing (accuracy-vs-time): 120 full steps to the low apex at 500 /s, then 2 steps
 // per 100 ms layer. Returns the time the last layer's move has long settled.

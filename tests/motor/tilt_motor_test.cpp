@@ -4,30 +4,19 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <numbers>
+
+#include "tilt_pulses.hpp"
 
 namespace ldoem::motor {
 namespace {
 
 using namespace std::chrono_literals;
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-const scene::TiltMotorConfig kConfig{};
-const double kHalfStep = half_step_rad(kConfig);
-const double kFullStep = 2 * kHalfStep;
-
-// Sends `count` full steps in `direction` at `rate_hz` starting at `start`; returns the time after
-// the last pulse.
-SimTime pulse_train(TiltMotor& motor, SimTime start, std::int64_t count, int direction, double rate_hz,
-                    bool half_step = false) {
-  const auto interval = std::chrono::duration_cast<SimTime>(std::chrono::duration<double>(1.0 / rate_hz));
-  SimTime at = start;
-  for (std::int64_t i = 0; i < count; ++i) {
-    motor.on_step_pulse(at, direction, half_step);
-    at += interval;
-  }
-  return at;
-}
+using test::kConfig;
+using test::kDeg;
+using test::kFullStep;
+using test::kHalfStep;
+using test::pulse_train;
 
 // Sweeps between -amplitude and +amplitude full steps around home, `total_steps` pulses in all,
 // ending at home (total_steps must be a multiple of 4 * amplitude).
