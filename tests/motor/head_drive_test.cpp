@@ -5,12 +5,14 @@
 #include <cmath>
 #include <numbers>
 
+#include "seconds.hpp"
+
 namespace ldoem::motor {
 namespace {
 
 using namespace std::chrono_literals;
 
-double seconds(SimTime time) { return std::chrono::duration<double>(time).count(); }
+using test::seconds;
 
 TEST(HeadDrive, DefaultConfig_ReachesTenHertzInAboutTwoSeconds) {
   const scene::HeadConfig config;

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "seconds.hpp"
+
 namespace ldoem::motor {
 namespace {
 
@@ -22,7 +24,7 @@ scene::HeadConfig large_ripple() {
   return head;
 }
 
-double seconds(SimTime duration) { return std::chrono::duration<double>(duration).count(); }
+using test::seconds;
 
 TEST(HeadRippleTrack, WhileSpinningUp_NoShift) {
   HeadRippleTrack track(large_ripple());
