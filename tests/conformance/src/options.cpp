@@ -71,6 +71,9 @@ struct Parser {
     } else if (name == "--filter") {
       if (value.empty()) return usage("--filter: empty pattern");
       options.filters.emplace_back(value);
+    } else if (name == "--exclude") {
+      if (value.empty()) return usage("--exclude: empty pattern");
+      options.excludes.emplace_back(value);
     } else if (name == "--vectors") {
       options.vectors_file = std::string(value);
     } else if (name == "--against") {
@@ -115,7 +118,8 @@ struct Parser {
 };
 
 constexpr std::string_view kValueOptions[] = {"--can",     "--ids",    "--tcp",     "--serial", "--target", "--time-scale",
-                                             "--timeout", "--filter", "--vectors", "--against", "--mask",  "--record"};
+                                             "--timeout", "--filter", "--exclude", "--vectors", "--against", "--mask",
+                                             "--record"};
 
 }  // namespace
 
@@ -193,6 +197,8 @@ std::string usage_text(std::string_view program_name) {
          "  --timeout SECONDS     wall time to wait for one reply (spec 6: S1 waits 5 s) [5]\n"
          "  --filter GLOB         run only cases whose name matches (fnmatch, `*` spans `/`);\n"
          "                        repeatable, any match selects [all]\n"
+         "  --exclude GLOB        leave out cases whose name matches, after --filter; repeatable\n"
+         "                        (e.g. '*/timing/*' on a sanitizer build, whose wall clock is slow)\n"
          "  --list                print the case names (for the given endpoint, else for all three)\n"
          "  --vectors FILE        spec-section7.yaml to use instead of the compiled-in copy\n"
          "  --verbose, -v         log every telegram on stderr in the text form of protocol/text.hpp\n"

@@ -1,7 +1,11 @@
 #include "options.hpp"
+#include "runner.hpp"
+#include "vector_table.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <sstream>
 #include <vector>
 
 namespace ldoem::conformance {
@@ -39,6 +43,31 @@ TEST(Options, SerialAndTimes_AreParsed) {
   EXPECT_EQ(options->filters.size(), 2u);
   EXPECT_TRUE(options->virtual_time);
   EXPECT_TRUE(options->verbose);
+}
+
+// The sanitizer builds run the suite without its wall-clock cases (tests/conformance/CMakeLists.txt).
+TEST(Options, Exclude_LeavesMatchingCasesOutAfterTheFilter) {
+  auto table = load_vector_table(embedded_vectors_yaml());
+  ASSERT_TRUE(table) << table.error();
+  const auto listed = [&](std::vector<std::string_view> arguments) {
+    auto options = parse(arguments);
+    EXPECT_TRUE(options);
+    std::ostringstream out;
+    if (options) list_cases(*options, *table, out);
+    return out.str();
+  };
+  const std::string all = listed({"--tcp", "h"});
+  const std::string without_timing = listed({"--tcp", "h", "--exclude", "*/timing/*"});
+  ASSERT_NE(all.find("tcp/timing/"), std::string::npos);
+  EXPECT_EQ(without_timing.find("/timing/"), std::string::npos);
+  EXPECT_NE(without_timing.find("tcp/states/"), std::string::npos);
+  const std::string timing_only = listed({"--tcp", "h", "--filter", "*/timing/*"});
+  // The two halves make up the whole suite, case for case.
+  EXPECT_EQ(std::count(all.begin(), all.end(), '\n'),
+            std::count(without_timing.begin(), without_timing.end(), '\n') +
+                std::count(timing_only.begin(), timing_only.end(), '\n'));
+  EXPECT_EQ(listed({"--tcp", "h", "--filter", "*/timing/*", "--exclude", "*spin_up*"}).find("spin_up"), std::string::npos);
+  EXPECT_FALSE(parse({"--tcp", "h", "--exclude", ""}));
 }
 
 TEST(Options, TwoEndpoints_AreAUsageError) {
