@@ -24,11 +24,6 @@ using scene::Effect;
 
 const std::vector<Effect> kLightEffects = {Effect::intensity, Effect::incidence};
 
-std::vector<Effect> plus(std::vector<Effect> effects, std::initializer_list<Effect> more) {
-  effects.insert(effects.end(), more.begin(), more.end());
-  return effects;
-}
-
 void time_scans(benchmark::State& state, const scene::Scene& scene) {
   const raycast::OdeWorld world(scene);
   const raycast::EmbreeRayCaster caster(world);

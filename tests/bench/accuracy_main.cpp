@@ -39,11 +39,6 @@ const std::vector<Effect> kPaperEffects = {Effect::noise, Effect::intensity, Eff
 
 void configure(benchmark::internal::Benchmark* benchmark) { benchmark->UseRealTime()->Unit(benchmark::kMillisecond); }
 
-std::vector<Effect> plus(std::vector<Effect> effects, std::initializer_list<Effect> more) {
-  effects.insert(effects.end(), more.begin(), more.end());
-  return effects;
-}
-
 void time_scans(benchmark::State& state, const scene::Scene& scene, const sensor::SensorModel& sensor) {
   std::uint64_t beams = 0;
   for (auto _ : state) {

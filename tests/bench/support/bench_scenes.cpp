@@ -94,6 +94,11 @@ scene::Scene with_effects(scene::Scene scene, const std::vector<scene::Effect>& 
   return scene;
 }
 
+std::vector<scene::Effect> plus(std::vector<scene::Effect> effects, std::initializer_list<scene::Effect> more) {
+  effects.insert(effects.end(), more.begin(), more.end());
+  return effects;
+}
+
 double AngleGrid::angle_rad(int i) const { return (first_deg + step_deg * i) * std::numbers::pi / 180.0; }
 
 std::vector<raycast::Ray> scanner_rays(const scene::ScannerConfig& scanner, const AngleGrid& head,

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,9 @@ inline constexpr double kDepthStepWallReflectance = 0.75;
 
 // The scene with exactly these D9 effects.
 [[nodiscard]] scene::Scene with_effects(scene::Scene scene, const std::vector<scene::Effect>& effects);
+
+// `effects` with `more` appended: an effect list and one or two effects on top of it.
+[[nodiscard]] std::vector<scene::Effect> plus(std::vector<scene::Effect> effects, std::initializer_list<scene::Effect> more);
 
 // Rays of the scanner for a grid of head angles and tilts (D5), each cast to max_range_m.
 struct AngleGrid {
