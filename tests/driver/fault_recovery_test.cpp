@@ -119,7 +119,10 @@ class ScannerFaultTest : public ::testing::Test {
     ASSERT_TRUE(scanner_->connect());
   }
   std::map<Bytes, std::vector<FakeTransport::Incoming>> script_;
+  // Both logs outlive scanner_ (members go in reverse order): its destructor closes the transport,
+  // which writes to its log.
   FakeTransport::Log log_;
+  FakeTransport::Log reopened_log_;  // of the transport a reconnect opens
   std::unique_ptr<Scanner> scanner_;
 };
 
@@ -181,7 +184,6 @@ TEST_F(ScannerFaultTest, TruncatedProfile_IsCorruptedReply_AndTheStreamGoesOn) {
 }
 
 TEST_F(ScannerFaultTest, Reconnect_TriesABoundedNumberOfTimesThenSucceeds) {
-  std::vector<FakeTransport::Log> logs(3);
   int opened = 0;
   std::vector<std::chrono::milliseconds> pauses;
   ScannerOptions options;
@@ -192,7 +194,7 @@ TEST_F(ScannerFaultTest, Reconnect_TriesABoundedNumberOfTimesThenSucceeds) {
     if (opened < 3) {  // the device is still off: the peer closes at once
       return fail(make_error(ErrorKind::connection_closed, "connect", "fake"));
     }
-    return std::unique_ptr<Transport>(make_transport(logs[0]));
+    return std::unique_ptr<Transport>(make_transport(reopened_log_));
   };
   build(options);
   auto lost = scanner_->get_signal();  // nothing scripted: times out; pretend the peer reset
@@ -204,7 +206,7 @@ TEST_F(ScannerFaultTest, Reconnect_TriesABoundedNumberOfTimesThenSucceeds) {
   EXPECT_EQ(pauses, (std::vector<std::chrono::milliseconds>{250ms, 250ms}));
   EXPECT_EQ(scanner_->state(), LifecycleState::connected);
   EXPECT_EQ(scanner_->counters().reconnects, 1u);
-  EXPECT_EQ(logs[0].sent.size(), 1u);  // GET_STATUS on the new transport
+  EXPECT_EQ(reopened_log_.sent.size(), 1u);  // GET_STATUS on the new transport
 }
 
 TEST_F(ScannerFaultTest, Reconnect_GivesUpAfterItsAttempts) {
