@@ -4,12 +4,12 @@
 #include <cassert>
 
 #include "ldoem/protocol/isotp.hpp"
+#include "isotp_pci.hpp"
 
 namespace ldoem::protocol {
 
 namespace {
 
-constexpr std::uint8_t kLowNibble = 0x0F;
 constexpr std::size_t kShortFirstFrameHeaderBytes = 2;    // 1H LL
 constexpr std::size_t kEscapedFirstFrameHeaderBytes = 6;  // 10 00 LL LL LL LL
 // A message of 7 bytes or fewer fits a single frame; a first frame announcing one is invalid.
@@ -27,7 +27,7 @@ std::optional<FirstFrameHeader> parse_first_frame(const CanFrame& frame) {
     return std::nullopt;
   }
   const std::uint32_t short_length =
-      (static_cast<std::uint32_t>(frame.data[0] & kLowNibble) << 8) | frame.data[1];
+      (static_cast<std::uint32_t>(frame.data[0] & detail::kPciLowNibble) << 8) | frame.data[1];
   if (short_length != 0) {
     if (short_length < kMinFirstFrameLength) {
       return std::nullopt;
@@ -122,7 +122,7 @@ void IsoTpReceiver::on_frame_receiving(base::SimTime now, IsoTpFrameType type,
 }
 
 void IsoTpReceiver::accept_single_frame(const CanFrame& frame, IsoTpReceiveResult& result) {
-  const std::size_t message_length = frame.data[0] & kLowNibble;
+  const std::size_t message_length = frame.data[0] & detail::kPciLowNibble;
   // SF_DL 0 is the CAN FD escape and 8..15 cannot fit a classic frame; the DLC must cover it.
   if (message_length == 0 || message_length > kIsoTpMaxSingleFrameBytes ||
       message_length + 1 > frame.length) {
@@ -170,7 +170,7 @@ void IsoTpReceiver::accept_first_frame(base::SimTime now, const CanFrame& frame,
 
 void IsoTpReceiver::accept_consecutive_frame(base::SimTime now, const CanFrame& frame,
                                              IsoTpReceiveResult& result) {
-  const std::uint8_t sequence = frame.data[0] & kLowNibble;
+  const std::uint8_t sequence = frame.data[0] & detail::kPciLowNibble;
   if (sequence != next_sequence_) {
     drop(IsoTpReceiveError::bad_sequence, result);
     return;
@@ -183,7 +183,7 @@ void IsoTpReceiver::accept_consecutive_frame(base::SimTime now, const CanFrame& 
   }
   const ByteView bytes = frame.payload().subspan(1, wanted);
   buffer_.insert(buffer_.end(), bytes.begin(), bytes.end());
-  next_sequence_ = static_cast<std::uint8_t>((next_sequence_ + 1) & kLowNibble);  // 15 -> 0
+  next_sequence_ = static_cast<std::uint8_t>((next_sequence_ + 1) & detail::kPciLowNibble);  // 15 -> 0
   if (buffer_.size() == expected_length_) {
     result.message = std::move(buffer_);
     buffer_ = Bytes();

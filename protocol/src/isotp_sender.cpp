@@ -4,12 +4,12 @@
 #include <cassert>
 
 #include "ldoem/protocol/isotp.hpp"
+#include "isotp_pci.hpp"
 
 namespace ldoem::protocol {
 
 namespace {
 
-constexpr std::uint8_t kLowNibble = 0x0F;
 constexpr std::size_t kShortFirstFrameDataBytes = 6;    // after 1H LL
 constexpr std::size_t kEscapedFirstFrameDataBytes = 2;  // after 10 00 LL LL LL LL
 
@@ -135,7 +135,7 @@ CanFrame IsoTpSender::next_consecutive_frame() {
   const auto begin = message_.begin() + static_cast<std::ptrdiff_t>(next_offset_);
   bytes.insert(bytes.end(), begin, begin + static_cast<std::ptrdiff_t>(data_bytes));
   next_offset_ += data_bytes;
-  next_sequence_ = static_cast<std::uint8_t>((next_sequence_ + 1) & kLowNibble);  // 15 -> 0
+  next_sequence_ = static_cast<std::uint8_t>((next_sequence_ + 1) & detail::kPciLowNibble);  // 15 -> 0
   return finish_frame(frame_from(config_.data_id, bytes));
 }
 
@@ -164,7 +164,7 @@ void IsoTpSender::on_flow_control(base::SimTime now, const CanFrame& frame) {
       isotp_frame_type(frame) != IsoTpFrameType::flow_control) {
     return;
   }
-  switch (frame.data[0] & kLowNibble) {
+  switch (frame.data[0] & detail::kPciLowNibble) {
     case static_cast<std::uint8_t>(IsoTpFlowStatus::continue_to_send):
       waits_in_a_row_ = 0;
       peer_block_size_ = frame.data[1];
