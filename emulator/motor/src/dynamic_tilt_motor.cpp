@@ -1,5 +1,6 @@
 #include <ldoem/motor/dynamic_tilt_motor.hpp>
 
+#include "model_units.hpp"
 #include "ode_init.hpp"
 
 #include <ode/ode.h>
@@ -29,8 +30,6 @@ constexpr SimTime kLongestTrainInterval = std::chrono::milliseconds(100);
 // Settled: below these the shaft is at rest on its field position and stepping is skipped.
 constexpr double kSettledAngleRad = 1e-9;
 constexpr double kSettledSpeedRadS = 1e-9;
-
-double seconds(SimTime duration) { return std::chrono::duration<double>(duration).count(); }
 
 }  // namespace
 
@@ -107,7 +106,7 @@ void DynamicTiltMotor::on_step_pulse(SimTime at, int direction, bool half_step) 
   const bool same_train = last_pulse_at_.count() >= 0 && sign == last_pulse_direction_ &&
                           interval.count() > 0 && interval <= kLongestTrainInterval;
   if (same_train) {
-    feed_forward_rad_s_ = sign * static_cast<double>(half_steps) * half_step_rad_ / seconds(interval);
+    feed_forward_rad_s_ = sign * static_cast<double>(half_steps) * half_step_rad_ / detail::seconds(interval);
     feed_forward_until_ =
         pulse_at + std::chrono::duration_cast<SimTime>(interval * kFeedForwardHoldIntervals);
   } else {
@@ -143,7 +142,7 @@ void DynamicTiltMotor::lose_steps_past_pull_out() {
 }
 
 void DynamicTiltMotor::step_world() {
-  const double dt_s = seconds(world_step_);
+  const double dt_s = detail::seconds(world_step_);
   if (feed_forward_rad_s_ != 0.0 && world_time_ > feed_forward_until_) feed_forward_rad_s_ = 0.0;
   lose_steps_past_pull_out();
 

@@ -1,16 +1,14 @@
 #include <ldoem/motor/head_drive.hpp>
 
+#include "model_units.hpp"
+
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <sstream>
 
 namespace ldoem::motor {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-
-double seconds(SimTime duration) { return std::chrono::duration<double>(duration).count(); }
 SimTime after(SimTime start, double seconds_later) {
   return start + std::chrono::ceil<SimTime>(std::chrono::duration<double>(seconds_later));
 }
@@ -62,13 +60,13 @@ std::optional<double> SpinUpCurve::time_to_speed(double speed_rad_s) const {
 }
 
 double SpinUpCurve::speed_rad_s(SimTime at) const {
-  const double tau_s = std::max(0.0, seconds(at - start_));
+  const double tau_s = std::max(0.0, detail::seconds(at - start_));
   if (reach_s_ && tau_s >= *reach_s_) return target_rad_s_;
   return driven_speed(tau_s);
 }
 
 double SpinUpCurve::angle_rad(SimTime at) const {
-  const double tau_s = std::max(0.0, seconds(at - start_));
+  const double tau_s = std::max(0.0, detail::seconds(at - start_));
   if (reach_s_ && tau_s >= *reach_s_) {
     return start_angle_rad_ + driven_angle(*reach_s_) + target_rad_s_ * (tau_s - *reach_s_);
   }
@@ -95,55 +93,57 @@ std::optional<SimTime> SpinUpCurve::first_within(double speed_rad_s, double tole
 }
 
 void IdealHead::set_target(SimTime now, double hz) {
-  curve_ = SpinUpCurve(config_, now, curve_.speed_rad_s(now), curve_.angle_rad(now), kTwoPi * std::max(0.0, hz));
+  curve_ = SpinUpCurve(config_, now, curve_.speed_rad_s(now), curve_.angle_rad(now),
+                       detail::kRadiansPerTurn * std::max(0.0, hz));
 }
-double IdealHead::speed_hz(SimTime at) const { return curve_.speed_rad_s(at) / kTwoPi; }
+double IdealHead::speed_hz(SimTime at) const { return curve_.speed_rad_s(at) / detail::kRadiansPerTurn; }
 double IdealHead::angle_rad(SimTime at) const { return curve_.angle_rad(at); }
 std::optional<SimTime> IdealHead::reached_at(double hz) const {
-  return curve_.first_within(kTwoPi * hz, kSpeedReachedTolerance);
+  return curve_.first_within(detail::kRadiansPerTurn * hz, kSpeedReachedTolerance);
 }
 std::string IdealHead::dump() const {
   std::ostringstream text;
   text << "model: ideal head\n"
        << "curve_start_ns: " << curve_.start().count() << "\n"
-       << "target_hz: " << curve_.target_speed_rad_s() / kTwoPi << "\n";
+       << "target_hz: " << curve_.target_speed_rad_s() / detail::kRadiansPerTurn << "\n";
   return text.str();
 }
 
 double DynamicHead::ripple_speed_rad_s(SimTime at) const {
   const std::optional<SimTime> held = curve_.holds_target_from();
   if (!held || at < *held || config_.ripple_frequency_hz <= 0.0) return 0.0;
-  const double phase = kTwoPi * config_.ripple_frequency_hz * seconds(at - *held);
+  const double phase = detail::kRadiansPerTurn * config_.ripple_frequency_hz * detail::seconds(at - *held);
   return curve_.target_speed_rad_s() * config_.ripple_fraction * std::sin(phase);
 }
 
 double DynamicHead::ripple_angle_rad(SimTime at) const {
   const std::optional<SimTime> held = curve_.holds_target_from();
   if (!held || at < *held || config_.ripple_frequency_hz <= 0.0) return 0.0;
-  const double angular_frequency = kTwoPi * config_.ripple_frequency_hz;
-  const double phase = angular_frequency * seconds(at - *held);
+  const double angular_frequency = detail::kRadiansPerTurn * config_.ripple_frequency_hz;
+  const double phase = angular_frequency * detail::seconds(at - *held);
   return curve_.target_speed_rad_s() * config_.ripple_fraction * (1.0 - std::cos(phase)) / angular_frequency;
 }
 
 void DynamicHead::set_target(SimTime now, double hz) {
   ripple_angle_carry_rad_ += ripple_angle_rad(now);
-  curve_ = SpinUpCurve(config_, now, curve_.speed_rad_s(now), curve_.angle_rad(now), kTwoPi * std::max(0.0, hz));
+  curve_ = SpinUpCurve(config_, now, curve_.speed_rad_s(now), curve_.angle_rad(now),
+                       detail::kRadiansPerTurn * std::max(0.0, hz));
 }
 double DynamicHead::speed_hz(SimTime at) const {
-  return (curve_.speed_rad_s(at) + ripple_speed_rad_s(at)) / kTwoPi;
+  return (curve_.speed_rad_s(at) + ripple_speed_rad_s(at)) / detail::kRadiansPerTurn;
 }
 double DynamicHead::angle_rad(SimTime at) const {
   return curve_.angle_rad(at) + ripple_angle_carry_rad_ + ripple_angle_rad(at);
 }
 std::optional<SimTime> DynamicHead::reached_at(double hz) const {
-  return curve_.first_within(kTwoPi * hz, kSpeedReachedTolerance);
+  return curve_.first_within(detail::kRadiansPerTurn * hz, kSpeedReachedTolerance);
 }
 std::string DynamicHead::dump() const {
   std::ostringstream text;
   text << "model: dynamic head (ripple " << config_.ripple_fraction << " at " << config_.ripple_frequency_hz
        << " Hz)\n"
        << "curve_start_ns: " << curve_.start().count() << "\n"
-       << "target_hz: " << curve_.target_speed_rad_s() / kTwoPi << "\n"
+       << "target_hz: " << curve_.target_speed_rad_s() / detail::kRadiansPerTurn << "\n"
        << "ripple_angle_carry_rad: " << ripple_angle_carry_rad_ << "\n";
   return text.str();
 }

@@ -1,13 +1,13 @@
 #include <ldoem/motor/head_ripple_track.hpp>
 
+#include "model_units.hpp"
+
 #include <cmath>
-#include <numbers>
 #include <optional>
 
 namespace ldoem::motor {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 // Newton's method on the head angle: the ripple bends the angle by at most a few parts in 10^3
 // of a revolution, so three iterations land far below a nanosecond.
 constexpr int kNewtonIterations = 4;
@@ -20,13 +20,13 @@ std::optional<double> seconds_to_turn(const HeadDrive& head, SimTime start, doub
   const double start_angle_rad = head.angle_rad(start);
   const double start_hz = head.speed_hz(start);
   if (!(start_hz > kStandingStillHz)) return std::nullopt;
-  double tau_s = angle_rad / (kTwoPi * start_hz);
+  double tau_s = angle_rad / (detail::kRadiansPerTurn * start_hz);
   for (int i = 0; i < kNewtonIterations; ++i) {
     const SimTime at = start + std::chrono::duration_cast<SimTime>(std::chrono::duration<double>(tau_s));
     const double hz = head.speed_hz(at);
     if (!(hz > kStandingStillHz)) return std::nullopt;
     const double error_rad = head.angle_rad(at) - start_angle_rad - angle_rad;
-    tau_s -= error_rad / (kTwoPi * hz);
+    tau_s -= error_rad / (detail::kRadiansPerTurn * hz);
   }
   return tau_s;
 }
