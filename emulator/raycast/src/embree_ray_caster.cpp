@@ -1,5 +1,6 @@
 #include "ldoem/raycast/embree_ray_caster.hpp"
 
+#include "embree_device.hpp"
 #include "exact_primitives.hpp"
 #include "ray_probe.hpp"
 
@@ -122,11 +123,6 @@ void prefetch_triangle_plane(const RTCFilterFunctionNArguments* args) {
 void primitive_occluded(const RTCOccludedFunctionNArguments* args) {
   // Not used (we only ask for nearest hits); answering "not occluded" keeps Embree defined.
   (void)args;
-}
-
-void report_device_error(void* user, RTCError code, const char* text) {
-  auto* last = static_cast<std::string*>(user);
-  *last = "Embree error " + std::to_string(static_cast<int>(code)) + ": " + (text ? text : "");
 }
 
 }  // namespace
@@ -260,9 +256,7 @@ void EmbreeRayCaster::Impl::attach_mesh(MeshRecord& mesh) {
 }
 
 void EmbreeRayCaster::Impl::build() {
-  device = rtcNewDevice(nullptr);
-  if (device == nullptr) throw std::runtime_error("Embree: cannot create a device");
-  rtcSetDeviceErrorFunction(device, report_device_error, &device_error);
+  device = detail::new_embree_device(nullptr, device_error);
   scene = rtcNewScene(device);
   rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
   rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);

@@ -1,6 +1,7 @@
 #include "ldoem/raycast/moving_ray_caster.hpp"
 
 #include "ldoem/raycast/ode_world.hpp"
+#include "embree_device.hpp"
 #include "exact_primitives.hpp"
 #include "moving_bounds.hpp"
 #include "ray_probe.hpp"
@@ -27,11 +28,6 @@ struct MovingCastContext {
   const MovingRayCaster* caster = nullptr;
   std::optional<detail::Contact> best;  // object_index = moving index, normal in the world frame
 };
-
-void report_device_error(void* user, RTCError code, const char* text) {
-  auto* last = static_cast<std::string*>(user);
-  *last = "Embree error " + std::to_string(static_cast<int>(code)) + ": " + (text ? text : "");
-}
 
 void slice_bounds(const RTCBoundsFunctionArguments* args) {
   const auto* boxes = static_cast<const std::vector<RTCBounds>*>(args->geometryUserPtr);
@@ -86,9 +82,7 @@ void MovingRayCaster::Impl::build_embree() {
   // One build thread: the index holds tens to thousands of boxes, which build faster in the
   // calling thread than Embree's thread pool can be woken (and the cost stays on the thread that
   // pays for it, where the benchmarks measure it).
-  device = rtcNewDevice("threads=1");
-  if (device == nullptr) throw std::runtime_error("Embree: cannot create a device");
-  rtcSetDeviceErrorFunction(device, report_device_error, &device_error);
+  device = detail::new_embree_device("threads=1", device_error);
   const bool blur = options.index == MovingIndex::motion_blur;
   const unsigned scene_count = blur ? 1 : options.slices;
   boxes.assign(blur ? options.slices + 1 : options.slices, std::vector<RTCBounds>(scene_indices.size()));
