@@ -7,19 +7,17 @@
 // Both draws come from the beam's counter-based stream (seed, revolution, beam, sub-stream 0),
 // which replaces `noise` (the loader refuses both at once).
 #include "hit_geometry.hpp"
+#include "pulse_range.hpp"
 #include "received_power.hpp"
 
 #include <ldoem/sensor/effects.hpp>
 #include <ldoem/sensor/noise_stream.hpp>
 
 #include <cmath>
-#include <numbers>
 #include <sstream>
 
 namespace ldoem::sensor {
 namespace {
-
-constexpr double kSpeedOfLight_m_s = 299'792'458.0;
 
 class SnrNoiseStage final : public BeamStage {
  public:
@@ -28,8 +26,7 @@ class SnrNoiseStage final : public BeamStage {
         power_(power),
         noise_rms_(scanner.optics.min_irradiance / scanner.snr_noise.threshold_snr),
         threshold_(scanner.optics.min_irradiance * (waveform_thresholds ? scanner.waveform.threshold_factor : 1.0)),
-        pulse_sigma_m_(0.5 * kSpeedOfLight_m_s * scanner.waveform.pulse_width_s /
-                       (2.0 * std::sqrt(2.0 * std::numbers::ln2))) {}
+        pulse_sigma_m_(detail::pulse_sigma_m(scanner.waveform.pulse_width_s)) {}
 
   std::string_view name() const override { return "snr_noise"; }
 

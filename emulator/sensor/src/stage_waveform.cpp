@@ -16,6 +16,7 @@
 // at most 4096 grid points per stretch.
 #include "footprint.hpp"
 #include "hit_geometry.hpp"
+#include "pulse_range.hpp"
 #include "received_power.hpp"
 
 #include <ldoem/sensor/effects.hpp>
@@ -30,9 +31,6 @@
 namespace ldoem::sensor {
 namespace {
 
-constexpr double kSpeedOfLight_m_s = 299'792'458.0;
-// FWHM = 2 sqrt(2 ln 2) sigma for a Gaussian.
-const double kFwhmPerSigma = 2.0 * std::sqrt(2.0 * std::numbers::ln2);
 constexpr double kGridStepSigmas = 0.5;
 constexpr double kMaxGridPoints = 4096.0;  // a stretch longer than 2048 sigma gets a coarser grid
 constexpr int kGoldenSections = 60;       // shrinks the bracket by 0.618^60: far below a micrometre
@@ -77,7 +75,7 @@ class WaveformStage final : public BeamStage {
       : config_(scanner.waveform),
         offsets_(hexagonal_subray_offsets(scanner.beam_divergence_rad, scanner.mixed_pixel_subrays)),
         power_(power),
-        sigma_m_(0.5 * kSpeedOfLight_m_s * scanner.waveform.pulse_width_s / kFwhmPerSigma),
+        sigma_m_(detail::pulse_sigma_m(scanner.waveform.pulse_width_s)),
         threshold_(scanner.waveform.threshold_factor * scanner.optics.min_irradiance),
         fog_(fog_pulse(scanner, power_)) {}
 
@@ -229,7 +227,7 @@ class WaveformStage final : public BeamStage {
   static std::optional<Pulse> fog_pulse(const scene::ScannerConfig& scanner, const detail::ReceivedPower& power) {
     if (!scanner.atmosphere.fog_returns || power.extinction_per_m() == 0.0) return std::nullopt;
     const double backscatter_per_m_sr = power.extinction_per_m() / kFogLidarRatio_sr;
-    const double depth_m = 0.5 * kSpeedOfLight_m_s * scanner.waveform.pulse_width_s;
+    const double depth_m = detail::range_of_time_m(scanner.waveform.pulse_width_s);
     const double reflectance = std::numbers::pi * backscatter_per_m_sr * depth_m;
     const double range_m = scanner.atmosphere.fog_overlap_m;
     return Pulse{range_m, power(reflectance, 1.0, range_m), 1.0, reflectance};
