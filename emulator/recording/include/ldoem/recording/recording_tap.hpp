@@ -17,7 +17,7 @@ class RecordingTap final : public endpoints::WireTap {
  public:
   RecordingTap(capture::CaptureWriter& writer, capture::RecorderCanIds can_ids, const endpoints::Logger& logger,
                endpoints::WireTap* next = nullptr)
-      : writer_(writer), recorder_(writer, can_ids), logger_(logger), next_(next) {}
+      : recorder_(writer, can_ids), logger_(logger), next_(next) {}
 
   endpoints::WireVerdict on_telegram(endpoints::WireTelegram& telegram) override;
   std::uint64_t recorded() const { return recorded_; }
@@ -26,7 +26,6 @@ class RecordingTap final : public endpoints::WireTap {
  private:
   void record(const endpoints::WireTelegram& telegram);
 
-  capture::CaptureWriter& writer_;
   capture::TelegramRecorder recorder_;
   const endpoints::Logger& logger_;
   endpoints::WireTap* next_;
