@@ -13,7 +13,7 @@
 namespace ldoem::driver {
 namespace {
 
-constexpr std::size_t kReadChunkBytes = 1024;
+constexpr std::size_t kSerialReadChunkBytes = 1024;
 
 std::optional<speed_t> speed_constant(std::uint32_t baud) {
   switch (baud) {
@@ -74,7 +74,7 @@ Status SerialTransport::send(ByteView payload, Deadline deadline) {
 }
 
 Expected<Bytes, DriverError> SerialTransport::receive(Deadline deadline) {
-  return detail::receive_telegram<kReadChunkBytes>(fd_.get(), deadline, detail::kSerialLine, name_, reassembler_,
+  return detail::receive_telegram<kSerialReadChunkBytes>(fd_.get(), deadline, detail::kSerialLine, name_, reassembler_,
                                                    received_, counters_);
 }
 

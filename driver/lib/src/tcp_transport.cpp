@@ -16,7 +16,7 @@
 namespace ldoem::driver {
 namespace {
 
-constexpr std::size_t kReadChunkBytes = 8192;
+constexpr std::size_t kTcpReadChunkBytes = 8192;
 
 struct AddrInfoDeleter {
   void operator()(addrinfo* list) const { freeaddrinfo(list); }
@@ -89,7 +89,7 @@ Status TcpTransport::send(ByteView payload, Deadline deadline) {
 }
 
 Expected<Bytes, DriverError> TcpTransport::receive(Deadline deadline) {
-  return detail::receive_telegram<kReadChunkBytes>(fd_.get(), deadline, detail::kTcpStream, name_, deframer_, received_,
+  return detail::receive_telegram<kTcpReadChunkBytes>(fd_.get(), deadline, detail::kTcpStream, name_, deframer_, received_,
                                                    counters_, kTcpFrameGap);
 }
 
