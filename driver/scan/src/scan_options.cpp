@@ -240,7 +240,9 @@ OptionsResult parse_scan_options(const std::vector<std::string_view>& args) {
   CLI::App& app = command_line.app();
   app.add_flag("--half-step", options.half_step);
   app.add_flag("--fit", options.fit);
-  for (const auto& [name, setter] : setters()) {
+  for (const auto& [name, option_setter] : setters()) {
+    // A named reference for the lambda: clang before 16 cannot capture a structured binding.
+    const Setter& setter = option_setter;
     base::take_text(app, std::string(name), [&options, &setter](const std::string& value) {
       return setter(options, value);
     });
