@@ -1,19 +1,22 @@
 #!/usr/bin/env bash
-# Installs dependencies, builds, and runs every test of ldoem:
-#   1. host tests (unit, protocol vectors, emulator in virtual time, TCP/serial end to end,
-#      conformance over TCP and serial);
-#   2. the vcan-labelled tests inside one User-Mode Linux boot with a real vcan0 (daemon on CAN,
-#      conformance, can-utils interop, robustness floods, the paper's scan end to end);
-#   3. the gpio-labelled tests inside one boot of the project's gpio-sim UML kernel (built once,
-#      cached in ${LDOEM_CACHE:-~/.cache/ldoem});
-#   4. the installed package: cmake --install, the systemd units (verify, security <= 2.0), the
+# Installs dependencies, builds, and runs every test of ldoem (docs/ci.md):
+#   1. the plain build (default preset) of what must run unsanitized: the programs, the test
+#      programs that run inside User-Mode Linux (no sanitizer fits in its address space) and the
+#      tests labelled `plain`, which assert wall time (target ldoem_plain_ci);
+#   2. the installed package: cmake --install, the systemd units (verify, security <= 2.0), the
 #      examples/consumer program built against find_package(ldoem) and pkg-config and run
 #      against the installed daemon, the .deb (scripts/check-install.sh);
-#   5. every libFuzzer target for a short, fixed number of runs under ASan+UBSan;
-#   6. the hub, ray caster and sensor model tests under ThreadSanitizer (the tsan preset);
-#   7. a 60 s soak test (scripts/soak.sh) inside the vcan UML boot of step 2, so CAN is in it.
-# Each step prints its wall time (docs/ci.md).
-# The whole suite under ASan+UBSan is scripts/test-asan.sh; slow benchmarks are scripts/bench-*.sh.
+#   3. the `plain` tests on the plain build;
+#   4. the vcan-labelled tests inside one User-Mode Linux boot with a real vcan0 (daemon on CAN,
+#      conformance, can-utils interop, robustness floods, the paper's scan end to end), then a
+#      60 s soak test (scripts/soak.sh) in the same boot, so CAN is in it;
+#   5. the gpio-labelled tests inside one boot of the project's gpio-sim UML kernel (built once,
+#      cached in ${LDOEM_CACHE:-~/.cache/ldoem});
+#   6. the whole host suite and every libFuzzer target (short, fixed runs) under ASan+UBSan (the
+#      asan preset: clang, unity build). Its build starts after step 1 at the lowest CPU priority
+#      and overlaps steps 2 to 5, which mostly wait on User-Mode Linux and real time;
+#   7. the hub, ray caster and sensor model tests under ThreadSanitizer (the tsan preset).
+# Each step prints its wall time. Slow benchmarks are scripts/bench-*.sh.
 # Exit status: 0 only if all passed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -34,15 +37,34 @@ export CCACHE_DIR=${CCACHE_DIR:-$cache/ccache} CCACHE_BASEDIR=$PWD CCACHE_NOHASH
 step "dependencies"
 scripts/install-deps.sh
 
-step "build (default preset)"
+step "build: programs and UML test programs (default preset, target ldoem_plain_ci)"
 cmake --preset default >/dev/null
-cmake --build --preset default
+cmake --build --preset ci-plain
 
-step "host tests"
-ctest --preset default -LE 'vcan|gpio|slow|fuzz' -j2
+# Builds in the background, each in its own process group so that the exit trap can stop it, at
+# the lowest CPU priority so that the foreground steps' wall-clock tests keep their CPU.
+mkdir -p build
+background=()
+build_in_background() {  # PRESET LOG
+  setsid --wait bash -c "cmake --preset $1 >/dev/null && exec nice -n 19 cmake --build --preset $1" >"$2" 2>&1 &
+  background+=("$!")
+}
+finish_background_build() {  # PID LOG
+  wait "$1" && return 0
+  echo "test.sh: a background build failed; the end of $2:" >&2
+  tail -n 60 "$2" >&2
+  exit 1
+}
+trap 'for pid in "${background[@]}"; do kill -- -"$pid" 2>/dev/null || true; done
+[ -n "$step_name" ] && printf "=== %s: %d s\n" "$step_name" $((SECONDS - step_started)); printf "=== total: %d s\n" $SECONDS' EXIT
+build_in_background asan build/asan-build.log
+asan_build=$!
 
 step "installed package, systemd units, libldoem consumer"
 scripts/check-install.sh build/default
+
+step "tests that assert wall time, on the plain build (label plain)"
+ctest --preset default -L plain -j2
 
 step "vcan tests and a 60 s soak test inside User-Mode Linux"
 # One boot for both: the soak's third daemon then serves the hub over vcan0. Both always run.
@@ -55,12 +77,12 @@ step "gpio tests inside the gpio-sim UML kernel"
 gpio_kernel=$(scripts/uml/build-gpio-kernel.sh)
 scripts/uml/run.sh --kernel "$gpio_kernel" --gpio -- ctest --test-dir build/default -L gpio --output-on-failure
 
-step "fuzz targets (short runs, ASan+UBSan)"
-cmake --preset fuzz >/dev/null
-cmake --build --preset fuzz
-ctest --test-dir build/fuzz -L fuzz --output-on-failure
+step "ASan+UBSan: the whole host suite and the fuzz targets (asan preset)"
+finish_background_build "$asan_build" build/asan-build.log
+build_in_background tsan build/tsan-build.log
+tsan_build=$!
+ctest --preset asan -j2
 
 step "hub, ray caster and sensor model tests under TSan (tsan preset)"
-cmake --preset tsan >/dev/null
-cmake --build --preset tsan
+finish_background_build "$tsan_build" build/tsan-build.log
 ctest --preset tsan -j2
