@@ -59,7 +59,7 @@ if [ -n "$report" ]; then
     echo "Written by \`scripts/fuzz.sh $seconds --report $report\` on $(date -u +%Y-%m-%d) ($(nproc) cores,"
     echo "$(clang --version | head -n 1); each target built with libFuzzer, ASan and UBSan, run alone"
     echo "for $seconds s from its committed seeds in \`tests/fuzz/corpus/\`, one process, no -jobs). CI runs"
-    echo "every target for 20000 executions (\`ctest --test-dir build/fuzz -L fuzz\`)."
+    echo "every target for 20000 executions in the asan build (\`ctest --preset asan -L fuzz\`, docs/ci.md)."
     echo
     echo "Load average at the end: $(cut -d' ' -f1-3 /proc/loadavg). Executions per second are wall-clock"
     echo "figures: on a shared machine they say as much about the other load as about the code;"
