@@ -35,6 +35,7 @@ while [ $# -gt 0 ]; do
     --requests) requests=$2; shift 2 ;;
     --seconds) seconds=$2; shift 2 ;;
     --no-uml) uml=0; shift ;;
+    -h|--help) sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     --rounds)
       [[ ${2:-} =~ ^[1-9][0-9]?$ ]] || { echo "bench-latency.sh: --rounds needs a number from 1 to 99" >&2; exit 2; }
       rounds=$2; shift 2 ;;
