@@ -21,8 +21,9 @@ std::vector<const Case*> select(const std::vector<Case>& cases, const Options& o
   std::vector<const Case*> selected;
   for (const Case& c : cases) {
     const std::string name = std::string(prefix_of(kind)) + "/" + c.name;
-    if (c.applies_to(kind, options.target) && matches_any(options.filters, name) &&
-        !(!options.excludes.empty() && matches_any(options.excludes, name))) selected.push_back(&c);
+    // matches_any is true for an empty list (no --filter: all), so an empty --exclude is checked first.
+    const bool excluded = !options.excludes.empty() && matches_any(options.excludes, name);
+    if (c.applies_to(kind, options.target) && matches_any(options.filters, name) && !excluded) selected.push_back(&c);
   }
   return selected;
 }
