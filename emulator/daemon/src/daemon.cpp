@@ -211,6 +211,7 @@ std::optional<StartFailure> Daemon::Impl::build_faults() {
   if (options.event_log_path) setup.event_log_path = options.event_log_path->string();
   setup.version = LDOEM_VERSION;
   setup.world = world.get();
+  setup.imports_off_loop = !options.virtual_time;  // issue 27: a stopped virtual clock keeps imports deterministic
   auto wiring = FaultWiring::create(scene, devices, *this, *loop, logger, std::move(setup), [this] { loop->stop(); });
   if (!wiring) return StartFailure{kExitUsageError, wiring.error()};
   faults = std::move(*wiring);

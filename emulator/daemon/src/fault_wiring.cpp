@@ -30,6 +30,7 @@ FaultWiring::FaultWiring(DeviceInstance& device, endpoints::Scheduler& scheduler
 
 FaultWiring::~FaultWiring() {
   if (deadline_) scheduler_.cancel(*deadline_);
+  abandon_import();
   device_.set_fault_hook(nullptr);
   device_.set_connection_observer(nullptr);
   if (device_.wire_tap() == this) device_.set_wire_tap(nullptr);
@@ -41,6 +42,8 @@ base::Expected<std::unique_ptr<FaultWiring>, std::string> FaultWiring::create(
     std::function<void()> stop) {
   std::unique_ptr<FaultWiring> wiring(new FaultWiring(*devices.front(), scheduler, logger, stop));
   wiring->world_ = setup.world;
+  wiring->loop_ = &loop;
+  wiring->imports_off_loop_ = setup.imports_off_loop;
   wiring->several_ = devices.size() > 1;
   if (!scene.scanners.empty()) wiring->name_ = scene.scanners.front().name;
   if (setup.event_log_path) {
