@@ -8,7 +8,8 @@ size was only checked after the memory was spent. Each CASE fails before its fix
   memory    1 000 000 sphere lines (58 MB): 5.9 GB and 62 s before the object limit; --scene
             /dev/zero: 2.1 GB, then std::bad_alloc; a binary STL header claiming 5 000 000
             triangles: 1.66 GB in assimp. Now each is exit 2 with a located message under a
-            768 MiB address-space limit (D6, D7, D8). Label `plain`: RLIMIT_AS.
+            768 MiB address-space limit (D6, D7, D8); the sphere lines stop at the YAML node
+            limit (12 nodes a line). Label `plain`: RLIMIT_AS.
 Every run of the daemon is bounded by a wall-time limit; a hang is a failure, not a stuck test.
 usage: hostile_files_test.py EMUD SCENE CASE"""
 import os, resource, struct, subprocess, sys, tempfile
@@ -73,7 +74,7 @@ with tempfile.TemporaryDirectory() as folder:
             f.write("objects:\n")
             f.write("  - {sphere: {radius_m: 0.5}, pose: {position_m: [5, 0, 0]}}\n" * 1000000)
         expect("1e6 sphere lines", run(["--scene", many, "--no-flash"], rlimit_mib=768), 2,
-               "more than 100000 objects")
+               "more than 1000000 YAML nodes")
         expect("--scene /dev/zero", run(["--scene", "/dev/zero", "--no-flash"], rlimit_mib=768), 2,
                "is a character device")
         stl = os.path.join(folder, "huge.stl")
