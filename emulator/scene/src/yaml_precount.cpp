@@ -29,7 +29,7 @@ struct Frame {
   std::string key;          // maps: the key of the value being read
   std::size_t items = 0;    // sequences: children so far
   Role role = Role::other;
-  std::string path;         // "objects[3].motion.waypoints", for messages
+  std::string label;        // its own part of the key path: "motion", "[3]" (joined only for a message)
 };
 
 class Counter final : public YAML::EventHandler {
@@ -66,12 +66,23 @@ class Counter final : public YAML::EventHandler {
     throw LoadFailure{std::move(error)};
   }
 
-  // Counts one node; returns the path it has (empty for a map key).
+  // "objects[3].motion.waypoints": the labels of the open containers, built only for a message.
+  std::string path() const {
+    std::string text;
+    for (const Frame& frame : stack_) {
+      if (!text.empty() && !frame.label.empty() && frame.label.front() != '[') text += '.';
+      text += frame.label;
+    }
+    return text;
+  }
+
+  // Counts one node; returns its label in its parent (empty for a map key). Allocates nothing
+  // per node but for keys longer than the short-string buffer: inputs of a few bytes can mean a
+  // million nodes.
   std::string begin_node(const YAML::Mark& mark, bool* is_key) {
     *is_key = false;
     if (++nodes_ > kMaxSceneYamlNodes) {
-      over(mark, stack_.empty() ? std::string() : stack_.back().path,
-           "more than " + std::to_string(kMaxSceneYamlNodes) + " YAML nodes in the scene");
+      over(mark, path(), "more than " + std::to_string(kMaxSceneYamlNodes) + " YAML nodes in the scene");
     }
     if (stack_.empty()) return {};
     Frame& parent = stack_.back();
@@ -82,16 +93,16 @@ class Counter final : public YAML::EventHandler {
         return {};
       }
       parent.next_is_key = true;
-      return parent.path.empty() ? parent.key : parent.path + "." + parent.key;
+      return parent.key;
     }
     const std::size_t index = parent.items++;
     if (parent.role == Role::objects && index >= kMaxSceneObjects) {
-      over(mark, parent.path, "more than " + std::to_string(kMaxSceneObjects) + " objects");
+      over(mark, path(), "more than " + std::to_string(kMaxSceneObjects) + " objects");
     }
     if (parent.role == Role::waypoints && index >= kMaxWaypoints) {
-      over(mark, parent.path, "needs 2 to " + std::to_string(kMaxWaypoints) + " waypoints");
+      over(mark, path(), "needs 2 to " + std::to_string(kMaxWaypoints) + " waypoints");
     }
-    return parent.path + "[" + std::to_string(index) + "]";
+    return "[" + std::to_string(index) + "]";
   }
 
   void leaf(const YAML::Mark& mark, const std::string& value) {
@@ -104,7 +115,7 @@ class Counter final : public YAML::EventHandler {
     bool is_key = false;
     Frame frame;
     frame.map = map;
-    frame.path = begin_node(mark, &is_key);
+    frame.label = begin_node(mark, &is_key);
     if (!map && !is_key && !stack_.empty() && stack_.back().map) {
       const std::string& key = stack_.back().key;
       if (key == "objects" && stack_.size() == 1) frame.role = Role::objects;
@@ -126,8 +137,9 @@ void precount_yaml(std::string_view text, const std::string& file) {
   std::istream in(&buffer);
   YAML::Parser parser(in);
   Counter counter(file);
-  while (parser.HandleNextDocument(counter)) {
-  }
+  // The first document only, as YAML::Load reads: on some malformed text yaml-cpp keeps starting
+  // empty documents without consuming input (a 650-byte input made a million null nodes).
+  parser.HandleNextDocument(counter);
 }
 
 }  // namespace ldoem::scene::detail
