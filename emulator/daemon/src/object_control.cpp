@@ -3,6 +3,7 @@
 // Each command runs on the loop's thread, between revolutions, so the casters are never busy;
 // only add-object's parse and mesh import may run on a worker thread (issue 27), and its result
 // comes back to the loop's thread before it touches the world.
+#include <poll.h>
 #include <sys/eventfd.h>
 #include <unistd.h>
 
@@ -28,6 +29,9 @@ using control_socket::CommandResult;
 using nlohmann::json;
 
 namespace {
+
+// How long a stopping daemon waits for an import in flight (abandon_import).
+constexpr std::chrono::milliseconds kImportGrace{5000};
 
 double seconds(base::SimTime time) { return std::chrono::duration<double>(time).count(); }
 
@@ -135,8 +139,15 @@ void FaultWiring::finish_import() {
   if (server_) server_->complete(job->ticket, job->reply_line(result));
 }
 
+// The daemon stops during an import: the worker is given a bounded time to finish, so that it is
+// not still inside assimp while the process runs its exit handlers; after that it is left alone
+// (it owns everything it touches).
 void FaultWiring::abandon_import() {
-  if (import_ && loop_ != nullptr) loop_->unwatch(import_->done.get());
+  if (!import_) return;
+  if (loop_ != nullptr) loop_->unwatch(import_->done.get());
+  pollfd done{import_->done.get(), POLLIN, 0};
+  while (::poll(&done, 1, static_cast<int>(kImportGrace.count())) < 0 && errno == EINTR) {
+  }
   import_.reset();
 }
 
