@@ -51,6 +51,10 @@ int run_emud(int argc, char** argv) {
     std::cerr << "ldoem-emud: --flash-dir " << options.flash_dir->string() << ": not a folder\n";
     return kExitUsageError;
   }
+  if (const auto failed = make_default_flash_folder(options)) {
+    std::cerr << "ldoem-emud: " << *failed << '\n';
+    return kExitUsageError;
+  }
   if (options.flash_mode == FlashMode::file && !options.flash_dir) {
     const std::filesystem::path folder =
         options.flash_path.has_parent_path() ? options.flash_path.parent_path() : std::filesystem::path(".");

@@ -3,7 +3,9 @@
 #pragma once
 
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -117,8 +119,19 @@ struct UsageError {
 
 std::string usage_text(std::string_view program_name);
 // Where the flash files go unless --flash or a scanner's absolute flash_file says otherwise:
-// --flash-dir, else the scene's folder.
+// --flash-dir, else default_flash_folder(), never the scene's folder (a scene in a clone or in
+// /usr/share stays untouched).
 std::filesystem::path flash_folder(const Options& options);
+// The state folder: a unit's StateDirectory= ($STATE_DIRECTORY, the first of its list), else
+// $XDG_STATE_HOME/ldoem, else $HOME/.local/state/ldoem (XDG Base Directory; a relative value is
+// ignored as the specification says). Empty when none is set. `environment` is getenv.
+using Environment = std::function<const char*(const char*)>;
+std::filesystem::path default_flash_folder(const Environment& environment = [](const char* name) {
+  return static_cast<const char*>(std::getenv(name));
+});
+// Creates default_flash_folder() (mode 0700, as XDG asks) when the flash goes there; the
+// reason when it cannot. A folder given with --flash or --flash-dir must exist already.
+std::optional<std::string> make_default_flash_folder(const Options& options);
 std::string version_text();
 
 }  // namespace ldoem::daemon
