@@ -41,7 +41,11 @@ fi
 
 step "lintian $(basename "$deb")"
 # Errors fail; the warnings that remain are each explained in docs/service.md.
-lintian --fail-on error --tag-display-limit 0 "$deb" 2>&1 | { grep -v "^running with root privileges" || true; } | tee "$work/lintian.txt"
+if ! lintian --fail-on error --tag-display-limit 0 "$deb" 2>&1 | { grep -v "^running with root privileges" || true; } |
+     tee "$work/lintian.txt"; then
+  echo "check-deb-root: lintian reports $(grep -c '^E:' "$work/lintian.txt" || true) errors" >&2
+  exit 1
+fi
 echo "check-deb-root: lintian: $(grep -c '^E:' "$work/lintian.txt" || true) errors," \
      "$(grep -c '^W:' "$work/lintian.txt" || true) warnings"
 
