@@ -80,7 +80,7 @@ for key, label, primitives_only in casters:
     else:
         match = (f"{int(b['ode_mismatches'])} over 1e-9 m, {int(b['ode_mismatches_over_0_1mm'])} over 0.1 mm, "
                  f"of {int(b['ode_rays_compared'])}")
-        match_ok = None  # meshes: ODE's float trimesh is not the exact reference (DESIGN.md): no verdict
+        match_ok = None  # meshes: ODE's float trimesh is not the exact reference (design.md): no verdict
     summary.append((f">= 1.0x Embree triangles (median): {label}", tri_ratio, tri_ok))
     if primitives_only:
         summary.append((f"matches plain ODE: {label}", match, match_ok))
@@ -202,7 +202,7 @@ ODE at 1000 primitives.
 
 Mesh scenes: ODE's trimesh answers in float, so ranges differ from ldoem's double-precision
 recomputation by more than 1e-9 m on some rays; the 0.1 mm column shows whether any ray hit a
-different surface. Those rows are not held to "matches ODE" (DESIGN.md: meshes are Embree's).
+different surface. Those rows are not held to "matches ODE" (design.md: meshes are Embree's).
 
 ## Peak memory (getrusage ru_maxrss), beside throughput
 

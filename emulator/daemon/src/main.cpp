@@ -1,5 +1,5 @@
 // ldoem-emud: parse the command line, load the scene, open the endpoints, run the loop, map the
-// outcome to an exit code (STYLE.md section 1). Everything it decides is in ldoem_daemon.
+// outcome to an exit code (design.md convention 1). Everything it decides is in ldoem_daemon.
 #include <filesystem>
 #include <iostream>
 #include <memory>

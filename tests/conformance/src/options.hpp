@@ -1,4 +1,4 @@
-// The command line of ldoem-conformance, parsed by a pure function (STYLE.md section 1).
+// The command line of ldoem-conformance, parsed by a pure function (design.md convention 1).
 #pragma once
 
 #include <chrono>
@@ -14,7 +14,7 @@
 
 namespace ldoem::conformance {
 
-// Exit codes (STYLE.md section 1).
+// Exit codes (design.md convention 1).
 inline constexpr int kExitAllPassed = 0;
 inline constexpr int kExitFailed = 1;      // a case failed, or the endpoint could not be opened
 inline constexpr int kExitUsageError = 2;  // bad option

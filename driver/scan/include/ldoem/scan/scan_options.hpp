@@ -1,4 +1,4 @@
-// ldoem-scan's command line, parsed and checked by pure functions (STYLE.md section 1).
+// ldoem-scan's command line, parsed and checked by pure functions (design.md convention 1).
 #pragma once
 
 #include <chrono>
