@@ -1,6 +1,6 @@
 // How ldoem's tools (ldoem-emud, ldoem-hub, ldoem-scan, ldoem-conformance) read their command
-// lines: CLI11 parses, and this wrapper keeps what the tools promise their users (STYLE.md
-// section 1): each tool's own --help text, verbatim, with defaults and examples; every problem
+// lines: CLI11 parses, and this wrapper keeps what the tools promise their users (design.md
+// convention 1): each tool's own --help text, verbatim, with defaults and examples; every problem
 // as one line "OPTION: reason", for stderr and exit code 2; a repeated option keeps its last
 // value unless the tool takes them all. Values are checked by the tool's own functions, so the
 // reasons stay the tool's.
