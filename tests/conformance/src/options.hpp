@@ -34,6 +34,7 @@ struct Options {
   std::vector<std::string> excludes;  // globs over case names left out after the filters
   bool list = false;
   bool help = false;
+  bool version = false;  // --version: print base::version_line and exit 0
   bool verbose = false;               // print every telegram sent and received on stderr
   std::optional<std::string> vectors_file;  // instead of the compiled-in copy
   // --against CAPTURE: replay the capture's requests and compare the replies field by field

@@ -21,6 +21,7 @@ inline constexpr int kExitSignalBase = 128;
 
 struct HubCommandLine {
   bool help = false;
+  bool version = false;  // --version: print base::version_line and exit 0
   std::string config_path;
   std::optional<ListenAddress> listen;               // overrides the file's `listen`
   std::optional<std::chrono::milliseconds> max_age;  // overrides the file's `max_age_ms`

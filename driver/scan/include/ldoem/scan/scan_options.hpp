@@ -26,6 +26,7 @@ enum class CloudEncoding : std::uint8_t { ascii, binary };
 
 struct ScanOptions {
   bool help = false;
+  bool version = false;  // --version: print base::version_line and exit 0
   std::optional<driver::Endpoint> device;  // direct: --device
   std::optional<hub::ListenAddress> hub;   // through a hub: --hub with --hub-device
   std::string hub_device;
