@@ -143,7 +143,9 @@ int main(int argc, char** argv) {
     std::cerr << "ldoem-scan: " << driver::describe(device.error()) << "\n";
     return kExitFailure;
   }
-  scan::ProgressBar progress = scan::ProgressBar::for_stderr();
+  scan::ProgressBarOptions progress_options;
+  progress_options.line_prefix = "ldoem-scan: ";
+  scan::ProgressBar progress = scan::ProgressBar::for_stderr(progress_options);
   int signal_seen = 0;
   scan::AcquisitionHooks hooks;
   hooks.on_layer = [&progress](std::uint32_t done, std::uint32_t total) {
