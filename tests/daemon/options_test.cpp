@@ -1,4 +1,4 @@
-// Options parsing table (STYLE.md section 1): every option, its default, and the usage errors.
+// Options parsing table (design.md convention 1): every option, its default, and the usage errors.
 #include <gtest/gtest.h>
 
 #include <map>

@@ -349,10 +349,8 @@ Expected<TcpOption, UsageError> parse_tcp_option(std::string_view text) {
 Expected<Command, UsageError> parse_command_line(std::span<const std::string_view> arguments) {
   Command command;
   Seen seen;
-  bool version = false;
   base::CommandLine command_line("ldoem-emud", base::HelpPrecedence::before_problems);
   CLI::App& app = command_line.app();
-  command_line.answer_first("--version", version);
   for (const auto& [name, handler] : flag_options()) {
     app.add_flag_callback(std::string(name), [&, &handler = handler] { handler(command.options, seen); })
         ->disable_flag_override();
@@ -375,7 +373,7 @@ Expected<Command, UsageError> parse_command_line(std::span<const std::string_vie
   if (command_line.help_requested()) {
     return Command{CommandKind::help, {}, {}};
   }
-  if (version) {
+  if (command_line.version_requested()) {
     return Command{CommandKind::version, {}, {}};
   }
   if (command_line.completion_requested()) {
@@ -387,7 +385,7 @@ Expected<Command, UsageError> parse_command_line(std::span<const std::string_vie
   return command;
 }
 
-std::string version_text() { return std::string("ldoem-emud ") + LDOEM_VERSION + "\n"; }
+std::string version_text() { return base::version_line("ldoem-emud"); }
 
 std::string usage_text(std::string_view program_name) {
   const std::string p(program_name);

@@ -1,5 +1,5 @@
 // The command line of ldoem-emud, parsed into a plain Options value by a pure function
-// (STYLE.md section 1: main is a short script; everything it decides is reachable by a test).
+// (design.md convention 1: main is a short script; everything it decides is reachable by a test).
 #pragma once
 
 #include <cstdint>
@@ -20,7 +20,7 @@
 
 namespace ldoem::daemon {
 
-// Exit codes (STYLE.md section 1, as can-utils' candump): --help documents them.
+// Exit codes (design.md convention 1, as can-utils' candump): --help documents them.
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitRuntimeFailure = 1;
 inline constexpr int kExitUsageError = 2;  // bad option, bad scene, unusable transport setup
