@@ -31,8 +31,8 @@ foreach(program ${ldoem_programs})
   endif()
   install(TARGETS ${program} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime)
   set(generated)
-  # Man pages from each program's --help, at build time, so they never drift from it. The
-  # version comes from here: not every program answers --version yet.
+  # Man pages from each program's --help, at build time, so they never drift from it; the
+  # version is the project's, which each program's --version prints too.
   if(LDOEM_HELP2MAN)
     # gzip -9n, as Debian keeps man pages (and without a time stamp: the same bytes each build).
     set(page ${PROJECT_BINARY_DIR}/man/${program}.1.gz)
