@@ -26,6 +26,8 @@ packages=(
   # cpack -G DEB finds the package's library dependencies with dpkg-shlibdeps
   dpkg-dev
   nlohmann-json3-dev libcli11-dev   # control socket (JSON lines), ldoem-ctl
+  # the ldoem Python package (python/, docs/python.md): bindings, tests, examples
+  pybind11-dev python3-dev python3-pytest python3-numpy python3-matplotlib
   # for the gpio-sim UML kernel (scripts/uml/build-gpio-kernel.sh)
   linux-source-6.1 build-essential bc flex bison libelf-dev xz-utils
 )
