@@ -8,7 +8,6 @@ import shutil
 import signal
 import subprocess
 import tempfile
-import threading
 import time
 from pathlib import Path
 
@@ -55,18 +54,21 @@ class Emulator:
     tcp           "HOST:PORT" to listen on; default 127.0.0.1 on a free port
     virtual_time  --virtual-time (D7): the clock jumps when the daemon is idle
     args          more ldoem-emud options
+    record        --record: every telegram with its device time (docs/capture.md); read with
+                  profile_times() before stop()
     After start(): .device (the first host endpoint, as libldoem writes it), .tcp, .serial, .lpt,
     .control (a ControlClient), .event_log_path.
     """
 
     def __init__(self, scene="minimal", transports=("tcp",), tcp=None, virtual_time=False, seed=None, args=(),
-                 start_timeout=30.0, stop_timeout=10.0, emud=None):
+                 start_timeout=30.0, stop_timeout=10.0, emud=None, record=False):
         self.scene = scene
         self.transports = tuple(transports)
         self.tcp_listen = tcp
         self.virtual_time = virtual_time
         self.seed = seed
         self.args = list(args)
+        self.record = record
         self.start_timeout = start_timeout
         self.stop_timeout = stop_timeout
         self.emud = emud or find_program("ldoem-emud", "LDOEM_EMUD")
@@ -76,6 +78,7 @@ class Emulator:
         self._control = None
         self._workdir = None
         self._final_events = None
+        self._final_profile_times = None
 
     # ------------------------------------------------------------------ life cycle
     def start(self):
@@ -102,6 +105,9 @@ class Emulator:
             command.append("--virtual-time")
         if self.seed is not None:
             command += ["--seed", str(self.seed)]
+        self.record_path = work / "capture.pcapng"
+        if self.record:
+            command += ["--record", str(self.record_path)]
         command += self.args
         self._stderr = open(work / "emud.err", "w+b")
         self.process = subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=self._stderr,
@@ -173,6 +179,7 @@ class Emulator:
         self.returncode = self.process.returncode
         # The daemon writes its event log through a buffer: the whole log is there once it ended.
         self._final_events = self._read_event_log()
+        self._final_profile_times = self._read_profile_times()
         self.process.stdout.close()
         if self._control is not None:
             self._control.close()
@@ -234,61 +241,25 @@ class Emulator:
             return self._final_events
         return self._read_event_log()
 
+    def profile_times(self):
+        """Device times (s) of the profiles sent over TCP, from the recording (record=True), or
+        None without one. Complete once the daemon has stopped."""
+        if self.process is None:
+            return self._final_profile_times
+        return self._read_profile_times()
+
+    def _read_profile_times(self):
+        if not self.record:
+            return None
+        from .capture import profile_times
+        try:
+            return profile_times(self.record_path)
+        except (FileNotFoundError, ValueError):
+            return None
+
     def _read_event_log(self):
         try:
             text = Path(self.event_log_path).read_text()
         except FileNotFoundError:
             return []
         return [json.loads(line) for line in text.splitlines() if line.strip()]
-
-    def watch(self):
-        """A FaultWatcher on this daemon (started)."""
-        return FaultWatcher(self).start()
-
-
-class FaultWatcher:
-    """Follows the events on its own control connection, and at each fault event notes the
-    daemon's profiles_sent counter: so after a run one can tell whether profiles flowed again
-    after the fault (profiles_after_fault)."""
-
-    MARKS = ("FAULT_INJECTED", "FAULT_CLEARED", "POWER_ON")
-
-    def __init__(self, emulator):
-        self.emulator = emulator
-        self.marks = []  # (event name, device time s, profiles_sent right after)
-        self._stop = threading.Event()
-        self._thread = None
-
-    def start(self):
-        self._client = ControlClient(self.emulator.control_path)
-        self._thread = threading.Thread(target=self._run, daemon=True)
-        self._thread.start()
-        return self
-
-    def _run(self):
-        try:
-            while not self._stop.is_set():
-                for event in self._client.events(timeout=0.1):
-                    if event["event"] in self.MARKS:
-                        sent = self._client.query_status()["counters"]["profiles_sent"]
-                        stamp = event.get("timestamp", {})
-                        self.marks.append((event["event"], stamp.get("seconds", 0) + stamp.get("microseconds", 0) / 1e6,
-                                           sent))
-                    if self._stop.is_set():
-                        break
-        except (OSError, RuntimeError, ValueError):
-            pass  # the daemon went away
-
-    def stop(self):
-        """Idempotent."""
-        self._stop.set()
-        if self._thread is not None:
-            self._thread.join(timeout=5)
-            self._thread = None
-            self._client.close()
-
-    def profiles_after_fault(self, profiles_sent_now):
-        """Profiles the device sent after the last fault event, or None when no fault acted."""
-        if not self.marks:
-            return None
-        return profiles_sent_now - self.marks[-1][2]

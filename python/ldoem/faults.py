@@ -140,9 +140,19 @@ class Outcome:
         return f"{self.scenario.id}: {self.device}; {flow} ({self.profiles_after_fault} after, {self.profiles_sent} in all)"
 
 
-def outcome_of(scenario, emulator, watcher=None):
-    """The Outcome of a run on `emulator`: its counters while it still runs, then it is stopped
-    (the watcher first) and its whole event log read."""
+FAULT_MARKS = ("FAULT_INJECTED", "FAULT_CLEARED", "POWER_ON")
+
+
+def _seconds(event):
+    stamp = event.get("timestamp", {})
+    return stamp.get("seconds", 0) + stamp.get("microseconds", 0) / 1e6
+
+
+def outcome_of(scenario, emulator):
+    """The Outcome of a run on `emulator` (started with record=True for the profile count): its
+    counters while it still runs, then it is stopped and its event log and recording read.
+    profiles_after_fault counts the profiles sent after the last fault event (injection, clearing
+    or power-on), both on the device clock; None without a fault or a TCP recording."""
     outcome = Outcome(scenario)
     if emulator.running:
         try:
@@ -151,11 +161,11 @@ def outcome_of(scenario, emulator, watcher=None):
             pass
     else:
         outcome.daemon_exit = emulator.process.returncode if emulator.process else emulator.returncode
-    if watcher is not None:
-        watcher.stop()
     emulator.stop()
     outcome.events = emulator.event_log()
+    marks = [_seconds(event) for event in outcome.events if event["event"] in FAULT_MARKS]
     outcome.triggered = any(event["event"] == "FAULT_INJECTED" for event in outcome.events)
-    if watcher is not None and outcome.triggered:
-        outcome.profiles_after_fault = watcher.profiles_after_fault(outcome.profiles_sent)
+    times = emulator.profile_times()
+    if outcome.triggered and times is not None:
+        outcome.profiles_after_fault = sum(1 for t in times if t > marks[-1])
     return outcome

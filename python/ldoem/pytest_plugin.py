@@ -59,7 +59,7 @@ def ldoem_scene():
 
 @pytest.fixture
 def ldoem_emulator(request, ldoem_scenario, ldoem_scene):
-    options = {"scene": ldoem_scene, "transports": ("tcp",), "virtual_time": True}
+    options = {"scene": ldoem_scene, "transports": ("tcp",), "virtual_time": True, "record": True}
     marker = request.node.get_closest_marker("ldoem_scene")
     if marker is not None:
         if marker.args:
@@ -69,17 +69,13 @@ def ldoem_emulator(request, ldoem_scenario, ldoem_scene):
     if scenario is not None and scenario.transport not in options["transports"]:
         options["transports"] = (scenario.transport,) + tuple(t for t in options["transports"] if t == "lpt")
     emulator = Emulator(**options).start()
-    watcher = None
     try:
         if scenario is not None:
-            watcher = emulator.watch()
             emulator.inject_fault(scenario.kind, **scenario.fault())
         yield emulator
         if scenario is not None:
-            _report(request, faults.outcome_of(scenario, emulator, watcher))
+            _report(request, faults.outcome_of(scenario, emulator))
     finally:
-        if watcher is not None:
-            watcher.stop()
         emulator.stop()
 
 

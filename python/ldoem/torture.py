@@ -6,7 +6,8 @@ serial:PATH) and `{lpt}` the tilt stepper's (lpt:pty:PATH; the emulator then has
 also in the environment as LDOEM_DEVICE and LDOEM_LPT. Each run is judged by CMD's exit status,
 the time limit and the emulator's event log:
 
-  recovered     exit 0 after the fault acted                           pass
+  recovered     exit 0 after the fault acted, and profiles flowed after it    pass
+  completed     exit 0 after the fault acted, no profile after it       pass
   unaffected    exit 0, the fault never acted (the trigger's request was not sent)  pass
   gave up       exit != 0 after a final device fault (motor_stall, motor_overspeed,
                 encoder_error: libldoem's reset_device)                 pass
@@ -33,8 +34,8 @@ from xml.sax.saxutils import escape, quoteattr
 from . import faults
 from .emulator import Emulator
 
-PASSING = {"recovered": True, "unaffected": True, "gave up": True, "failed": False, "hung": False, "crashed": False}
-COLOURS = {"recovered": "#4caf50", "unaffected": "#b0bec5", "gave up": "#ffca28", "failed": "#e53935",
+PASSING = {"recovered": True, "completed": True, "unaffected": True, "gave up": True, "failed": False, "hung": False, "crashed": False}
+COLOURS = {"recovered": "#4caf50", "completed": "#a5d6a7", "unaffected": "#b0bec5", "gave up": "#ffca28", "failed": "#e53935",
            "hung": "#8e24aa", "crashed": "#000000"}
 
 
@@ -53,13 +54,15 @@ class Run:
         return PASSING[self.verdict]
 
 
-def judge(scenario, exit_status, hung, triggered):
+def judge(scenario, exit_status, hung, triggered, profiles_after_fault=None):
     if hung:
         return "hung"
     if exit_status < 0:
         return "crashed"
     if exit_status == 0:
-        return "recovered" if triggered else "unaffected"
+        if not triggered:
+            return "unaffected"
+        return "recovered" if profiles_after_fault else "completed"
     if triggered and scenario.kind in faults.FINAL_KINDS:
         return "gave up"
     return "failed"
@@ -67,8 +70,7 @@ def judge(scenario, exit_status, hung, triggered):
 
 def run_one(scenario, command, options):
     transports = (scenario.transport,) + (("lpt",) if any("{lpt}" in arg for arg in command) else ())
-    with Emulator(options.scene, transports=transports, virtual_time=not options.real_time) as emulator:
-        watcher = emulator.watch()
+    with Emulator(options.scene, transports=transports, virtual_time=not options.real_time, record=True) as emulator:
         emulator.inject_fault(scenario.kind, **scenario.fault())
         lpt = emulator.lpt or ""
         argv = [arg.replace("{device}", emulator.device).replace("{lpt}", lpt) for arg in command]
@@ -84,9 +86,9 @@ def run_one(scenario, command, options):
             os.killpg(process.pid, signal.SIGKILL)
             output, _ = process.communicate()
         seconds = time.monotonic() - started
-        outcome = faults.outcome_of(scenario, emulator, watcher)  # stops the emulator
+        outcome = faults.outcome_of(scenario, emulator)  # stops the emulator
     text = output.decode(errors="replace")[-4000:]
-    verdict = judge(scenario, process.returncode, hung, outcome.triggered)
+    verdict = judge(scenario, process.returncode, hung, outcome.triggered, outcome.profiles_after_fault)
     if outcome.daemon_exit is not None:
         verdict = "failed"  # the emulator itself died: nothing about the driver can be judged
     return Run(scenario, verdict, process.returncode, seconds, outcome.device if outcome.triggered else "not triggered",

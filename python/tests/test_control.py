@@ -105,3 +105,16 @@ def test_a_daemon_that_does_not_start_is_an_error_with_its_message(tmp_path):
     bad.write_text("objects: [{name: x, box: {size_m: [-1, 1, 1]}}]\n")
     with pytest.raises(ldoem.emulator.EmulatorError, match="size_m"):
         ldoem.Emulator(str(bad)).start()
+
+
+def test_the_recording_gives_the_profiles_device_times():
+    with ldoem.Emulator("minimal", virtual_time=True, record=True) as emulator:
+        with ldoem.Scanner(emulator.device) as scanner:
+            scanner.rotate()
+            scanner.measure()
+            with scanner.profiles(count=4) as stream:
+                counts = [profile.profile_count for profile in stream]
+    times = emulator.profile_times()
+    assert len(times) == 4 and times == sorted(times)
+    # One revolution apart at the scene's 10 Hz (device time, D7).
+    assert all(abs((b - a) * 10 - (cb - ca)) < 1e-6 for a, b, ca, cb in zip(times, times[1:], counts, counts[1:]))
