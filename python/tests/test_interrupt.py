@@ -98,3 +98,32 @@ def test_a_blocking_read_ends_at_its_timeout(silent_listener):
     with pytest.raises(ldoem.Timeout):
         scanner.status()
     assert time.monotonic() - started >= 0.3
+
+
+SCAN_CHILD = textwrap.dedent("""
+    import json, os, signal, sys, threading, time
+    import ldoem
+    sent = {}
+    with ldoem.Emulator("corridor", transports=("tcp", "lpt")) as emulator:  # real time: ~15 s
+        def interrupt():
+            time.sleep(1.0)
+            sent["at"] = time.monotonic()
+            os.kill(os.getpid(), signal.SIGINT)
+        threading.Thread(target=interrupt, daemon=True).start()
+        started = time.monotonic()
+        try:
+            ldoem.scan(emulator.device, emulator.lpt)
+            print(json.dumps({"interrupted": False}))
+        except KeyboardInterrupt:
+            caught = time.monotonic()
+            print(json.dumps({"interrupted": True, "delay": caught - sent["at"], "blocked": caught - started}))
+""")
+
+
+def test_ctrl_c_stops_a_scan_and_the_emulator_is_stopped_too():
+    child = subprocess.run([sys.executable, "-c", SCAN_CHILD], capture_output=True, text=True, timeout=120)
+    assert child.returncode == 0, child.stderr
+    result = json.loads(child.stdout.strip().splitlines()[-1])
+    assert result["interrupted"], "the scan ran to its end"
+    assert result["blocked"] < 5.0, result
+    assert result["delay"] < 1.0, result

@@ -1,6 +1,7 @@
 """ldoem.Scanner over the emulator: the calls, the profile arrays, the errors."""
 
 import socket
+import time
 
 import numpy as np
 import pytest
@@ -112,3 +113,25 @@ def test_power_cycle_costs_the_connection_and_reconnect_brings_it_back(emulator)
                 scanner.status()
         assert caught.value.kind in ("connection_closed", "timeout")
         assert scanner.reconnect()["sensor"] == "IDLE"
+
+
+def test_the_tilt_stepper_on_the_lpt_line():
+    with ldoem.Emulator("minimal", transports=("tcp", "lpt"), virtual_time=True) as emulator:
+        with ldoem.Scanner(emulator.device, lpt=emulator.lpt) as scanner:
+            assert scanner.tilt_deg == 0.0
+            assert scanner.move_tilt(10, rate_hz=2000) == pytest.approx(0.9)   # D8: 1.8 deg / 20 a step
+            # The emulated plate saw the 10 steps (it reads the pty as the bytes come).
+            deadline = time.monotonic() + 5
+            while emulator.query_status()["tilt_steps"] != 10 and time.monotonic() < deadline:
+                time.sleep(0.05)
+            assert emulator.query_status()["tilt_steps"] == 10
+            assert scanner.move_tilt(-3, half_step=True, rate_hz=2000) == pytest.approx(0.9 - 3 * 0.045)
+            assert scanner.tilt_to(0.0, half_step=True, rate_hz=2000) == pytest.approx(0.0)
+            with pytest.raises(ValueError, match="20000"):
+                scanner.move_tilt(20001)
+
+
+def test_without_an_lpt_endpoint_the_tilt_is_a_value_error(emulator):
+    with ldoem.Scanner(emulator.tcp) as scanner:
+        with pytest.raises(ValueError, match="lpt"):
+            scanner.move_tilt(1)
