@@ -50,21 +50,27 @@ class Emulator:
 
     scene         a path, a scene name (scene_path) or a dict (written as a temporary YAML file;
                   JSON is YAML)
-    transports    any of "tcp", "serial" (a pty), "lpt" (the tilt stepper on a pty)
+    transports    any of "tcp", "serial" (a pty), "lpt" (the tilt stepper on a pty), "can"
     tcp           "HOST:PORT" to listen on; default 127.0.0.1 on a free port
+    serial, lpt   the path the pty is linked at; default a temporary folder's
+    can           the SocketCAN interface for "can" [vcan0] (it must exist and be up)
     virtual_time  --virtual-time (D7): the clock jumps when the daemon is idle
     args          more ldoem-emud options
     record        --record: every telegram with its device time (docs/capture.md); read with
                   profile_times() before stop()
-    After start(): .device (the first host endpoint, as libldoem writes it), .tcp, .serial, .lpt,
+    After start(): .device (the first host endpoint, as libldoem writes it), .tcp, .serial, .can, .lpt,
     .control (a ControlClient), .event_log_path.
     """
 
     def __init__(self, scene="minimal", transports=("tcp",), tcp=None, virtual_time=False, seed=None, args=(),
-                 start_timeout=30.0, stop_timeout=10.0, emud=None, record=False):
+                 start_timeout=30.0, stop_timeout=10.0, emud=None, record=False, serial=None, lpt=None,
+                 can="vcan0"):
         self.scene = scene
         self.transports = tuple(transports)
         self.tcp_listen = tcp
+        self.serial_link = serial
+        self.lpt_link = lpt
+        self.can_interface = can
         self.virtual_time = virtual_time
         self.seed = seed
         self.args = list(args)
@@ -74,7 +80,7 @@ class Emulator:
         self.emud = emud or find_program("ldoem-emud", "LDOEM_EMUD")
         self.process = None
         self.returncode = None
-        self.tcp = self.serial = self.lpt = self.device = None
+        self.tcp = self.serial = self.lpt = self.can = self.device = None
         self._control = None
         self._workdir = None
         self._final_events = None
@@ -93,14 +99,15 @@ class Emulator:
             scene = scene_path(str(self.scene))
         self.control_path = work / "control.sock"
         self.event_log_path = work / "events.log"
-        command = [self.emud, "--scene", str(scene), "--no-can", "--no-flash", "--control", str(self.control_path),
+        command = [self.emud, "--scene", str(scene), "--no-flash", "--control", str(self.control_path),
                    "--event-log", str(self.event_log_path)]
+        command += ["--can", self.can_interface] if "can" in self.transports else ["--no-can"]
         if "tcp" in self.transports:
             command += ["--tcp", self.tcp_listen or "127.0.0.1:0"]
         if "serial" in self.transports:
-            command += ["--serial", f"pty:{work / 'serial'}"]
+            command += ["--serial", f"pty:{self.serial_link or work / 'serial'}"]
         if "lpt" in self.transports:
-            command += ["--lpt", f"pty:{work / 'lpt'}"]
+            command += ["--lpt", f"pty:{self.lpt_link or work / 'lpt'}"]
         if self.virtual_time:
             command.append("--virtual-time")
         if self.seed is not None:
@@ -148,7 +155,9 @@ class Emulator:
                 self.serial = f"serial:{value.split()[0]}"
             elif kind == "lpt":
                 self.lpt = f"lpt:pty:{value.split()[0]}"
-        self.device = self.tcp or self.serial
+            elif kind == "can":  # "can vcan0 6C0:6C1"
+                self.can = "can:" + ":".join(value.split())
+        self.device = self.tcp or self.serial or self.can
 
     def stderr_text(self):
         self._stderr.seek(0)

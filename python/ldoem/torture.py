@@ -176,7 +176,7 @@ def main(argv=None):
     split = argv.index("--")
     parser = argparse.ArgumentParser(prog="python3 -m ldoem.torture", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--transport", default="tcp", choices=("tcp", "serial"))
+    parser.add_argument("--transport", default="tcp", choices=("tcp", "serial", "can"))
     parser.add_argument("--scene", default="minimal", help="scene path or name [minimal]")
     parser.add_argument("--kinds", help="comma-separated D11 kinds [every one of the transport]")
     parser.add_argument("--triggers", help="comma-separated trigger points [all: " + ",".join(faults.TRIGGERS) + "]")

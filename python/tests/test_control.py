@@ -118,3 +118,11 @@ def test_the_recording_gives_the_profiles_device_times():
     assert len(times) == 4 and times == sorted(times)
     # One revolution apart at the scene's 10 Hz (device time, D7).
     assert all(abs((b - a) * 10 - (cb - ca)) < 1e-6 for a, b, ca, cb in zip(times, times[1:], counts, counts[1:]))
+
+
+def test_given_pty_links_are_where_the_emulator_serves(tmp_path):
+    link = tmp_path / "serial-link"
+    with ldoem.Emulator("minimal", transports=("serial",), serial=str(link), virtual_time=True) as emulator:
+        assert emulator.device == emulator.serial and link.is_symlink()
+        with ldoem.Scanner(f"serial:{link}") as scanner:
+            assert scanner.status()["sensor"] == "IDLE"
