@@ -14,6 +14,7 @@ takes the profiles (D10 skips what the host is too slow for), so profiles/s is t
 import argparse
 import os
 import re
+import resource
 import statistics
 import subprocess
 import sys
@@ -33,6 +34,7 @@ def python_rate(seconds):
         scanner.rotate()
         scanner.measure()
         count = points = 0
+        cpu = time.process_time()
         with scanner.profiles(format=ldoem.FORMAT_RANGE) as stream:
             start = time.monotonic()
             end = start + seconds
@@ -42,14 +44,19 @@ def python_rate(seconds):
                 if time.monotonic() >= end:
                     break
             elapsed = time.monotonic() - start
-    return count / elapsed, points / max(count, 1)
+        cpu = time.process_time() - cpu
+    return count / elapsed, points / max(count, 1), cpu / max(count, 1)
 
 
 def cpp_rate(latency, seconds):
     with ldoem.Emulator(SCENE, virtual_time=True) as emulator:
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
         out = subprocess.run([latency, "--tcp", emulator.device[len("tcp:"):], "--profiles", str(seconds), "--format",
                               "39ff"], capture_output=True, text=True, timeout=seconds + 60, check=True).stdout
-    return float(re.search(r"profiles_per_s=([0-9.]+)", out).group(1))
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    rate = float(re.search(r"profiles_per_s=([0-9.]+)", out).group(1))
+    cpu = (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime)
+    return rate, cpu / max(rate * seconds, 1)
 
 
 def scan_time():
@@ -67,23 +74,26 @@ def main():
     parser.add_argument("--write-doc", action="store_true")
     options = parser.parse_args()
     load_before = os.getloadavg()[0]
-    py, cpp = [], []
+    py, cpp, py_cpu, cpp_cpu = [], [], [], []
     points = 0
     for _ in range(options.rounds):
-        rate, points = python_rate(options.seconds)
+        rate, points, cpu = python_rate(options.seconds)
         py.append(rate)
-        cpp.append(cpp_rate(options.latency, options.seconds))
+        py_cpu.append(cpu)
+        rate, cpu = cpp_rate(options.latency, options.seconds)
+        cpp.append(rate)
+        cpp_cpu.append(cpu)
     scan_seconds, cloud = scan_time()
     ratio = statistics.median(py) / statistics.median(cpp)
     lines = [
         f"Profiles/s on the same stream ({options.rounds} rounds of {options.seconds:g} s each, taking turns; medians):",
         "",
-        "| client | profiles/s (median) | each round |",
-        "|---|---|---|",
+        "| client | profiles/s (median) | each round | client CPU per profile (us, median) |",
+        "|---|---|---|---|",
         f"| C++ (ldoem-latency --profiles, raw TCP telegrams) | {statistics.median(cpp):.0f} | "
-        + ", ".join(f"{r:.0f}" for r in cpp) + " |",
+        + ", ".join(f"{r:.0f}" for r in cpp) + f" | {statistics.median(cpp_cpu) * 1e6:.1f} |",
         f"| Python (`for p in scanner.profiles()`, {points:.0f} points a profile to numpy) | {statistics.median(py):.0f} | "
-        + ", ".join(f"{r:.0f}" for r in py) + " |",
+        + ", ".join(f"{r:.0f}" for r in py) + f" | {statistics.median(py_cpu) * 1e6:.1f} |",
         "",
         f"Python / C++: {ratio:.3f}.",
         "",
