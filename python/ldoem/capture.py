@@ -25,6 +25,23 @@ def _blocks(data, endian):
 
 def profile_times(path):
     """Device times (s) of the profile telegrams sent to TCP hosts, in file order."""
+    return [time for time, payload in device_telegrams(path) if payload[:2] == b"\x83\x01"]
+
+
+def refusals(path):
+    """The SERVICE_FAILURE replies (D2: FF 00 REQUEST REASON) sent to TCP hosts: (device time s,
+    request code, reason), in file order: requests the device refused in the state it was in."""
+    out = []
+    for time, payload in device_telegrams(path):
+        if payload[:2] == b"\xff\x00" and len(payload) >= 6:
+            request, reason = struct.unpack_from(">HH", payload, 2)
+            out.append((time, request, reason))
+    return out
+
+
+def device_telegrams(path):
+    """(device time s, payload) of each telegram the device sent to a TCP host (its first
+    segment: the payload may be cut at the segment's end, enough for its code)."""
     with open(path, "rb") as file:
         data = file.read()
     if len(data) < 12 or struct.unpack_from("<I", data, 0)[0] != 0x0A0D0D0A:
@@ -44,6 +61,6 @@ def profile_times(path):
             source_port = struct.unpack_from(">H", packet, header)[0]
             tcp_header = (packet[header + 12] >> 4) * 4
             payload = packet[header + tcp_header:]
-            if source_port == DEVICE_PORT and payload[:4] == TCP_FRAME_HEAD and payload[8:10] == b"\x83\x01":
-                times.append(((high << 32) | low) / 1e9)  # if_tsresol 9: nanoseconds
+            if source_port == DEVICE_PORT and payload[:4] == TCP_FRAME_HEAD:
+                times.append((((high << 32) | low) / 1e9, payload[8:]))  # if_tsresol 9: nanoseconds
     return times

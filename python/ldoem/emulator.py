@@ -11,6 +11,7 @@ import tempfile
 import time
 from pathlib import Path
 
+from . import capture
 from .control import ControlClient
 
 try:
@@ -85,6 +86,7 @@ class Emulator:
         self._workdir = None
         self._final_events = None
         self._final_profile_times = None
+        self._final_refusals = None
 
     # ------------------------------------------------------------------ life cycle
     def start(self):
@@ -189,6 +191,7 @@ class Emulator:
         # The daemon writes its event log through a buffer: the whole log is there once it ended.
         self._final_events = self._read_event_log()
         self._final_profile_times = self._read_profile_times()
+        self._final_refusals = self._read_capture(capture.refusals)
         self.process.stdout.close()
         if self._control is not None:
             self._control.close()
@@ -257,12 +260,21 @@ class Emulator:
             return self._final_profile_times
         return self._read_profile_times()
 
+    def refusals(self):
+        """(device time s, request code, D2 reason) of each SERVICE_FAILURE sent over TCP, from
+        the recording (record=True), or None without one. Complete once the daemon has stopped."""
+        if self.process is None:
+            return self._final_refusals
+        return self._read_capture(capture.refusals)
+
     def _read_profile_times(self):
+        return self._read_capture(capture.profile_times)
+
+    def _read_capture(self, reader):
         if not self.record:
             return None
-        from .capture import profile_times
         try:
-            return profile_times(self.record_path)
+            return reader(self.record_path)
         except (FileNotFoundError, ValueError):
             return None
 

@@ -119,12 +119,17 @@ class Outcome:
     profiles_sent: int = 0
     profiles_after_fault: object = None  # None: no fault acted
     daemon_exit: object = None  # ldoem-emud's exit status when it died during the run
+    refusals: list = dataclasses.field(default_factory=list)  # (time s, request code, D2 reason)
 
     @property
     def device(self):
         """One line: which events the fault caused."""
         names = [event["event"] for event in self.events if event["event"] not in ("CONNECTION_OPENED", "CONNECTION_CLOSED")]
         text = " ".join(names) if names else "no fault event"
+        if self.refusals:
+            refused = ", ".join(f"0x{code:04X} reason {reason}" for _, code, reason in self.refusals[:5])
+            more = f" and {len(self.refusals) - 5} more" if len(self.refusals) > 5 else ""
+            text += f"; refused: {refused}{more}"
         if self.daemon_exit is not None:
             text += f"; ldoem-emud DIED (exit status {self.daemon_exit})"
         return text
@@ -165,6 +170,7 @@ def outcome_of(scenario, emulator):
     outcome.events = emulator.event_log()
     marks = [_seconds(event) for event in outcome.events if event["event"] in FAULT_MARKS]
     outcome.triggered = any(event["event"] == "FAULT_INJECTED" for event in outcome.events)
+    outcome.refusals = emulator.refusals() or []
     times = emulator.profile_times()
     if outcome.triggered and times is not None:
         outcome.profiles_after_fault = sum(1 for t in times if t > marks[-1])

@@ -4,7 +4,8 @@ Runs CMD once per fault scenario (ldoem.faults) against a fresh ldoem-emud, for 
 language. `{device}` in CMD's arguments becomes the emulator's endpoint (tcp:HOST:PORT or
 serial:PATH) and `{lpt}` the tilt stepper's (lpt:pty:PATH; the emulator then has one); both are
 also in the environment as LDOEM_DEVICE and LDOEM_LPT. Each run is judged by CMD's exit status,
-the time limit and the emulator's event log:
+the time limit and the emulator's event log; the recording adds the profiles sent after the fault
+and the requests the device refused (SERVICE_FAILURE replies, D2), reported beside the verdict:
 
   recovered     exit 0 after the fault acted, and profiles flowed after it    pass
   completed     exit 0 after the fault acted, no profile after it       pass
@@ -48,6 +49,7 @@ class Run:
     device: str
     profiles_after_fault: object
     output: str
+    refusals: int = 0
 
     @property
     def passed(self):
@@ -92,7 +94,8 @@ def run_one(scenario, command, options):
     if outcome.daemon_exit is not None:
         verdict = "failed"  # the emulator itself died: nothing about the driver can be judged
     return Run(scenario, verdict, process.returncode, seconds, outcome.device if outcome.triggered else "not triggered",
-               outcome.profiles_after_fault, text + "\n--- events\n" + "\n".join(map(str, outcome.events)))
+               outcome.profiles_after_fault, text + "\n--- events\n" + "\n".join(map(str, outcome.events)),
+               len(outcome.refusals))
 
 
 def write_markdown(path, runs, title):
@@ -123,6 +126,7 @@ def write_junit(path, runs, title):
                      f'<property name="verdict" value={quoteattr(run.verdict)}/>'
                      f'<property name="device" value={quoteattr(run.device)}/>'
                      f'<property name="profiles_after_fault" value={quoteattr(str(run.profiles_after_fault))}/>'
+                     f'<property name="refused_requests" value="{run.refusals}"/>'
                      f'</properties>')
         if not run.passed:
             parts.append(f'<failure message={quoteattr(f"{run.verdict} (exit {run.exit_status})")}/>')

@@ -126,3 +126,11 @@ def test_given_pty_links_are_where_the_emulator_serves(tmp_path):
         assert emulator.device == emulator.serial and link.is_symlink()
         with ldoem.Scanner(f"serial:{link}") as scanner:
             assert scanner.status()["sensor"] == "IDLE"
+
+
+def test_the_recording_shows_the_requests_the_device_refused():
+    with ldoem.Emulator("minimal", virtual_time=True, record=True) as emulator:
+        with ldoem.Scanner(emulator.device) as scanner:
+            with pytest.raises(ldoem.ServiceFailure):
+                scanner.measure()  # from IDLE (spec 5, D2 reason 3)
+    assert [(code, reason) for _, code, reason in emulator.refusals()] == [(0x0404, 3)]  # TRANS_MEASURE
