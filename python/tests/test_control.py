@@ -134,3 +134,15 @@ def test_the_recording_shows_the_requests_the_device_refused():
             with pytest.raises(ldoem.ServiceFailure):
                 scanner.measure()  # from IDLE (spec 5, D2 reason 3)
     assert [(code, reason) for _, code, reason in emulator.refusals()] == [(0x0404, 3)]  # TRANS_MEASURE
+
+
+def test_stop_kills_a_daemon_that_does_not_answer():
+    import os
+    import signal
+    import time
+    emulator = ldoem.Emulator("minimal", virtual_time=True, stop_timeout=0.5).start()
+    os.kill(emulator.process.pid, signal.SIGSTOP)  # neither quit nor SIGTERM can end it now
+    started = time.monotonic()
+    assert emulator.stop() == -signal.SIGKILL
+    assert time.monotonic() - started < 30
+    assert not emulator.running
