@@ -67,9 +67,12 @@ class PyScanner {
 
   py::dict connect() { return status_dict(take(blocking([&] { return scanner_->connect(); })).status); }
   py::dict reconnect() { return status_dict(take(blocking([&] { return scanner_->reconnect(); })).status); }
+  // Best effort: a stream is cancelled if the link still takes it; closing never fails (but a
+  // Ctrl-C during the cancel is still raised).
   void close() {
     if (scanner_->state() == driver::LifecycleState::active) (void)blocking([&] { return scanner_->cancel_profile(); });
     scanner_->close();
+    if (PyErr_Occurred() != nullptr) throw py::error_already_set();
   }
   py::dict status() { return status_dict(take(blocking([&] { return scanner_->get_status(); })).status); }
 
@@ -255,7 +258,19 @@ void bind_scanner(py::module_& m) {
       .def("__next__", &ProfileStream::next)
       .def("close", &ProfileStream::close)
       .def("__enter__", [](ProfileStream& s) -> ProfileStream& { return s; })
-      .def("__exit__", [](ProfileStream& s, py::args) { s.close(); });
+      // Leaving the block because of an error: that error goes on, not a failing cancel after it
+      // (a lost connection fails both); Ctrl-C during the cancel still wins.
+      .def("__exit__", [](ProfileStream& s, const py::object& type, const py::object&, const py::object&) {
+        if (type.is_none()) {
+          s.close();
+          return;
+        }
+        try {
+          s.close();
+        } catch (py::error_already_set& failure) {
+          if (failure.matches(PyExc_KeyboardInterrupt)) throw;
+        }
+      });
 
   py::class_<PyScanner>(m, "Scanner", "An LD-OEM (or ldoem-emud) through libldoem")
       .def(py::init<const std::string&, std::optional<std::string>, double, double, std::uint32_t, double, bool>(),

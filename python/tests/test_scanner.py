@@ -135,3 +135,16 @@ def test_without_an_lpt_endpoint_the_tilt_is_a_value_error(emulator):
     with ldoem.Scanner(emulator.tcp) as scanner:
         with pytest.raises(ValueError, match="lpt"):
             scanner.move_tilt(1)
+
+
+def test_an_error_in_a_stream_block_is_the_one_raised_not_the_failing_cancel(emulator):
+    with ldoem.Scanner(emulator.tcp) as scanner:
+        scanner.rotate()
+        scanner.measure()
+        with pytest.raises(ldoem.Error) as caught:
+            with scanner.profiles(timeout=1.0) as stream:
+                next(stream)
+                emulator.inject_fault("tcp_reset")  # the next telegram resets the connection
+                for _ in stream:
+                    pass
+        assert caught.value.operation != "CANCEL_PROFILE"
