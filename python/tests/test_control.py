@@ -88,13 +88,16 @@ def test_a_dict_scene_and_a_stop_that_always_ends_the_process():
     scene = {"objects": [{"name": "wall", "box": {"size_m": [0.2, 20, 6]}, "pose": {"position_m": [3.1, 0, 0]}}]}
     emulator = ldoem.Emulator(scene, virtual_time=True).start()
     pid = emulator.process.pid
-    with ldoem.Scanner(emulator.device) as scanner:
-        scanner.rotate()
-        scanner.measure()
-        scanner.start_stream(count=1)
-        profile = scanner.next_profile()
-        assert abs(profile.points["range"][abs(profile.points["angle"]) < 0.2].mean() - 3.0) < 0.05
-    assert emulator.stop() == 0
+    try:
+        with ldoem.Scanner(emulator.device) as scanner:
+            scanner.rotate()
+            scanner.measure()
+            scanner.start_stream(count=1)
+            profile = scanner.next_profile()
+            assert abs(profile.points["range"][abs(profile.points["angle"]) < 0.2].mean() - 3.0) < 0.05
+    finally:
+        status = emulator.stop()
+    assert status == 0
     with pytest.raises(ProcessLookupError):
         import os
         os.kill(pid, 0)
@@ -141,8 +144,12 @@ def test_stop_kills_a_daemon_that_does_not_answer():
     import signal
     import time
     emulator = ldoem.Emulator("minimal", virtual_time=True, stop_timeout=0.5).start()
-    os.kill(emulator.process.pid, signal.SIGSTOP)  # neither quit nor SIGTERM can end it now
-    started = time.monotonic()
-    assert emulator.stop() == -signal.SIGKILL
+    try:
+        os.kill(emulator.process.pid, signal.SIGSTOP)  # neither quit nor SIGTERM can end it now
+        started = time.monotonic()
+        status = emulator.stop()
+    finally:
+        emulator.stop()
+    assert status == -signal.SIGKILL
     assert time.monotonic() - started < 30
     assert not emulator.running
