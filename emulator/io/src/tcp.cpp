@@ -198,10 +198,20 @@ IoStatus TcpListener::stop_listening() {
   if (::shutdown(fd_.get(), SHUT_RD) != 0) {
     return io_failure(last_system_error("shutdown", endpoint_text(address_, port_)));
   }
+  // A bound socket that does not listen lets any other SO_REUSEADDR socket bind and listen on
+  // its port; without the flag it does not, until listen_again().
+  const int off = 0;
+  if (::setsockopt(fd_.get(), SOL_SOCKET, SO_REUSEADDR, &off, sizeof off) != 0) {
+    return io_failure(last_system_error("setsockopt SO_REUSEADDR", endpoint_text(address_, port_)));
+  }
   return Done{};
 }
 
 IoStatus TcpListener::listen_again() {
+  const int on = 1;  // connections of before may sit in TIME_WAIT on the port
+  if (::setsockopt(fd_.get(), SOL_SOCKET, SO_REUSEADDR, &on, sizeof on) != 0) {
+    return io_failure(last_system_error("setsockopt SO_REUSEADDR", endpoint_text(address_, port_)));
+  }
   if (::listen(fd_.get(), backlog_) != 0) {
     return io_failure(last_system_error("listen", endpoint_text(address_, port_)));
   }

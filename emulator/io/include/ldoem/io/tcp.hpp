@@ -57,7 +57,8 @@ class TcpListener {
 
   // Stops listening but keeps the port bound (Linux: shutdown(SHUT_RD) of a listening socket
   // returns it to CLOSE): a connect() to it is refused by the kernel, connections not accepted
-  // yet are reset, and no other program can take the port meanwhile. listen_again() resumes.
+  // yet are reset, and no other socket can bind the port meanwhile (SO_REUSEADDR is off until
+  // listen_again(), which resumes).
   IoStatus stop_listening();
   IoStatus listen_again();
 
