@@ -1,7 +1,7 @@
 // The daemon's fault machinery without I/O (D11). It owns the fault scheduler and acts on the
 // control unit: motor faults, spontaneous resets, power cycles and beam faults. The daemon
-// feeds it time and requests, performs the control-unit Actions it returns, drops connections
-// when it says so, and broadcasts its event lines. Wire faults are read from scheduler() by the
+// feeds it time and requests, performs the control-unit Actions it returns, puts its endpoints
+// in the power states it names (Power), and broadcasts its event lines. Wire faults are read from scheduler() by the
 // daemon's wire tap. Deterministic: no clock, no global random state.
 #pragma once
 
