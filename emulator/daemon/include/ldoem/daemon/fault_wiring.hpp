@@ -1,9 +1,10 @@
 // ldoem-emud's fault machinery (D11), built only when the scene names faults or --control is
 // given (D9: a scene without faults pays nothing). It is the device's WireTap: it counts
 // requests for the triggers, applies the telegram-level wire faults, and keeps the device silent
-// while powered off or booting (its endpoints go dark: DeviceInstance::set_power); and it gives the endpoints their fault hook (endpoint_faults.hpp) for the
-// faults below the telegram. It drives the FaultInjector from the daemon's simulated clock, serves the
-// control socket and writes the event log.
+// while powered off or booting (its endpoints go dark: DeviceInstance::set_power); and it gives
+// the endpoints their fault hook (endpoint_faults.hpp) for the faults below the telegram. It
+// drives the FaultInjector from the daemon's simulated clock, serves the control socket and
+// writes the event log.
 #pragma once
 
 #include <cstdint>
