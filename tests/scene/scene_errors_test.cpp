@@ -61,6 +61,8 @@ const BadScene kBadScenes[] = {
      SceneErrorKind::conflicting_keys, "objects[0].pose", 1, 46},
     {"max range beyond protocol", "scanner: {max_range_m: 300}", SceneErrorKind::out_of_range, "scanner.max_range_m", 1, 24},
     {"min range above max", "scanner: {min_range_m: 40}", SceneErrorKind::out_of_range, "scanner.min_range_m", 1, 10},
+    {"boot time beyond 60 s", "scanner: {boot_s: 61}", SceneErrorKind::out_of_range, "scanner.boot_s", 1, 19},
+    {"negative boot time", "scanner: {boot_s: -1}", SceneErrorKind::out_of_range, "scanner.boot_s", 1, 19},
     {"subrays not hexagonal", "scanner: {mixed_pixel_subrays: 5}", SceneErrorKind::out_of_range,
      "scanner.mixed_pixel_subrays", 1, 32},
     {"negative sigma", "scanner: {noise: {sigma_m: -0.001}}", SceneErrorKind::out_of_range, "scanner.noise.sigma_m", 1, 28},

@@ -63,21 +63,24 @@ base::Expected<std::unique_ptr<FaultWiring>, std::string> FaultWiring::create(
     if (!server) return base::Unexpected("--control: " + server.error().message());
     wiring->server_ = std::move(*server);
   }
-  wiring->attach(scene.faults, scene.seed, scene.effects.has(scene::Effect::head_dynamics));
+  wiring->attach(scene.faults, scene.seed, scene.effects.has(scene::Effect::head_dynamics), scene.scanner.boot_s);
   // Scanner k draws with the seed + k, as its noise does (docs/scenes.md).
   for (std::size_t k = 1; k < devices.size() && k < scene.scanners.size(); ++k) {
     std::unique_ptr<FaultWiring> other(new FaultWiring(*devices[k], scheduler, logger, stop));
     other->name_ = scene.scanners[k].name;
     other->first_ = self;
-    other->attach({}, scene.seed + k, scene.scanners[k].effects.has(scene::Effect::head_dynamics));
+    other->attach({}, scene.seed + k, scene.scanners[k].effects.has(scene::Effect::head_dynamics),
+                  scene.scanners[k].config.boot_s);
     wiring->others_.push_back(std::move(other));
   }
   return wiring;
 }
 
-void FaultWiring::attach(std::vector<faults::FaultSpec> scene_faults, std::uint64_t seed, bool head_dynamics) {
-  injector_ = std::make_unique<fault_injection::FaultInjector>(std::move(scene_faults), seed, head_dynamics,
-                                                               device_.unit_for_faults());
+void FaultWiring::attach(std::vector<faults::FaultSpec> scene_faults, std::uint64_t seed, bool head_dynamics,
+                         double boot_s) {
+  injector_ = std::make_unique<fault_injection::FaultInjector>(
+      std::move(scene_faults), seed, head_dynamics, device_.unit_for_faults(),
+      std::chrono::duration_cast<SimTime>(std::chrono::duration<double>(boot_s)));
   endpoint_faults_ = std::make_unique<EndpointFaults>(
       *injector_, [this](fault_injection::InjectorOutput output) { take(std::move(output)); });
   device_.set_fault_hook(endpoint_faults_.get());
@@ -133,10 +136,12 @@ void FaultWiring::take(fault_injection::InjectorOutput output) {
   if (!output.actions.telegrams.empty() || !output.actions.timers.empty() || output.actions.flash_image) {
     device_.perform_actions(scheduler_.now(), output.actions);
   }
-  if (output.drop_all_connections) {
-    const auto connections = std::move(connections_);
-    connections_.clear();
-    for (const control::ConnectionId connection : connections) device_.disconnect(connection);
+  for (const fault_injection::Power power : output.power_steps) {
+    switch (power) {
+      case fault_injection::Power::on: device_.set_power(endpoints::DevicePower::on); break;
+      case fault_injection::Power::off: device_.set_power(endpoints::DevicePower::off); break;
+      case fault_injection::Power::booting: device_.set_power(endpoints::DevicePower::booting); break;
+    }
   }
   for (const auto& event : output.events) publish(event);
   arm_deadline();
@@ -162,24 +167,20 @@ WireVerdict FaultWiring::on_telegram(endpoints::WireTelegram& telegram) {
     const faults::ActiveFault* silence = injector_->scheduler().find_active(FaultKind::can_silence);
     return silence && transport == faults::Transport::can;
   }();
+  // Off or booting, the device hears and says nothing (its endpoints are dark as well).
+  const bool dark = injector_->power() != fault_injection::Power::on;
   if (telegram.direction == WireDirection::to_host) {
-    if (!injector_->powered() || silenced) return WireVerdict::drop;
+    if (dark || silenced) return WireVerdict::drop;
     return to_host(telegram);
   }
-  if (!injector_->powered()) {
-    // The device is off: a TCP peer is refused at once, CAN and serial hear nothing.
-    if (transport == faults::Transport::tcp) device_.disconnect(telegram.connection);
-    return WireVerdict::drop;
-  }
-  if (silenced) return WireVerdict::drop;
-  connections_.insert(telegram.connection);
+  if (dark || silenced) return WireVerdict::drop;
   const std::uint16_t service =
       telegram.payload.size() >= 2 ? static_cast<std::uint16_t>((telegram.payload[0] << 8) | telegram.payload[1]) : 0;
   // A multi-frame ISO-TP request was seen at its first frame already (EndpointFaults).
   const bool came_in_frames = transport == faults::Transport::can && telegram.payload.size() > protocol::kIsoTpMaxSingleFrameBytes;
   take(injector_->on_request(telegram.at, service, transport,
                              came_in_frames ? faults::RequestSeen::rest_of_multi_frame : faults::RequestSeen::whole));
-  if (!injector_->powered()) return WireVerdict::drop;  // a power cycle this very request started
+  if (injector_->power() != fault_injection::Power::on) return WireVerdict::drop;  // a power cycle this very request started
   return WireVerdict::pass;
 }
 
@@ -242,12 +243,15 @@ nlohmann::json FaultWiring::query_status() {
   const control::ControlUnit& unit = device_.unit();
   const endpoints::Counters counters = device_.counters();
   const SimTime now = scheduler_.now();
-  return nlohmann::json{
+  const fault_injection::Power power = injector_->power();
+  const bool on = power == fault_injection::Power::on;
+  // Off or booting there is no device state a host could read: state OFF or BOOTING, the head
+  // stopped, no status byte (docs/faults.md, "The control socket").
+  nlohmann::json status{
       {"time_s", std::chrono::duration<double>(now).count()},
-      {"powered", injector_->powered()},
-      {"state", std::string(control::describe(unit.state().mode))},
-      {"status_byte", unit.status_byte().to_byte()},
-      {"head_hz", unit.state().head.speed_hz},
+      {"powered", power != fault_injection::Power::off},
+      {"state", on ? std::string(control::describe(unit.state().mode)) : std::string(fault_injection::describe(power))},
+      {"head_hz", on ? unit.state().head.speed_hz : 0},
       {"tilt_steps", device_.steps_seen()},
       {"faults_active", injector_->scheduler().active().size()},
       {"counters",
@@ -257,6 +261,8 @@ nlohmann::json FaultWiring::query_status() {
         {"skipped_profiles", counters.skipped_profiles},
         {"tcp_connections", counters.tcp_connections},
         {"fault_injections", injector_->injections()}}}};
+  if (on) status["status_byte"] = unit.status_byte().to_byte();
+  return status;
 }
 
 void FaultWiring::quit() { stop_(); }

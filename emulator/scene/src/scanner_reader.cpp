@@ -17,6 +17,8 @@ constexpr double kDeviceMaxRange_m = 250.0;
 constexpr double kMinPulseWidth_s = 1e-10;
 constexpr double kMaxPulseWidth_s = 1e-7;
 constexpr double kMaxBeamDivergence_rad = 0.1;
+// D11 power_cycle: the longest boot a scene may ask for (docs/decisions-local.md L-faults-5).
+constexpr double kMaxBootTime_s = 60.0;
 constexpr std::uint64_t kMaxCanId = 0x7FF;      // 11-bit identifiers (D1)
 constexpr std::uint64_t kMaxSectorFunction = 4;   // spec 3.6: 0..4
 
@@ -261,6 +263,10 @@ ScannerConfig read_scanner_fields(MapReader& map) {
   }
   read_field(map, "optical_offset_m", scanner.optical_offset_m);
   read_ranges(map, scanner);
+  read_field(map, "boot_s", scanner.boot_s, Constraint::non_negative);
+  if (scanner.boot_s > kMaxBootTime_s) {
+    fail(file, SceneErrorKind::out_of_range, *map.get("boot_s"), map.child_path("boot_s"), "must be <= 60 s");
+  }
   const bool calibration_given = [&] {
     if (auto optics = map.get("optics")) {
       read_optics(file, *optics, map.child_path("optics"), scanner.optics);

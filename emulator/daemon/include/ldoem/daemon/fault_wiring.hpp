@@ -1,9 +1,10 @@
 // ldoem-emud's fault machinery (D11), built only when the scene names faults or --control is
 // given (D9: a scene without faults pays nothing). It is the device's WireTap: it counts
 // requests for the triggers, applies the telegram-level wire faults, and keeps the device silent
-// while powered off; and it gives the endpoints their fault hook (endpoint_faults.hpp) for the
-// faults below the telegram. It drives the FaultInjector from the daemon's simulated clock, serves the
-// control socket and writes the event log.
+// while powered off or booting (its endpoints go dark: DeviceInstance::set_power); and it gives
+// the endpoints their fault hook (endpoint_faults.hpp) for the faults below the telegram. It
+// drives the FaultInjector from the daemon's simulated clock, serves the control socket and
+// writes the event log.
 #pragma once
 
 #include <cstdint>
@@ -11,7 +12,6 @@
 #include <map>
 #include <memory>
 #include <optional>
-#include <set>
 #include <string>
 #include <string_view>
 #include <variant>
@@ -72,7 +72,7 @@ class FaultWiring final : public endpoints::WireTap, public control_socket::Cont
   FaultWiring(DeviceInstance& device, endpoints::Scheduler& scheduler, const endpoints::Logger& logger,
               std::function<void()> stop);
   // The injector, the endpoints' fault hook and the connection observer of `device_`.
-  void attach(std::vector<faults::FaultSpec> scene_faults, std::uint64_t seed, bool head_dynamics);
+  void attach(std::vector<faults::FaultSpec> scene_faults, std::uint64_t seed, bool head_dynamics, double boot_s);
   void take(fault_injection::InjectorOutput output);
   void publish(const fault_injection::InjectorEvent& event);
   void publish_for(const std::string& scanner, fault_injection::InjectorEvent event);
@@ -96,7 +96,6 @@ class FaultWiring final : public endpoints::WireTap, public control_socket::Cont
   std::ofstream event_log_;
   std::optional<endpoints::Scheduler::Key> deadline_;
   std::optional<base::SimTime> deadline_at_;
-  std::set<control::ConnectionId> connections_;  // seen from hosts; a power cycle drops them
   std::map<control::ConnectionId, std::string> peers_;  // open TCP connections' addresses
   plant::SceneWorld* world_ = nullptr;
   io::EventLoop* loop_ = nullptr;

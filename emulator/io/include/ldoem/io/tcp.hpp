@@ -31,6 +31,11 @@ class TcpConnection {
   // A peek: nothing is consumed.
   bool peer_gone() const;
 
+  // Makes closing this connection abortive (SO_LINGER {1, 0}): the peer gets a RST, not a FIN,
+  // and nothing still queued is sent. For connections a device "forgets" (D11 tcp_reset, a
+  // power cycle: docs/decisions-local.md L-faults-5).
+  IoStatus reset_on_close();
+
   int fd() const { return fd_.get(); }
   const std::string& peer() const { return peer_; }  // "127.0.0.1:40412"
 
@@ -41,7 +46,8 @@ class TcpConnection {
 
 class TcpListener {
  public:
-  // socket + SO_REUSEADDR + bind + listen. Port 0 picks a free port (see port()).
+  // socket + SO_REUSEADDR + bind + listen. Port 0 picks a free port (see port()); the socket is
+  // then bound to that port by number, so that it keeps it across stop_listening().
   static IoResult<TcpListener> listen(std::uint16_t port,
                                       std::string_view address = kLoopbackAddress,
                                       int backlog = 16);
@@ -49,17 +55,25 @@ class TcpListener {
   // The next pending connection, or nothing when none is waiting.
   IoResult<std::optional<TcpConnection>> accept();
 
+  // Stops listening but keeps the port bound (Linux: shutdown(SHUT_RD) of a listening socket
+  // returns it to CLOSE): a connect() to it is refused by the kernel, connections not accepted
+  // yet are reset, and no other socket can bind the port meanwhile (SO_REUSEADDR is off until
+  // listen_again(), which resumes).
+  IoStatus stop_listening();
+  IoStatus listen_again();
+
   int fd() const { return fd_.get(); }
   std::uint16_t port() const { return port_; }
   const std::string& address() const { return address_; }
 
  private:
-  TcpListener(base::UniqueFd fd, std::string address, std::uint16_t port)
-      : fd_(std::move(fd)), address_(std::move(address)), port_(port) {}
+  TcpListener(base::UniqueFd fd, std::string address, std::uint16_t port, int backlog)
+      : fd_(std::move(fd)), address_(std::move(address)), port_(port), backlog_(backlog) {}
 
   base::UniqueFd fd_;
   std::string address_;
   std::uint16_t port_ = 0;
+  int backlog_ = 16;
 };
 
 }  // namespace ldoem::io

@@ -203,6 +203,9 @@ struct ScannerConfig {
   TiltMotorConfig tilt_motor;
   FlashDefaults flash;
   Identification identification;
+  // D11 power_cycle: seconds from power-on to serving hosts again, [0, 60] (docs/decisions-local.md
+  // L-faults-5: the LD-OEM's boot time is unpublished).
+  double boot_s = 1.0;
   HousingConfig housing;  // only built when the scene has two scanners or more
 };
 
