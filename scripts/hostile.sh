@@ -16,8 +16,8 @@
 # `| D1 | what was sent | what happened | ok |` and returns 0 when ok, 1 when not. Each case runs
 # in its own bash process and process group, killed when it overruns.
 set -uo pipefail
-cd "$(dirname "$0")/.."
-build=build/default budget=300 only= write_doc=0
+cd "$(dirname "$0")/.." || exit 2
+build=build/default budget=300 only="" write_doc=0
 usage() { sed -n 2,17p "$0" | sed 's/^# \{0,1\}//'; }
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -64,6 +64,7 @@ for name in "${cases[@]}"; do
   mkdir -p "$work/$id"
   export HOSTILE_WORK=$work/$id
   # Its own session and process group: on overrun the case and every daemon it started go.
+  # shellcheck disable=SC2016  # $@ is the inner shell's
   setsid bash -c 'for f in "$@"; do source "$f"; done; '"$name" hostile \
     "${case_files[@]/#/$PWD/}" >"$work/$id.row" 2>"$work/$id.log" </dev/null &
   running=$!
@@ -97,8 +98,10 @@ elapsed=$((SECONDS - started))
 table=$(printf '| defect | what was sent | what happened | verdict |\n|---|---|---|---|\n'; printf '%s\n' "${rows[@]}")
 if [ "$write_doc" -eq 1 ]; then
   doc=docs/robustness.md
-  grep -q '<!-- hostile:begin -->' "$doc" && grep -q '<!-- hostile:end -->' "$doc" || {
-    echo "hostile.sh: $doc has no hostile markers" >&2; exit 2; }
+  if ! grep -q '<!-- hostile:begin -->' "$doc" || ! grep -q '<!-- hostile:end -->' "$doc"; then
+    echo "hostile.sh: $doc has no hostile markers" >&2
+    exit 2
+  fi
   summary="From \`scripts/hostile.sh --write-doc\` ($(date -u +%Y-%m-%d), git $(git rev-parse --short HEAD 2>/dev/null || echo '?'), ${elapsed} s, load $(cut -d' ' -f1 /proc/loadavg)): ${passed} ok, ${failed} failed, ${skipped} skipped."
   awk -v table="$table" -v summary="$summary" '
     /<!-- hostile:begin -->/ { print; print ""; print summary; print ""; print table; print ""; skip = 1; next }

@@ -1,3 +1,4 @@
+# shellcheck shell=bash disable=SC2034
 # Helpers for the hostile-input cases (scripts/hostile.sh sources this file first, then every
 # other scripts/hostile/*.sh). Each case runs in its own bash process and process group, so a
 # case may start daemons freely: hostile_stop ends them, and the EXIT trap below ends what a case

@@ -1,3 +1,4 @@
+# shellcheck shell=bash disable=SC2034
 # Issue 27, the runtime half: faults, the control socket, recording, the event log,
 # identification texts, the listen backlog. Sourced by scripts/hostile.sh after lib.sh.
 
@@ -112,7 +113,7 @@ PY
   local worst missed stop_s files
   read -r worst missed <"$probe_log"
   stop_s=$(hostile_stop "$H_PID")
-  files=$(ls "$HOSTILE_WORK" | grep -c '^r\.pcapng')
+  files=$(find "$HOSTILE_WORK" -maxdepth 1 -name 'r.pcapng*' | wc -l)
   [ "$missed" = 0 ] || ok=1
   [ "$stop_s" != killed ] || ok=1
   [ ! -e "$HOSTILE_WORK/r.pcapng.rotating" ] || ok=1
@@ -190,9 +191,9 @@ hostile_case_d14_identification() {
 hostile_case_x1_listen_backlog() {
   local what="200 connects to a daemon stopped by SIGSTOP (only the kernel's backlog holds them)"
   hostile_start "$(hostile_scene)" || { hostile_row backlog "$what" "did not start" 1; return; }
-  local ok=0 done
+  local ok=0 connected
   kill -STOP "$H_PID"
-  done=$(python3 - "$H_PORT" <<'PY'
+  connected=$(python3 - "$H_PORT" <<'PY'
 import select, socket, sys, time
 clients = []
 for _ in range(200):
@@ -205,6 +206,6 @@ PY
   kill -CONT "$H_PID"
   hostile_get_status "$H_PORT" || ok=1
   hostile_stop "$H_PID" >/dev/null
-  [ "$done" -eq 200 ] || ok=1
-  hostile_row backlog "$what" "${done} of 200 connected within 0.5 s (backlog SOMAXCONN); GET_STATUS answered after SIGCONT" "$ok"
+  [ "$connected" -eq 200 ] || ok=1
+  hostile_row backlog "$what" "${connected} of 200 connected within 0.5 s (backlog SOMAXCONN); GET_STATUS answered after SIGCONT" "$ok"
 }
