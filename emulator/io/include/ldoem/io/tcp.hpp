@@ -2,6 +2,8 @@
 // the hub. IPv4, non-blocking; loopback unless the caller names another address.
 #pragma once
 
+#include <sys/socket.h>
+
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -47,10 +49,12 @@ class TcpConnection {
 class TcpListener {
  public:
   // socket + SO_REUSEADDR + bind + listen. Port 0 picks a free port (see port()); the socket is
-  // then bound to that port by number, so that it keeps it across stop_listening().
+  // then bound to that port by number, so that it keeps it across stop_listening(). The backlog
+  // defaults to the system's largest (SOMAXCONN; the kernel caps it at net.core.somaxconn):
+  // with 16, a connect flood overflowed it and new hosts waited 1 s for a SYN retry (issue 27).
   static IoResult<TcpListener> listen(std::uint16_t port,
                                       std::string_view address = kLoopbackAddress,
-                                      int backlog = 16);
+                                      int backlog = SOMAXCONN);
 
   // The next pending connection, or nothing when none is waiting.
   IoResult<std::optional<TcpConnection>> accept();
