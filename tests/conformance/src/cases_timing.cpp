@@ -68,8 +68,9 @@ void spin_up(Session& session) {
     const double wall_min = min_ms / scale_now - 5;
     const double wall_max = max_ms / scale_now + kWallLatencyMs;
     if (spin_wall_ms < wall_min || spin_wall_ms > wall_max) {
-      throw CaseFailed("spin-up took " + numbers.str() + "; expected " + ms_text(wall_min) + ".." +
-                       ms_text(wall_max) + " ms wall (simulated / time scale)");
+      throw WallClockFailed("spin-up took " + numbers.str() + "; expected " + ms_text(wall_min) + ".." +
+                                ms_text(wall_max) + " ms wall (simulated / time scale)",
+                            kWallLatencyMs);
     }
   }
 }
@@ -154,10 +155,11 @@ void check_cadence(Session& session, const Stream& stream, const ProfileExpectat
       const double lag = wall_ms(stream.arrivals[i] - stream.arrivals.front()) - since_ms / session.options().time_scale;
       lags << (i > 0 ? ", " : "") << ms_text(lag);
     }
-    throw CaseFailed("profiles arrived over " + ms_text(measured_wall) + " ms wall for " +
+    throw WallClockFailed("profiles arrived over " + ms_text(measured_wall) + " ms wall for " +
                      std::to_string(revolutions) + " revolutions; expected " + ms_text(expected_wall) +
                      " ms (simulated / time scale, +-30 % + 50 ms); arrival lag behind TSTART/X [" + lags.str() +
-                     "] ms wall");
+                     "] ms wall",
+                          0.3 * expected_wall + kWallLatencyMs);
   }
 }
 
@@ -206,17 +208,20 @@ void stream_then(Session& session, std::uint16_t speed_hz, std::string_view what
 }  // namespace
 
 void add_spin_up_cases(std::vector<Case>& cases) {
-  cases.push_back(Case{"timing/TRANS_ROTATE_spin_up_0_to_10_Hz", spin_up, false, true, {}});
+  cases.push_back(Case{"timing/TRANS_ROTATE_spin_up_0_to_10_Hz", spin_up, false, true, {}, true});
 }
 
 void add_timing_cases(std::vector<Case>& cases) {
-  cases.push_back(Case{"timing/profile_cadence_5_Hz", [](Session& s) { cadence(s, 5, 4, std::nullopt); }, false, true, {}});
-  cases.push_back(Case{"timing/profile_cadence_10_Hz", [](Session& s) { cadence(s, 10, 4, std::nullopt); }, false, true, {}});
+  cases.push_back(Case{"timing/profile_cadence_5_Hz", [](Session& s) { cadence(s, 5, 4, std::nullopt); },
+                       false, true, {}, true});
+  cases.push_back(Case{"timing/profile_cadence_10_Hz", [](Session& s) { cadence(s, 10, 4, std::nullopt); },
+                       false, true, {}, true});
   // 20 Hz needs step >= 0.5 deg: 720 * 20 = 14400 Hz, the maximum pulse frequency (spec 5).
-  cases.push_back(Case{"timing/profile_cadence_20_Hz", [](Session& s) { cadence(s, 20, 8, std::nullopt); }, false, true, {}});
+  cases.push_back(Case{"timing/profile_cadence_20_Hz", [](Session& s) { cadence(s, 20, 8, std::nullopt); },
+                       false, true, {}, true});
   // The clock set 500 ms before its wrap: TSTART deltas must be taken modulo 65536 (spec 2.3).
   cases.push_back(Case{"timing/profile_cadence_10_Hz_across_clock_wrap", [](Session& s) { cadence(s, 10, 4, 65036); },
-                       false, true, {}});
+                       false, true, {}, true});
   cases.push_back(Case{"timing/GET_PROFILE_3_then_stop", profile_count_then_stop, false, true, {}});
   cases.push_back(Case{"d10/no_profile_after_CANCEL_PROFILE_reply_20_Hz",
                        [](Session& s) {
