@@ -25,6 +25,8 @@ packages=(
   libsystemd-dev systemd
   # cpack -G DEB finds the package's library dependencies with dpkg-shlibdeps
   dpkg-dev
+  # load for scripts/test-under-load.sh and scripts/bench-jitter.sh
+  stress-ng
   nlohmann-json3-dev libcli11-dev   # control socket (JSON lines), ldoem-ctl
   # for the gpio-sim UML kernel (scripts/uml/build-gpio-kernel.sh)
   linux-source-6.1 build-essential bc flex bison libelf-dev xz-utils
