@@ -111,8 +111,16 @@ void expect_stop_is_skipped(DaemonProcess& daemon, const driver::Endpoint& endpo
   }
   const auto jump = static_cast<std::uint16_t>(profiles[widest].profile.profile_count -
                                                profiles[widest - 1].profile.profile_count);
-  std::printf("stopped %.1f ms: PROFILECOUNT +%u, TSTART +%u ms (profiles %zu -> %zu of %zu)\n", stop_ms, jump,
-              widest_delta, widest, widest + 1, profiles.size());
+  // Every step for the record: PROFILECOUNT advance, and '*' on the first profile that arrived
+  // after the resume (on CAN the one whose transfer the stop interrupted comes first).
+  std::string steps;
+  for (std::size_t i = 1; i < profiles.size(); ++i) {
+    steps += " +" + std::to_string(static_cast<std::uint16_t>(profiles[i].profile.profile_count -
+                                                            profiles[i - 1].profile.profile_count));
+    if (profiles[i].at > resuming && profiles[i - 1].at <= resuming) steps += "*";
+  }
+  std::printf("stopped %.1f ms: PROFILECOUNT +%u, TSTART +%u ms (profiles %zu -> %zu of %zu; steps%s)\n", stop_ms,
+              jump, widest_delta, widest, widest + 1, profiles.size(), steps.c_str());
   // The device clock ran through the stop: the last revolution before it began before the
   // stop, the first after it at most a revolution (plus the one being measured) before the
   // resume, so TSTART advanced at least the stop's length less two revolutions, and those

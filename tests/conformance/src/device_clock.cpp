@@ -8,18 +8,18 @@ namespace {
 
 using namespace protocol;
 
-bool has(const Profile& profile, std::uint16_t bit) { return (profile.format & bit) != 0; }
+bool has_field(const Profile& profile, std::uint16_t bit) { return (profile.format & bit) != 0; }
 
 // The first sector with points: the one whose TSTART marks a measured sweep (a non-measuring
 // sector has no points, D3, and its times say nothing about the measurement).
-const SectorBlock* first_measuring(const Profile& profile) {
+const SectorBlock* first_with_points(const Profile& profile) {
   for (const SectorBlock& sector : profile.sectors) {
     if (!sector.points.empty()) return &sector;
   }
   return nullptr;
 }
 
-std::string number(double value) {
+std::string ms_figure(double value) {
   char text[32];
   std::snprintf(text, sizeof text, "%.2f", value);
   std::string out = text;
@@ -35,19 +35,19 @@ base::Expected<RevolutionStep, std::string> check_revolution_step(const Profile&
   RevolutionStep step;
   const std::string pair = "PROFILESENT " + std::to_string(previous.profile_sent) + " -> " +
                            std::to_string(current.profile_sent);
-  if (has(previous, profile_bits::kProfileSent) && has(current, profile_bits::kProfileSent) &&
+  if (has_field(previous, profile_bits::kProfileSent) && has_field(current, profile_bits::kProfileSent) &&
       static_cast<std::uint16_t>(current.profile_sent - previous.profile_sent) != 1) {
     return base::Unexpected(pair + ": not consecutive (spec 3.5: one more per profile sent, D10)");
   }
-  if (!has(previous, profile_bits::kProfileCount) || !has(current, profile_bits::kProfileCount)) return step;
+  if (!has_field(previous, profile_bits::kProfileCount) || !has_field(current, profile_bits::kProfileCount)) return step;
   step.counted = static_cast<std::uint16_t>(current.profile_count - previous.profile_count);
   if (step.counted == 0) {
     return base::Unexpected(pair + ": PROFILECOUNT stayed " + std::to_string(current.profile_count) +
                             " (one revolution per profile, spec 3.5)");
   }
-  const SectorBlock* before = first_measuring(previous);
-  const SectorBlock* after = first_measuring(current);
-  if (!has(previous, profile_bits::kTStart) || !has(current, profile_bits::kTStart) || before == nullptr ||
+  const SectorBlock* before = first_with_points(previous);
+  const SectorBlock* after = first_with_points(current);
+  if (!has_field(previous, profile_bits::kTStart) || !has_field(current, profile_bits::kTStart) || before == nullptr ||
       after == nullptr || before->sector_num != after->sector_num) {
     return step;
   }
@@ -58,21 +58,21 @@ base::Expected<RevolutionStep, std::string> check_revolution_step(const Profile&
     return base::Unexpected(pair + ": TSTART advanced " + std::to_string(*step.t_start_delta_ms) +
                             " ms for a PROFILECOUNT advance of " + std::to_string(step.counted) + " (" +
                             std::to_string(previous.profile_count) + " -> " + std::to_string(current.profile_count) +
-                            "); expected " + number(want_ms) + " ms +-1 at " + std::to_string(speed_hz) +
+                            "); expected " + ms_figure(want_ms) + " ms +-1 at " + std::to_string(speed_hz) +
                             " Hz (device clock)");
   }
   return step;
 }
 
 std::optional<std::string> check_within_revolution(const Profile& profile, std::uint16_t speed_hz) {
-  if (!has(profile, profile_bits::kTStart) || !has(profile, profile_bits::kTEnd)) return std::nullopt;
+  if (!has_field(profile, profile_bits::kTStart) || !has_field(profile, profile_bits::kTEnd)) return std::nullopt;
   const double period_ms = 1000.0 / speed_hz;
   for (const SectorBlock& sector : profile.sectors) {
     if (sector.points.empty()) continue;
     const auto span = static_cast<std::uint16_t>(sector.t_end_ms - sector.t_start_ms);
     if (span > period_ms + 1.0) {
       return "PROFILESENT " + std::to_string(profile.profile_sent) + " sector " + std::to_string(sector.sector_num) +
-             ": TEND - TSTART = " + std::to_string(span) + " ms, longer than one revolution (" + number(period_ms) +
+             ": TEND - TSTART = " + std::to_string(span) + " ms, longer than one revolution (" + ms_figure(period_ms) +
              " ms at " + std::to_string(speed_hz) + " Hz)";
     }
   }

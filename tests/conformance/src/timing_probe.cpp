@@ -18,7 +18,7 @@ std::int64_t monotonic_ns() {
   return std::int64_t{now.tv_sec} * 1'000'000'000 + now.tv_nsec;
 }
 
-std::string ms(double value) {
+std::string probe_ms(double value) {
   char text[32];
   std::snprintf(text, sizeof text, "%.1f", value);
   return text;
@@ -52,9 +52,9 @@ std::optional<std::string> machine_busy(const ProbeSummary& probe, double tolera
   const bool starved = probe.window_ms > 0 && probe.run_delay_ms >= probe.window_ms / 10;
   if (!stall && !common && !starved) return std::nullopt;
   const double share = probe.window_ms > 0 ? 100.0 * probe.run_delay_ms / probe.window_ms : 0;
-  return "machine busy: p99 wake-up " + ms(probe.p99_ms) + " ms, max " + ms(probe.max_ms) + " ms, run delay " +
-         ms(probe.run_delay_ms) + " ms (" + ms(share) + " % of " + ms(probe.window_ms) + " ms); tolerance " +
-         ms(tolerance_ms) + " ms";
+  return "machine busy: p99 wake-up " + probe_ms(probe.p99_ms) + " ms, max " + probe_ms(probe.max_ms) + " ms, run delay " +
+         probe_ms(probe.run_delay_ms) + " ms (" + probe_ms(share) + " % of " + probe_ms(probe.window_ms) + " ms); tolerance " +
+         probe_ms(tolerance_ms) + " ms";
 }
 
 std::string summary_line(int passed, int failed, int inconclusive) {
