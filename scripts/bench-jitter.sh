@@ -58,7 +58,9 @@ row() {
   [ "$mode" = --realtime ] && args=(--realtime)
   start_daemon "$scene" --no-can --tcp 127.0.0.1:0 --time-scale 1 "${args[@]}"
   if [ "$mode" = --realtime ]; then
-    granted=$(grep -o 'realtime: .*' "$work/daemon.err" | head -n 1 | sed 's/|/\\|/g')
+    # The daemon says it right after "ready" (main.cpp asks once the scene is built).
+    for _ in $(seq 1 40); do grep -q 'realtime: ' "$work/daemon.err" && break; sleep 0.05; done
+    granted=$(grep -o 'realtime: .*' "$work/daemon.err" | head -n 1 | sed 's/|/\\|/g' || true)
   fi
   local line
   line=$("$client" --tcp "127.0.0.1:$tcp_port" --cadence "$seconds")

@@ -94,12 +94,24 @@ void expect_stop_is_skipped(DaemonProcess& daemon, const driver::Endpoint& endpo
   }
 
   // Device clock, exact: each step is PROFILECOUNT's advance times one revolution (+-1 ms).
+  // PROFILESENT is consecutive, but for one case: on CAN the stop can freeze a profile mid-way
+  // through its ISO-TP transfer, and a stop of N_Cr (1 s, D1) or more makes the host's receiver
+  // give up on it, as ISO-TP says. That telegram is lost on the link, not by the device: it is
+  // allowed once, across the resume, and only when the transport counted dropped frames.
+  const std::uint64_t dropped = host.counters().dropped_frames;
+  std::uint64_t gaps = 0;
   std::size_t widest = 1;
   std::uint16_t widest_delta = 0;
   for (std::size_t i = 1; i < profiles.size(); ++i) {
     const p::Profile& before = profiles[i - 1].profile;
     const p::Profile& now = profiles[i].profile;
-    EXPECT_EQ(now.profile_sent, static_cast<std::uint16_t>(before.profile_sent + 1)) << "profile " << i;
+    const auto sent_step = static_cast<std::uint16_t>(now.profile_sent - before.profile_sent);
+    const bool across_resume = profiles[i].at > resuming;
+    if (sent_step == 2 && across_resume && dropped > 0 && gaps == 0) {
+      ++gaps;
+    } else {
+      EXPECT_EQ(sent_step, 1) << "profile " << i << " (the transport dropped " << dropped << " frames)";
+    }
     const auto counted = static_cast<std::uint16_t>(now.profile_count - before.profile_count);
     const auto delta = static_cast<std::uint16_t>(t_start(now) - t_start(before));
     EXPECT_GE(counted, 1) << "profile " << i;
@@ -119,8 +131,10 @@ void expect_stop_is_skipped(DaemonProcess& daemon, const driver::Endpoint& endpo
                                                             profiles[i - 1].profile.profile_count));
     if (profiles[i].at > resuming && profiles[i - 1].at <= resuming) steps += "*";
   }
-  std::printf("stopped %.1f ms: PROFILECOUNT +%u, TSTART +%u ms (profiles %zu -> %zu of %zu; steps%s)\n", stop_ms,
-              jump, widest_delta, widest, widest + 1, profiles.size(), steps.c_str());
+  std::printf("stopped %.1f ms: PROFILECOUNT +%u, TSTART +%u ms (profiles %zu -> %zu of %zu; steps%s; "
+              "%llu frames dropped)\n",
+              stop_ms, jump, widest_delta, widest, widest + 1, profiles.size(), steps.c_str(),
+              static_cast<unsigned long long>(dropped));
   // The device clock ran through the stop: the last revolution before it began before the
   // stop, the first after it at most a revolution (plus the one being measured) before the
   // resume, so TSTART advanced at least the stop's length less two revolutions, and those
