@@ -23,8 +23,10 @@ packages=(
   tshark
   # sd_notify for the systemd units, systemd-analyze to check them (scripts/check-units.sh)
   libsystemd-dev systemd
-  # cpack -G DEB finds the package's library dependencies with dpkg-shlibdeps
-  dpkg-dev
+  # cpack -G DEB finds the package's library dependencies with dpkg-shlibdeps; help2man makes
+  # the man pages from each program's --help; lintian checks the .deb, mmdebstrap makes the clean
+  # Debian 12 root it is installed into and systemd-nspawn boots it (scripts/check-deb-root.sh)
+  dpkg-dev help2man lintian mmdebstrap systemd-container zstd
   # load for scripts/test-under-load.sh and scripts/bench-jitter.sh
   stress-ng
   nlohmann-json3-dev libcli11-dev   # control socket (JSON lines), ldoem-ctl
