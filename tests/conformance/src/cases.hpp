@@ -25,8 +25,6 @@ struct Case {
   bool needs_baseline = true;
   // Transports the case applies to; empty = all.
   std::vector<TransportKind> transports;
-  // Judges the host's wall clock: the runner runs a scheduling probe alongside (timing_probe.hpp).
-  bool host_clock = false;
 
   bool applies_to(TransportKind kind, Target target) const;
 };

@@ -208,20 +208,20 @@ void stream_then(Session& session, std::uint16_t speed_hz, std::string_view what
 }  // namespace
 
 void add_spin_up_cases(std::vector<Case>& cases) {
-  cases.push_back(Case{"timing/TRANS_ROTATE_spin_up_0_to_10_Hz", spin_up, false, true, {}, true});
+  cases.push_back(Case{"timing/TRANS_ROTATE_spin_up_0_to_10_Hz", spin_up, false, true, {}});
 }
 
 void add_timing_cases(std::vector<Case>& cases) {
   cases.push_back(Case{"timing/profile_cadence_5_Hz", [](Session& s) { cadence(s, 5, 4, std::nullopt); },
-                       false, true, {}, true});
+                       false, true, {}});
   cases.push_back(Case{"timing/profile_cadence_10_Hz", [](Session& s) { cadence(s, 10, 4, std::nullopt); },
-                       false, true, {}, true});
+                       false, true, {}});
   // 20 Hz needs step >= 0.5 deg: 720 * 20 = 14400 Hz, the maximum pulse frequency (spec 5).
   cases.push_back(Case{"timing/profile_cadence_20_Hz", [](Session& s) { cadence(s, 20, 8, std::nullopt); },
-                       false, true, {}, true});
+                       false, true, {}});
   // The clock set 500 ms before its wrap: TSTART deltas must be taken modulo 65536 (spec 2.3).
   cases.push_back(Case{"timing/profile_cadence_10_Hz_across_clock_wrap", [](Session& s) { cadence(s, 10, 4, 65036); },
-                       false, true, {}, true});
+                       false, true, {}});
   cases.push_back(Case{"timing/GET_PROFILE_3_then_stop", profile_count_then_stop, false, true, {}});
   cases.push_back(Case{"d10/no_profile_after_CANCEL_PROFILE_reply_20_Hz",
                        [](Session& s) {

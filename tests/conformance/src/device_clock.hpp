@@ -23,9 +23,11 @@ struct RevolutionStep {
 // PROFILECOUNT by at least one, and TSTART by PROFILECOUNT's advance times 1000/f ms within
 // the clock's 1 ms resolution (two truncated millisecond values differ by less than 1 ms from
 // the exact difference). Fields the format leaves out are not judged. An error names the fields.
+// `link_dropped`: the host's transport dropped broken telegrams between the two, so profiles the
+// device sent may be missing; PROFILESENT may then advance by more than one (the clock still not).
 base::Expected<RevolutionStep, std::string> check_revolution_step(const protocol::Profile& previous,
                                                                    const protocol::Profile& current,
-                                                                   std::uint16_t speed_hz);
+                                                                   std::uint16_t speed_hz, bool link_dropped = false);
 
 // Within one profile: every measuring sector is measured within one revolution
 // (TEND - TSTART <= 1000/f ms + 1 ms of resolution).
@@ -49,7 +51,10 @@ class DeviceClockCheck {
   void set_speed_hz(std::uint16_t speed_hz) { speed_hz_ = speed_hz; }
   std::uint16_t speed_hz() const { return speed_hz_; }
   // The verdict on `profile` after the ones before it; a failure names the profiles.
-  std::optional<std::string> next(const protocol::Profile& profile);
+  // `link_dropped` as for check_revolution_step.
+  std::optional<std::string> next(const protocol::Profile& profile, bool link_dropped = false);
+  // PROFILESENT's advance at the last step judged (0 for the first profile of a stream).
+  std::uint16_t last_sent_step() const { return last_sent_step_; }
   // Revolutions the stream skipped so far (PROFILECOUNT advances beyond one), for reports.
   std::uint64_t skipped_revolutions() const { return skipped_; }
 
@@ -58,6 +63,7 @@ class DeviceClockCheck {
   std::uint16_t speed_hz_ = 10;  // D4
   std::uint64_t skipped_ = 0;
   bool judging_ = true;
+  std::uint16_t last_sent_step_ = 0;
 };
 
 }  // namespace ldoem::conformance

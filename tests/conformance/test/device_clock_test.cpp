@@ -93,6 +93,14 @@ TEST(DeviceClock, ProfileSentGap_Fails) {
   EXPECT_NE(verdict->find("not consecutive"), std::string::npos) << *verdict;
 }
 
+TEST(DeviceClock, ProfileSentGapWhenTheLinkDroppedTelegrams_IsNotTheDevicesButTheClockStillIs) {
+  DeviceClockCheck check;
+  EXPECT_EQ(check.next(profile(1, 7, 1000)), std::nullopt);
+  EXPECT_EQ(check.next(profile(3, 9, 1200), true), std::nullopt);  // profile 2 lost on the link
+  EXPECT_EQ(check.last_sent_step(), 2);
+  EXPECT_TRUE(check.next(profile(5, 11, 1398), true));  // a slipping clock fails all the same
+}
+
 TEST(DeviceClock, SweepLongerThanARevolution_Fails) {
   const auto verdict = run({profile(1, 7, 1000, 102)});
   ASSERT_TRUE(verdict);
