@@ -31,13 +31,13 @@ std::string ms_figure(double value) {
 }  // namespace
 
 base::Expected<RevolutionStep, std::string> check_revolution_step(const Profile& previous, const Profile& current,
-                                                                   std::uint16_t speed_hz, bool link_dropped) {
+                                                                   std::uint16_t speed_hz, std::uint64_t link_lost) {
   RevolutionStep step;
   const std::string pair = "PROFILESENT " + std::to_string(previous.profile_sent) + " -> " +
                            std::to_string(current.profile_sent);
+  const auto sent_step = static_cast<std::uint16_t>(current.profile_sent - previous.profile_sent);
   if (has_field(previous, profile_bits::kProfileSent) && has_field(current, profile_bits::kProfileSent) &&
-      static_cast<std::uint16_t>(current.profile_sent - previous.profile_sent) != 1 &&
-      !(link_dropped && static_cast<std::uint16_t>(current.profile_sent - previous.profile_sent) > 1)) {
+      sent_step != 1 && !(sent_step > 1 && sent_step - 1u <= link_lost)) {
     return base::Unexpected(pair + ": not consecutive (spec 3.5: one more per profile sent, D10)");
   }
   if (!has_field(previous, profile_bits::kProfileCount) || !has_field(current, profile_bits::kProfileCount)) return step;
@@ -80,7 +80,7 @@ std::optional<std::string> check_within_revolution(const Profile& profile, std::
   return std::nullopt;
 }
 
-std::optional<std::string> DeviceClockCheck::next(const Profile& profile, bool link_dropped) {
+std::optional<std::string> DeviceClockCheck::next(const Profile& profile, std::uint64_t link_lost) {
   last_sent_step_ = 0;
   if (!judging_) return std::nullopt;
   if (previous_ && previous_->format != profile.format) previous_.reset();  // a new stream's format
@@ -88,7 +88,7 @@ std::optional<std::string> DeviceClockCheck::next(const Profile& profile, bool l
   std::optional<std::string> verdict;
   if (previous_) {
     last_sent_step_ = static_cast<std::uint16_t>(profile.profile_sent - previous_->profile_sent);
-    auto step = check_revolution_step(*previous_, profile, speed_hz_, link_dropped);
+    auto step = check_revolution_step(*previous_, profile, speed_hz_, link_lost);
     if (!step) {
       verdict = step.error();
     } else if (step->counted > 1) {

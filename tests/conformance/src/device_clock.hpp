@@ -23,11 +23,12 @@ struct RevolutionStep {
 // PROFILECOUNT by at least one, and TSTART by PROFILECOUNT's advance times 1000/f ms within
 // the clock's 1 ms resolution (two truncated millisecond values differ by less than 1 ms from
 // the exact difference). Fields the format leaves out are not judged. An error names the fields.
-// `link_dropped`: the host's transport dropped broken telegrams between the two, so profiles the
-// device sent may be missing; PROFILESENT may then advance by more than one (the clock still not).
+// `link_lost`: how many broken telegrams the host's transport dropped that no earlier gap used
+// up: that many profiles the device sent may be missing, so PROFILESENT may advance by up to
+// 1 + link_lost (the clock still has to match PROFILECOUNT exactly).
 base::Expected<RevolutionStep, std::string> check_revolution_step(const protocol::Profile& previous,
                                                                    const protocol::Profile& current,
-                                                                   std::uint16_t speed_hz, bool link_dropped = false);
+                                                                   std::uint16_t speed_hz, std::uint64_t link_lost = 0);
 
 // Within one profile: every measuring sector is measured within one revolution
 // (TEND - TSTART <= 1000/f ms + 1 ms of resolution).
@@ -51,8 +52,8 @@ class DeviceClockCheck {
   void set_speed_hz(std::uint16_t speed_hz) { speed_hz_ = speed_hz; }
   std::uint16_t speed_hz() const { return speed_hz_; }
   // The verdict on `profile` after the ones before it; a failure names the profiles.
-  // `link_dropped` as for check_revolution_step.
-  std::optional<std::string> next(const protocol::Profile& profile, bool link_dropped = false);
+  // `link_lost` as for check_revolution_step.
+  std::optional<std::string> next(const protocol::Profile& profile, std::uint64_t link_lost = 0);
   // PROFILESENT's advance at the last step judged (0 for the first profile of a stream).
   std::uint16_t last_sent_step() const { return last_sent_step_; }
   // Revolutions the stream skipped so far (PROFILECOUNT advances beyond one), for reports.

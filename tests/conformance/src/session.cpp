@@ -50,7 +50,11 @@ void Session::log(const char* direction, ByteView payload) const {
 void Session::note_request(ByteView payload) {
   auto request = decode_request(payload);
   if (!request) return;
-  if (std::holds_alternative<GetProfile>(*request)) device_clock_.start_stream();
+  if (std::holds_alternative<GetProfile>(*request)) {
+    device_clock_.start_stream();
+    dropped_at_stream_start_ = transport_->counters().dropped_frames;
+    missing_in_stream_ = 0;
+  }
   if (const auto* rotate = std::get_if<TransRotate>(&*request)) pending_rotate_hz_ = rotate->frequency_hz;
   if (const auto* config = std::get_if<SetConfig>(&*request)) {
     if (const auto* global = std::get_if<GlobalConfig>(&config->body)) pending_config_hz_ = global->motor_speed_hz;
@@ -90,18 +94,20 @@ std::optional<Arrival> Session::receive(Deadline deadline) {
   if (!is_profile(*received)) {
     note_reply(*received);
   } else if (auto profile = decode_profile(*received)) {  // one that does not decode fails its case's check
-    // Broken telegrams the transport dropped since the last profile (a CAN link that lost frames
-    // or timed out, D1) may have been profiles: PROFILESENT may then skip, the clock may not.
-    const std::uint64_t dropped = transport_->counters().dropped_frames;
-    const std::uint64_t lost = dropped - dropped_at_last_profile_;
-    dropped_at_last_profile_ = dropped;
-    if (auto slipped = device_clock_.next(*profile, lost > 0)) throw CaseFailed("device clock: " + *slipped);
+    // Broken telegrams the transport dropped in this stream (a CAN link that lost frames or timed
+    // out, D1) may have been profiles: PROFILESENT may skip that many, the clock may not. The
+    // transport counts a drop when it reads the frames, which can be before it hands up the
+    // profiles read with them, so the drops are counted per stream, not per profile.
+    const std::uint64_t dropped = transport_->counters().dropped_frames - dropped_at_stream_start_;
+    const std::uint64_t lost = dropped > missing_in_stream_ ? dropped - missing_in_stream_ : 0;
+    if (auto slipped = device_clock_.next(*profile, lost)) throw CaseFailed("device clock: " + *slipped);
     if (device_clock_.last_sent_step() > 1) {
+      missing_in_stream_ += device_clock_.last_sent_step() - 1u;
       // The host link's failure, not the device's: judged like a wall-clock one (a starved host
       // reads too late and loses frames), INCONCLUSIVE when the probe saw the machine stall.
       throw WallClockFailed("link: PROFILESENT advanced " + std::to_string(device_clock_.last_sent_step()) +
                                 " to " + std::to_string(profile->profile_sent) + " and the transport dropped " +
-                                std::to_string(lost) + " broken telegram(s) in between; the device clock was exact",
+                                std::to_string(dropped) + " broken telegram(s) in this stream; the device clock was exact",
                             kLinkStallToleranceMs);
     }
   }
@@ -279,7 +285,8 @@ void Session::reopen_transport() {
   auto reopened = open_suite_transport(options_);
   if (!reopened) throw CaseFailed("reopen: " + reopened.error());
   transport_ = std::move(*reopened);
-  dropped_at_last_profile_ = 0;  // a new transport counts from 0
+  dropped_at_stream_start_ = 0;  // a new transport counts from 0
+  missing_in_stream_ = 0;
 }
 
 }  // namespace ldoem::conformance

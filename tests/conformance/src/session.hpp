@@ -133,7 +133,8 @@ class Session {
   const VectorTable& vectors_;
   std::uint64_t profiles_skipped_ = 0;
   DeviceClockCheck device_clock_;
-  std::uint64_t dropped_at_last_profile_ = 0;  // the transport's dropped_frames at the last profile
+  std::uint64_t dropped_at_stream_start_ = 0;  // the transport's dropped_frames at GET_PROFILE
+  std::uint64_t missing_in_stream_ = 0;        // PROFILESENT gaps already put down to those drops
   std::uint16_t configured_hz_ = 10;  // D4
   std::optional<std::uint16_t> pending_config_hz_;  // SET_CONFIG global sent, reply not yet seen
   std::optional<std::uint16_t> pending_rotate_hz_;  // TRANS_ROTATE sent (0 = configured speed)

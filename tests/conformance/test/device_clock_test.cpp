@@ -96,9 +96,10 @@ TEST(DeviceClock, ProfileSentGap_Fails) {
 TEST(DeviceClock, ProfileSentGapWhenTheLinkDroppedTelegrams_IsNotTheDevicesButTheClockStillIs) {
   DeviceClockCheck check;
   EXPECT_EQ(check.next(profile(1, 7, 1000)), std::nullopt);
-  EXPECT_EQ(check.next(profile(3, 9, 1200), true), std::nullopt);  // profile 2 lost on the link
+  EXPECT_EQ(check.next(profile(3, 9, 1200), 1), std::nullopt);  // profile 2 lost on the link
   EXPECT_EQ(check.last_sent_step(), 2);
-  EXPECT_TRUE(check.next(profile(5, 11, 1398), true));  // a slipping clock fails all the same
+  EXPECT_TRUE(check.next(profile(6, 12, 1500), 1));     // 2 missing, 1 dropped: the device's gap
+  EXPECT_TRUE(check.next(profile(7, 13, 1598), 5));     // a slipping clock fails all the same
 }
 
 TEST(DeviceClock, SweepLongerThanARevolution_Fails) {
