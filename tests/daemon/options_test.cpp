@@ -34,6 +34,11 @@ TEST(Options, ControlAndEventLog_OffByDefaultAndTakeAPath) {
   EXPECT_NE(bad.error().message.find("--control"), std::string::npos);
 }
 
+TEST(Options, Realtime_OffByDefaultAndAFlag) {
+  EXPECT_FALSE(run_options({"--scene", "s.yaml"}).realtime);
+  EXPECT_TRUE(run_options({"--scene", "s.yaml", "--realtime"}).realtime);
+}
+
 TEST(Options, SceneOnly_GivesEveryDefault) {
   const Options options = run_options({"--scene", "scenes/minimal.yaml"});
   EXPECT_EQ(options.scene_path, "scenes/minimal.yaml");
@@ -131,6 +136,7 @@ TEST(Options, BadCommandLines_AreUsageErrorsNamingTheOption) {
       {{"--scene", "s", "--no-can", "--can-ids", "6C0:6C1", "--tcp", "h"}, "--can-ids: needs CAN"},
       {{"--scene", "s", "--flash", "f", "--no-flash"}, "--no-flash: conflicts with --flash"},
       {{"--scene", "s", "--reset-flash", "--no-flash", "--tcp", "h"}, "--reset-flash: conflicts with --no-flash"},
+      {{"--scene", "s", "--realtime", "--virtual-time"}, "--realtime: conflicts with --virtual-time"},
       {{"--scene", "s", "--flash-dir", "d", "--flash", "f"}, "--flash-dir: conflicts with --flash"},
       {{"--scene", "s", "--no-flash", "--flash-dir", "d", "--tcp", "h"}, "--flash-dir: conflicts with --no-flash"},
       {{"--scene", "s", "--flash-dir", ""}, "--flash-dir: expects a folder"},

@@ -232,6 +232,7 @@ const std::map<std::string_view, FlagHandler>& flag_options() {
       {"--no-can", [](Options& o, Seen& s) { o.can_interface.reset(); s.no_can = true; }},
       {"--no-flash", [](Options& o, Seen& s) { o.flash_mode = FlashMode::memory; s.no_flash = true; }},
       {"--virtual-time", [](Options& o, Seen&) { o.virtual_time = true; }},
+      {"--realtime", [](Options& o, Seen&) { o.realtime = true; }},
       {"--reset-flash", [](Options& o, Seen&) { o.reset_flash = true; }},
   };
   return handlers;
@@ -252,6 +253,10 @@ std::optional<UsageError> check_combination(Options& options, const Seen& seen) 
   }
   if (options.flash_dir && (seen.flash || seen.no_flash)) {
     return UsageError{seen.flash ? "--flash-dir: conflicts with --flash" : "--flash-dir: conflicts with --no-flash"};
+  }
+  if (options.realtime && options.virtual_time) {
+    // Virtual time computes flat out: at a real-time priority it would take a core from the machine.
+    return UsageError{"--realtime: conflicts with --virtual-time"};
   }
   if (options.reset_flash && seen.no_flash) {
     return UsageError{"--reset-flash: conflicts with --no-flash"};
@@ -415,6 +420,8 @@ std::string usage_text(std::string_view program_name) {
          "  --time-scale X        simulated seconds per wall second, 1e-6..1e6 [1]\n"
          "  --virtual-time        run the simulated clock as fast as possible: when nothing is\n"
          "                        ready, jump to the next deadline (tests, benchmarks) [off]\n"
+         "  --realtime            SCHED_FIFO priority 10 and locked memory when permitted, so a\n"
+         "                        busy machine delays revolutions less; says so when not [off]\n"
          "  --seed N              noise seed, overrides the scene's [scene's seed]\n"
          "  --inter-byte-timeout MS  drop a TCP frame or serial package the host left incomplete\n"
          "                        this long (spec 6), 0 = never [500]\n"

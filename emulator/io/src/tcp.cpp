@@ -181,6 +181,9 @@ IoResult<std::optional<TcpConnection>> TcpListener::accept() {
       if (::setsockopt(fd.get(), IPPROTO_TCP, TCP_NODELAY, &on, sizeof on) != 0) {
         return io_failure(last_system_error("setsockopt TCP_NODELAY", text_of(peer)));
       }
+      if (::setsockopt(fd.get(), SOL_SOCKET, SO_SNDBUF, &kTcpSendBufferBytes, sizeof kTcpSendBufferBytes) != 0) {
+        return io_failure(last_system_error("setsockopt SO_SNDBUF", text_of(peer)));
+      }
       return std::optional<TcpConnection>(TcpConnection(std::move(fd), text_of(peer)));
     }
     // A client that gave up between SYN and accept is not our error: try the next one.

@@ -79,6 +79,7 @@ struct Options {
   bool reset_flash = false;
   double time_scale = 1.0;
   bool virtual_time = false;
+  bool realtime = false;  // --realtime: SCHED_FIFO and mlockall when permitted (realtime.hpp)
   std::optional<std::uint64_t> seed;  // overrides the scene's seed
   LogLevel log_level = LogLevel::warn;
   std::optional<std::uint64_t> count_profiles;  // stop (exit 0) after this many profiles

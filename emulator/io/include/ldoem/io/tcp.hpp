@@ -46,6 +46,13 @@ class TcpConnection {
   std::string peer_;
 };
 
+// The send buffer of an accepted connection (the kernel doubles it: 64 KiB in use). Left to
+// itself, Linux grows it up to net.ipv4.tcp_wmem's maximum (4 MiB, more on loopback's 64 KiB
+// segments), which behind a host that stopped reading is some 1 800 profiles of 2.2 KiB: three
+// minutes at 10 Hz of stale revolutions the host would still get, a queue D10 forbids
+// (decisions-local.md L-time-2). 64 KiB still carries 64 KiB per round trip (64 MB/s at 1 ms).
+inline constexpr int kTcpSendBufferBytes = 32 * 1024;
+
 class TcpListener {
  public:
   // socket + SO_REUSEADDR + bind + listen. Port 0 picks a free port (see port()); the socket is
@@ -56,7 +63,8 @@ class TcpListener {
                                       std::string_view address = kLoopbackAddress,
                                       int backlog = SOMAXCONN);
 
-  // The next pending connection, or nothing when none is waiting.
+  // The next pending connection (TCP_NODELAY, SO_SNDBUF kTcpSendBufferBytes), or nothing when
+  // none is waiting.
   IoResult<std::optional<TcpConnection>> accept();
 
   // Stops listening but keeps the port bound (Linux: shutdown(SHUT_RD) of a listening socket
