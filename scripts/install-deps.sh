@@ -26,6 +26,9 @@ packages=(
   # cpack -G DEB finds the package's library dependencies with dpkg-shlibdeps
   dpkg-dev
   nlohmann-json3-dev libcli11-dev   # control socket (JSON lines), ldoem-ctl
+  # the fleet's image and its test (scripts/build-image.sh, scripts/check-fleet.sh): runc, as
+  # crun fails on hybrid cgroups; catatonit, for the pods' local pause image (none is pulled)
+  podman runc catatonit mmdebstrap
   # for the gpio-sim UML kernel (scripts/uml/build-gpio-kernel.sh)
   linux-source-6.1 build-essential bc flex bison libelf-dev xz-utils
 )
