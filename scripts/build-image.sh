@@ -98,7 +98,10 @@ done
 # Quoted: the globs are the root's, expanded inside it (below), never this machine's.
 excludes=('/usr/share/doc/*' '/usr/share/man/*' '/usr/share/info/*' '/usr/share/locale/*' '/usr/share/lintian/*'
           '/usr/include/*' '/usr/lib/libldoem*.a' '/usr/lib/cmake/*' '/usr/lib/pkgconfig/*'
-          '/usr/lib/x86_64-linux-gnu/gconv/*')  # iconv's converters: no program here uses iconv
+          '/usr/lib/x86_64-linux-gnu/gconv/*'  # iconv's converters: no program here uses iconv
+          # perl-base is Essential, so dpkg installs it, but nothing in the image runs perl (it
+          # has no apt, and nothing installs packages into it after this script): 9 MB.
+          '/usr/bin/perl*' '/usr/lib/x86_64-linux-gnu/perl-base')
 base_recipe=$(printf '%s\n' "variant=essential merged-usr" "${packages[@]}" "${excludes[@]}" "epoch=$epoch" \
                 "$(cat "${mirrors[@]}")" | sha256sum | cut -c1-16)
 base=$cache/base-$base_recipe.tar
@@ -129,10 +132,11 @@ if [[ ! -s $base || $rebuild_base == true ]]; then
   mv "$work/base.tar" "$base"
 fi
 
-# The image's key: the base, the .deb's files (not the .deb's own bytes, which carry build
-# times) and the files this script puts in.
-deb_files=$(mkdir "$work/x" && dpkg-deb -x "$deb" "$work/x" && (cd "$work/x" && find . -type f -print0 | sort -z |
-            xargs -0 sha256sum) | sha256sum | cut -c1-16)
+# The image's key: the base, the .deb's files that stay in the image (not the .deb's own bytes,
+# which carry build times, nor its docs) and the files this script puts in.
+mkdir "$work/x" && dpkg-deb -x "$deb" "$work/x"
+(cd "$work/x" && for path in "${excludes[@]}"; do rm -rf .$path; done)  # unquoted: the tree's globs
+deb_files=$(cd "$work/x" && find . -type f -print0 | sort -z | xargs -0 sha256sum | sha256sum | cut -c1-16)
 key=$(cat <(echo "$base_recipe $deb_files") deploy/image/ldoem-healthcheck "$0" | sha256sum | cut -c1-16)
 image=localhost/ldoem:$key
 if podman image exists "$image"; then
@@ -159,8 +163,8 @@ echo 'ldoem:!:19000::::::' >>"$root/etc/shadow"
 install -d -m 0750 -o 10001 -g 10001 "$root/var/lib/ldoem"   # the flash files (a volume)
 install -d -m 0755 -o 10001 -g 10001 "$root/run/ldoem"       # the ptys' links (LPT, serial)
 dpkg-query --admindir="$root/var/lib/dpkg" -W -f='${Package}=${Version}\n' | sort >"$root/usr/share/ldoem/image-packages.txt"
-find "$root" -newermt "@$epoch" -print0 | xargs -0r touch -h -d "@$epoch"
-tar -C "$root" --sort=name --numeric-owner --mtime="@$epoch" --clamp-mtime \
+# Every file's time is the epoch (the .deb's files carry their build time).
+tar -C "$root" --sort=name --numeric-owner --mtime="@$epoch" \
   --pax-option=exthdr.name=%d/PaxHeaders/%f,delete=atime,delete=ctime -cf "$work/image.tar" .
 
 podman import --quiet \

@@ -109,7 +109,7 @@ def hub_container(image, listen, devices):
                f"exec /usr/bin/ldoem-hub --config /etc/ldoem/hub/hub.yaml --listen {listen}")
     port = int(listen.rsplit(":", 1)[1])
     # The hub's greeting (docs/hub.md) comes from its epoll loop: a hung loop fails the probe.
-    probe = ["/bin/bash", "-c", f"exec 3<>/dev/tcp/127.0.0.1/{port} && timeout 3 head -n 1 <&3 | grep -q '^[*] OK HELLO'"]
+    probe = ["/usr/local/bin/ldoem-healthcheck", "--hub", f"127.0.0.1:{port}"]
     return {
         "name": "ldoem-hub",
         "image": image,
