@@ -26,7 +26,7 @@ volume. Prints the image name last.
                      programs must be built there)
   --deb FILE         use this .deb instead
   --epoch SECONDS    SOURCE_DATE_EPOCH for the root's files and the image (default: the
-                     environment's SOURCE_DATE_EPOCH, else the last commit's time)
+                     environment's SOURCE_DATE_EPOCH, else 1686355200, Debian 12's release day)
   --rebuild-base     build the base root again even when it is cached
 
 Environment: LDOEM_CACHE (default ~/.cache/ldoem): the base root and downloaded packages are
@@ -52,7 +52,9 @@ while [[ $# -gt 0 ]]; do
     *) echo "$tool: unknown argument '$1' (try --help)" >&2; exit 2 ;;
   esac
 done
-[[ -z $epoch ]] && epoch=$(git log -1 --format=%ct 2>/dev/null || echo 0)
+# A fixed default (Debian 12's release day), not the last commit's time: a commit that leaves
+# the image's files alone must find the cached image.
+[[ -z $epoch ]] && epoch=1686355200
 [[ $epoch =~ ^[0-9]+$ ]] || { echo "$tool: --epoch expects seconds, got '$epoch'" >&2; exit 2; }
 export SOURCE_DATE_EPOCH=$epoch
 [[ $(id -u) -eq 0 ]] || { echo "$tool: needs root (mmdebstrap, chroot, podman import)" >&2; exit 1; }
@@ -137,7 +139,7 @@ fi
 mkdir "$work/x" && dpkg-deb -x "$deb" "$work/x"
 (cd "$work/x" && for path in "${excludes[@]}"; do rm -rf .$path; done)  # unquoted: the tree's globs
 deb_files=$(cd "$work/x" && find . -type f -print0 | sort -z | xargs -0 sha256sum | sha256sum | cut -c1-16)
-key=$(cat <(echo "$base_recipe $deb_files") deploy/image/ldoem-healthcheck "$0" | sha256sum | cut -c1-16)
+key=$(cat <(echo "$base_recipe $deb_files $epoch") deploy/image/ldoem-healthcheck "$0" | sha256sum | cut -c1-16)
 image=localhost/ldoem:$key
 if podman image exists "$image"; then
   echo "$tool: $image is cached ($((SECONDS - started)) s)" >&2

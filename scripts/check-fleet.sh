@@ -4,6 +4,7 @@
 #   2. the image (scripts/build-image.sh; cached);
 #   3. `podman kube play` of N = 3 scanner Pods and the hub Pod (render.py podman: the
 #      StatefulSet's containers as Pods, on loopback ports), each scanner ready by its probe;
+#      and the probe fails while a scanner's daemon is stopped (SIGSTOP: it still accepts);
 #   4. a scan through the hub from each scanner to a PLY (ldoem-scan --hub, in parallel), each
 #      cloud checked: layers, point count, the corridor's wall and cylinder fit;
 #   5. one scanner's container killed (SIGKILL): the hub reports the device's FAULT, and after
@@ -143,6 +144,18 @@ for ((k = 0; k < scanners; ++k)); do
 done
 timeout 30 podman healthcheck run "$prefix-hub-ldoem-hub" || fail "the hub's livenessProbe did not pass"
 say "every container's livenessProbe passes (podman healthcheck run)"
+# A daemon whose loop hangs still accepts connections (the kernel does): the probe must fail.
+frozen=$((scanners - 1))
+frozen_pid=$(podman inspect --format '{{.State.Pid}}' "$prefix-scanner-$frozen-ldoem-emud")
+kill -STOP "$frozen_pid"
+if deploy/image/ldoem-healthcheck "127.0.0.1:$((port_base + 2 * frozen))" >/dev/null 2>&1; then
+  kill -CONT "$frozen_pid"
+  fail "ldoem-healthcheck passed against scanner-$frozen's stopped daemon (SIGSTOP)"
+fi
+kill -CONT "$frozen_pid"
+deploy/image/ldoem-healthcheck "127.0.0.1:$((port_base + 2 * frozen))" >/dev/null ||
+  fail "scanner-$frozen does not answer after SIGCONT"
+say "the probe fails against a stopped daemon (SIGSTOP) and passes again after SIGCONT"
 
 say "scan through the hub from each scanner (paper's settings, 61 layers of 0.36 deg)"
 pids=()
@@ -159,6 +172,7 @@ say "scans done"
 # The corridor (scenes/corridor.yaml): wall 4.180 m away, a cylinder 0.195 m across, 0.998 m long.
 for ((k = 0; k < scanners; ++k)); do
   points=$(head -c 400 "$work/scanner-$k.ply" | sed -n 's/^element vertex //p' | head -n 1)
+  grep -q ' in 61 layers written' "$work/scan-$k.out" || fail "scanner-$k's scan did not write 61 layers"
   fit=$(grep -m1 '^wall distance' "$work/scan-$k.out" || true)
   echo "$tool: scanner-$k: $points points; $fit"
   awk -v points="$points" -v fit="$fit" 'BEGIN {
@@ -185,7 +199,7 @@ python3 scripts/lib/hub_session.py "127.0.0.1:$hub_port" --timeout 30 \
   { cat "$work/kill.out" >&2; fail "the hub did not report scanner-$victim's loss (and serve scanner-0)"; }
 sed 's/^/    /' "$work/kill.out"
 say "restart $container"
-timeout 60 podman start "$container" >/dev/null
+timeout 60 podman start "$container" >/dev/null 2>"$work/start.err" || { cat "$work/start.err" >&2; fail "podman start $container"; }
 deadline=$((SECONDS + 60))
 until deploy/image/ldoem-healthcheck "127.0.0.1:$((port_base + 2 * victim))" >/dev/null 2>&1; do
   ((SECONDS <= deadline)) || fail "scanner-$victim does not answer GET_STATUS within 60 s of its restart"
@@ -199,11 +213,18 @@ python3 scripts/lib/hub_session.py "127.0.0.1:$hub_port" --timeout 30 \
 sed 's/^/    /' "$work/recover.out"
 say "the hub reported the loss and recovered"
 
-# Memory per pod, as the kernel counts it for the container (podman stats, cgroup v1).
-podman stats --no-stream --format '{{.Name}} {{.MemUsage}}' 2>/dev/null | grep "^$prefix-" | sed "s/^/$tool: memory: /" || true
+# Memory per pod: the cgroup's count (podman stats: without the page cache, so the shared
+# libraries' pages are not in it) and the resident set of the container's process (VmRSS).
+podman stats --no-stream --format '{{.Name}} {{.MemUsage}}' 2>/dev/null | grep "^$prefix-" | sort |
+  sed "s/^/$tool: memory (cgroup): /" || true
+for name in $(podman ps --format '{{.Names}}' | grep "^$prefix-.*-ldoem-" | sort); do
+  pid=$(podman inspect --format '{{.State.Pid}}' "$name")
+  echo "$tool: memory (VmRSS): $name $(sed -n 's/^VmRSS: *//p' "/proc/$pid/status" 2>/dev/null)"
+done
 
 say "stop (SIGTERM): every scanner exits 143 with its flash saved on its volume"
-timeout 60 podman pod stop --time 15 $(for ((k = 0; k < scanners; ++k)); do echo "$prefix-scanner-$k"; done) >/dev/null
+timeout 60 podman pod stop --time 15 $(for ((k = 0; k < scanners; ++k)); do echo "$prefix-scanner-$k"; done) \
+  >/dev/null 2>"$work/stop.err" || { cat "$work/stop.err" >&2; fail "podman pod stop"; }
 for ((k = 0; k < scanners; ++k)); do
   code=$(podman inspect --format '{{.State.ExitCode}}' "$prefix-scanner-$k-ldoem-emud")
   [[ $code == 143 ]] || { podman logs "$prefix-scanner-$k-ldoem-emud" | tail -n 5 >&2; fail "scanner-$k exited $code on SIGTERM, not 143"; }
