@@ -104,7 +104,7 @@ excludes=('/usr/share/doc/*' '/usr/share/man/*' '/usr/share/info/*' '/usr/share/
           # perl-base is Essential, so dpkg installs it, but nothing in the image runs perl (it
           # has no apt, and nothing installs packages into it after this script): 9 MB.
           '/usr/bin/perl*' '/usr/lib/x86_64-linux-gnu/perl-base')
-base_recipe=$(printf '%s\n' "variant=essential merged-usr" "${packages[@]}" "${excludes[@]}" "epoch=$epoch" \
+base_recipe=$(printf '%s\n' "mode=unshare variant=essential merged-usr" "${packages[@]}" "${excludes[@]}" "epoch=$epoch" \
                 "$(cat "${mirrors[@]}")" | sha256sum | cut -c1-16)
 base=$cache/base-$base_recipe.tar
 
@@ -117,7 +117,10 @@ if [[ ! -s $base || $rebuild_base == true ]]; then
   # Packages downloaded once are kept in the cache and handed to the next build.
   # The merged-usr hook makes /bin, /lib... links itself: otherwise the usrmerge package comes
   # in, and with it the whole of perl (about 55 MB).
-  if ! mmdebstrap --variant=essential "${dpkg_options[@]}" --include="$include" \
+  # --mode=unshare: the chroot's /proc, /sys, /dev/pts and /dev/shm are mounted in a namespace
+  # of its own, which ends with mmdebstrap. In root mode they are mounted on this machine, the
+  # host's /dev/shm bound in, and one run here left them mounted ("target is busy") and failed.
+  if ! mmdebstrap --mode=unshare --variant=essential "${dpkg_options[@]}" --include="$include" \
       --hook-dir=/usr/share/mmdebstrap/hooks/merged-usr \
       --setup-hook='mkdir -p "$1"/var/cache/apt/archives' \
       --setup-hook="sync-in $cache/debs /var/cache/apt/archives" \
