@@ -29,7 +29,8 @@ uml=1
 old_emud=
 rounds=1
 doc=
-command_line="scripts/bench-latency.sh $*"
+. "$(dirname "$0")/lib/doc-paths.sh"
+command_line=$(printf '%s' "scripts/bench-latency.sh $*" | doc_paths)
 while [ $# -gt 0 ]; do
   case $1 in
     --requests) requests=$2; shift 2 ;;
@@ -172,7 +173,7 @@ report() {
   done
   if [ -n "$old_emud" ]; then
     echo
-    echo "Ratios (new = $new_emud, $(commit_of "$new_emud"); old = $old_emud, $(commit_of "$old_emud")):"
+    echo "Ratios (new = $new_emud, $(commit_of "$new_emud"); old = $old_emud, $(commit_of "$old_emud")):" | doc_paths
     printf '%s' "$ratios"
   fi
   echo

@@ -13,7 +13,8 @@ build="$root/build/bench"
 do_build=1
 min_time=0.5
 ratio_budget=1.5
-command_line="scripts/bench-performance.sh $*"
+. "$(dirname "$0")/lib/doc-paths.sh"
+command_line=$(printf '%s' "scripts/bench-performance.sh $*" | doc_paths)
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --build-dir) build="$2"; shift 2 ;;
@@ -25,6 +26,7 @@ while [[ $# -gt 0 ]]; do
   esac
 done
 
+build_for_doc=$(printf '%s' " $(realpath -m --relative-to="$root" "$build")" | doc_paths | sed 's/^ //')
 load_at_start="$(cut -d' ' -f1-3 /proc/loadavg)"
 cpu_model="$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//')"
 cores="$(nproc)"
@@ -80,7 +82,7 @@ for key, label, primitives_only in casters:
     else:
         match = (f"{int(b['ode_mismatches'])} over 1e-9 m, {int(b['ode_mismatches_over_0_1mm'])} over 0.1 mm, "
                  f"of {int(b['ode_rays_compared'])}")
-        match_ok = None  # meshes: ODE's float trimesh is not the exact reference (DESIGN.md): no verdict
+        match_ok = None  # meshes: ODE's float trimesh is not the exact reference (design.md): no verdict
     summary.append((f">= 1.0x Embree triangles (median): {label}", tri_ratio, tri_ok))
     if primitives_only:
         summary.append((f"matches plain ODE: {label}", match, match_ok))
@@ -135,7 +137,7 @@ summary_table = "\n".join(["| target | measured | verdict |", "|---|---|---|"] +
                           [f"| {t} | {m} | {verdict(ok)} |" for t, m, ok in summary])
 
 template = open("$root/scripts/bench-performance.sh").read().split("#BEGIN-TEMPLATE\n", 1)[1].split("#END-TEMPLATE", 1)[0]
-text = (template.replace("@COMMAND@", "$command_line".strip()).replace("@CORES@", "$cores").replace("@BUILD@", os.path.relpath("$build", "$root")).replace("@BUILD_TYPE@", "$build_type")
+text = (template.replace("@COMMAND@", "$command_line".strip()).replace("@CORES@", "$cores").replace("@BUILD@", "$build_for_doc").replace("@BUILD_TYPE@", "$build_type")
         .replace("@CPU@", "$cpu_model").replace("@LOAD@", "$load_at_start").replace("@DATE@", "$started")
         .replace("@MIN_TIME@", "$min_time").replace("@RATIO_BUDGET@", "$ratio_budget").replace("@CASTERS@", caster_table).replace("@SCANS@", scan_table)
         .replace("@DEMAND@", demand).replace("@ISOTP@", iso_table).replace("@RSS@", rss_table).replace("@SUMMARY@", summary_table))
@@ -202,7 +204,7 @@ ODE at 1000 primitives.
 
 Mesh scenes: ODE's trimesh answers in float, so ranges differ from ldoem's double-precision
 recomputation by more than 1e-9 m on some rays; the 0.1 mm column shows whether any ray hit a
-different surface. Those rows are not held to "matches ODE" (DESIGN.md: meshes are Embree's).
+different surface. Those rows are not held to "matches ODE" (design.md: meshes are Embree's).
 
 ## Peak memory (getrusage ru_maxrss), beside throughput
 

@@ -19,7 +19,8 @@ build="$root/build/bench"
 do_build=1
 scanners=201
 all_scanners=41
-command_line="scripts/bench-scaling.sh $*"
+. "$(dirname "$0")/lib/doc-paths.sh"
+command_line=$(printf '%s' "scripts/bench-scaling.sh $*" | doc_paths)
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --build-dir) build="$2"; shift 2 ;;

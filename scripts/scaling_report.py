@@ -5,6 +5,7 @@ import argparse
 import json
 import re
 from pathlib import Path
+from lib.doc_paths import doc_paths  # scripts/lib, beside this script
 
 DEVICE_MEAN_LIMIT_HZ = 10800  # spec 5: mean pulse frequency limit (control/sector_table.hpp)
 WORST_CASE_BEAMS_PER_S = 14400  # issue 15's worst case: the peak pulse frequency over 360 deg
@@ -97,7 +98,7 @@ def main():
                               [f"| {t} | {m} | {verdict(ok, 'derived' in m)} |" for t, m, ok in summary])
     template = (Path(__file__).parent / "scaling_report_template.md").read_text()
     values = {
-        "COMMAND": args.command.strip(), "DATE": args.date, "CPU": args.cpu, "CORES": args.cores,
+        "COMMAND": doc_paths(args.command.strip()), "DATE": args.date, "CPU": args.cpu, "CORES": args.cores,
         "LOAD_START": args.load_start, "LOAD_END": args.load_end, "NICE": args.nice,
         "PROBES": "\n".join(probe_rows),
         "REFUSED": ("The emulator refuses it, as the spec says the device does" if refused else

@@ -7,6 +7,7 @@ import os
 import platform
 import subprocess
 import sys
+from lib.doc_paths import doc_paths  # scripts/lib, beside this script
 
 
 def plot(samples, png):
@@ -57,7 +58,7 @@ def main():
     page = [
         "# Soak test",
         "",
-        f"Written by `{args.command}` on {datetime.datetime.fromtimestamp(os.path.getmtime(args.samples), datetime.timezone.utc):%Y-%m-%d %H:%M} UTC",
+        f"Written by `{doc_paths(args.command)}` on {datetime.datetime.fromtimestamp(os.path.getmtime(args.samples), datetime.timezone.utc):%Y-%m-%d %H:%M} UTC",
         f"({where}; the run is wall-clock, not virtual time). Verdict: "
         + ("**passed**." if args.status == 0 else f"**failed** (exit {args.status})."),
         "",

@@ -5,7 +5,9 @@
 #      tests labelled `plain`, which assert wall time (target ldoem_plain_ci);
 #   2. the installed package: cmake --install, the systemd units (verify, security <= 2.0), the
 #      examples/consumer program built against find_package(ldoem) and pkg-config and run
-#      against the installed daemon, the .deb (scripts/check-install.sh);
+#      against the installed daemon, the .deb (scripts/check-install.sh); then the .deb through
+#      lintian and into a clean Debian 12 root (mmdebstrap, cached), booted with systemd-nspawn,
+#      where the installed units take a 3D scan through the hub (scripts/check-deb-root.sh);
 #   3. the `plain` tests on the plain build;
 #   4. the vcan-labelled tests inside one User-Mode Linux boot with a real vcan0 (daemon on CAN,
 #      conformance, can-utils interop, robustness floods, the paper's scan end to end), then a
@@ -62,6 +64,9 @@ asan_build=$!
 
 step "installed package, systemd units, libldoem consumer"
 scripts/check-install.sh build/default
+
+step "the .deb in a clean Debian 12 root: lintian, dpkg -i, a 3D scan through its units"
+scripts/check-deb-root.sh build/default
 
 step "tests that assert wall time, on the plain build (label plain)"
 ctest --preset default -L plain -j2

@@ -9,6 +9,7 @@ CommandLine::CommandLine(std::string program, HelpPrecedence precedence)
     : app_("", program), program_(std::move(program)), precedence_(precedence) {
   app_.set_help_flag();  // the tool prints its own usage text instead of CLI11's
   answer_first("-h,--help", help_);
+  answer_first("--version", version_);
   app_.add_option("--completion", completion_shell_)->check(CLI::IsMember({"bash"}))->group("");
   app_.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   app_.allow_extras();  // reported below as one line, like every other problem
@@ -68,6 +69,18 @@ std::optional<std::string> CommandLine::parse(std::span<const std::string_view> 
     *answered = true;
   }
   return problem;
+}
+
+std::string version_line(std::string_view program) {
+  return std::string(program) + " " + LDOEM_VERSION + "\n";
+}
+
+std::string usage_error_line(std::string_view program, std::string_view reason) {
+  std::string line = std::string(program) + ": " + std::string(reason);
+  if (reason.find("--help") == std::string_view::npos) {
+    line += " (try " + std::string(program) + " --help)";
+  }
+  return line + "\n";
 }
 
 std::string CommandLine::completion_script() const {

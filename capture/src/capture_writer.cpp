@@ -1,5 +1,7 @@
 #include "ldoem/capture/capture_writer.hpp"
 
+#include "ldoem/base/regular_file.hpp"
+
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -50,8 +52,10 @@ base::Expected<std::unique_ptr<CaptureWriter>, std::string> CaptureWriter::open(
 }
 
 std::string CaptureWriter::start_file() {
-  fd_ = ::open(options_.path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd_ < 0) return errno_text("open", options_.path);
+  // Issue 27 (D11): a FIFO or device is refused at once, never waited on or written into.
+  auto opened = base::open_regular_file(options_.path, O_WRONLY | O_CREAT | O_TRUNC);
+  if (!opened) return options_.path.string() + ": " + opened.error().text;
+  fd_ = opened->release();
   counters_.bytes = 0;
   for (auto& [index, connection] : connections_) connection.announced = false;
   Bytes header = protocol::encode_pcapng_section_header(options_.application);

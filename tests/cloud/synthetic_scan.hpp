@@ -1,4 +1,4 @@
-// A scan of a known scene, made in the test (no emulator code, DESIGN.md): a scanner at the
+// A scan of a known scene, made in the test (no emulator code, design.md): a scanner at the
 // origin sweeping its beam plane in tilt, rays cast against a floor, a wall 4.18 m ahead, a
 // standing cylinder ~2.5 m ahead and a box; range noise along the ray, plus stray points.
 #pragma once

@@ -114,5 +114,31 @@ TEST(CtlOptions, UsageErrorsAreExitTwo) {
   }
 }
 
+TEST(CtlOptions, AnUnknownCommand_IsNamedWithTheCommandsThereAre) {
+  const CtlExit exit = exit_of({"--control", "/tmp/x.ctl", "bogus"});
+  EXPECT_EQ(exit.code, kExitUsage);
+  EXPECT_NE(exit.text.find("unknown command `bogus`"), std::string::npos) << exit.text;
+  EXPECT_NE(exit.text.find("inject-fault"), std::string::npos) << exit.text;
+  // After a value-taking option too, the command word is found.
+  EXPECT_NE(exit_of({"--timeout", "3", "--control=/tmp/x.ctl", "querystatus"}).text.find("`querystatus`"),
+            std::string::npos);
+}
+
+TEST(CtlOptions, Version_PrintsTheProjectsVersion) {
+  const CtlExit exit = exit_of({"--version"});
+  EXPECT_EQ(exit.code, kExitOk);
+  EXPECT_EQ(exit.text, std::string("ldoem-ctl ") + LDOEM_VERSION);
+}
+
+TEST(CtlOptions, Help_NamesValuesByMeaningNotByCli11Type) {
+  for (const auto& args : {std::vector<std::string>{"--help"}, {"inject-fault", "--help"}, {"move-object", "--help"}}) {
+    const CtlExit exit = exit_of(args);
+    EXPECT_EQ(exit.code, kExitOk);
+    for (const char* raw : {"FLOAT", "TEXT", "UINT", "INT", "[0 - "}) {
+      EXPECT_EQ(exit.text.find(raw), std::string::npos) << raw << " in:\n" << exit.text;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace ldoem::ctl

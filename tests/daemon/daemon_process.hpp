@@ -1,4 +1,4 @@
-// Runs ldoem-emud as a child process for the integration tests (qtest style, STYLE.md section 4):
+// Runs ldoem-emud as a child process for the integration tests (qtest style, design.md convention 4):
 // stdout on a pipe (the endpoint lines and "ready"), stderr to a file the test can read, and a
 // hard limit so that a stuck daemon never hangs the test (test_support::Child spawns and reaps).
 #pragma once

@@ -1,4 +1,4 @@
-// ldoem-emud as a child process, driven only through its endpoints (qtest style, STYLE.md 4):
+// ldoem-emud as a child process, driven only through its endpoints (qtest style, design.md convention 4):
 // TCP conversation of spec 7.3 with byte-exact replies, hostile TCP clients, the serial pty,
 // the LPT pty moving the tilt, exit codes, SIGTERM saving the flash, SIGUSR1 counters.
 #include <fcntl.h>

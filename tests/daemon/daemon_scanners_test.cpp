@@ -52,7 +52,7 @@ TEST(ScannerOptions, AOneEntryListFillsInWhatTheCommandLineLeavesOut) {
   ASSERT_TRUE(filled.has_value()) << filled.error().message;
   EXPECT_EQ((*filled)[0].tcp, (TcpOption{"127.0.0.1", 40001}));
   EXPECT_EQ((*filled)[0].serial_pty, std::filesystem::path("/tmp/s"));
-  EXPECT_EQ((*filled)[0].flash_path, std::filesystem::path("dir/a.img"));
+  EXPECT_EQ((*filled)[0].flash_path, default_flash_folder() / "a.img");  // never beside the scene
   // The command line wins over the scene.
   const auto given =
       scanner_options(parsed({"--scene", "dir/cell.yaml", "--no-can", "--tcp", "h:5", "--flash", "f"}), scene);
@@ -76,8 +76,8 @@ TEST(ScannerOptions, SeveralScannersTakeTheirEndpointsFromTheScene) {
   EXPECT_EQ(right.tcp, (TcpOption{"127.0.0.1", 40002}));
   EXPECT_EQ(left.serial_pty, std::filesystem::path("/tmp/l"));
   EXPECT_EQ(right.lpt, (LptOption{LptBackend::gpio, "chip1"}));
-  EXPECT_EQ(left.flash_path, std::filesystem::path("dir/left.img"));
-  EXPECT_EQ(right.flash_path, std::filesystem::path("dir/cell.yaml.right.flash"));
+  EXPECT_EQ(left.flash_path, default_flash_folder() / "left.img");
+  EXPECT_EQ(right.flash_path, default_flash_folder() / "cell.yaml.right.flash");
   const auto memory = scanner_options(parsed({"--scene", "dir/cell.yaml", "--no-flash"}), load(kTwoScannersYaml));
   ASSERT_TRUE(memory.has_value());
   EXPECT_TRUE((*memory)[1].flash_path.empty());
@@ -345,7 +345,7 @@ TEST(DaemonScanners, OneScannersFlashFolderReplacedByAFile_TheOthersIsStillSaved
                                                    "  - {name: b, flash_file: b.img, endpoints: {tcp: 0}}\n");
   const std::filesystem::path gone = dir.path("gone");
   std::filesystem::create_directory(gone);
-  auto process = DaemonProcess::start({"--scene", scene, "--no-can"});
+  auto process = DaemonProcess::start({"--scene", scene, "--no-can", "--flash-dir", dir.path("")});
   ASSERT_TRUE(process);
   ASSERT_TRUE(process->wait_ready()) << process->stderr_text();
   std::filesystem::remove_all(gone);

@@ -1,6 +1,7 @@
-// Options parsing table (STYLE.md section 1): every option, its default, and the usage errors.
+// Options parsing table (design.md convention 1): every option, its default, and the usage errors.
 #include <gtest/gtest.h>
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -42,7 +43,7 @@ TEST(Options, SceneOnly_GivesEveryDefault) {
   EXPECT_FALSE(options.serial_pty.has_value());
   EXPECT_FALSE(options.lpt.has_value());
   EXPECT_EQ(options.flash_mode, FlashMode::file);
-  EXPECT_EQ(options.flash_path, "scenes/minimal.yaml.flash");  // D4: beside the scene
+  EXPECT_EQ(options.flash_path, default_flash_folder() / "minimal.yaml.flash");  // never beside the scene
   EXPECT_EQ(options.time_scale, 1.0);
   EXPECT_FALSE(options.virtual_time);
   EXPECT_FALSE(options.seed.has_value());
@@ -186,7 +187,25 @@ TEST(Options, FlashDir_PutsTheFlashBesideNoScene_UnderTheSameName) {
   EXPECT_EQ(run_options({"--scene", "scenes/minimal.yaml", "--flash-dir", "/var/lib/x"}).flash_path,
             "/var/lib/x/minimal.yaml.flash");
   EXPECT_EQ(run_options({"--scene", "minimal.yaml", "--flash-dir", "state"}).flash_path, "state/minimal.yaml.flash");
-  EXPECT_EQ(flash_folder(run_options({"--scene", "scenes/minimal.yaml"})), "scenes");
+  EXPECT_EQ(flash_folder(run_options({"--scene", "scenes/minimal.yaml"})), default_flash_folder());
+}
+
+// Issue 24: the flash goes to a state folder, never beside the scene (a clone's scenes/ or
+// /usr/share/ldoem/scenes): the unit's StateDirectory, else XDG's state home.
+TEST(Options, DefaultFlashFolder_IsTheUnitsStateDirectoryElseXdgStateHome) {
+  const auto from = [](std::map<std::string, std::string> variables) {
+    return default_flash_folder([variables](const char* name) -> const char* {
+      const auto found = variables.find(name);
+      return found == variables.end() ? nullptr : found->second.c_str();
+    });
+  };
+  EXPECT_EQ(from({{"STATE_DIRECTORY", "/var/lib/ldoem-emud:/var/lib/other"}, {"XDG_STATE_HOME", "/x"}, {"HOME", "/h"}}),
+            "/var/lib/ldoem-emud");
+  EXPECT_EQ(from({{"XDG_STATE_HOME", "/x/state"}, {"HOME", "/h"}}), "/x/state/ldoem");
+  EXPECT_EQ(from({{"XDG_STATE_HOME", "relative"}, {"HOME", "/h"}}), "/h/.local/state/ldoem");  // XDG: ignored
+  EXPECT_EQ(from({{"HOME", "/h"}}), "/h/.local/state/ldoem");
+  EXPECT_EQ(from({}), "");
+  EXPECT_NE(run_options({"--scene", "scenes/minimal.yaml"}).flash_path.parent_path(), "scenes");
 }
 
 TEST(Options, UsageText_ListsEveryOptionExitCodesAndExamples) {
@@ -196,7 +215,7 @@ TEST(Options, UsageText_ListsEveryOptionExitCodesAndExamples) {
                              "--log-level", "--count-profiles", "--timeout", "--help", "--version", "[vcan0]",
                              "--reset-flash", "--inter-byte-timeout", "--tcp-silent-timeout", "--tcp-idle-timeout",
                              "--max-clients N", "[64]",
-                             "[<scene>.flash]", "49152", "128+N", "  2  ", "Examples:",
+                             "[STATE/<scene>.flash", "49152", "128+N", "  2  ", "Examples:",
                              "ldoem-emud --scene scenes/corridor.yaml --can vcan0 --lpt pty:/tmp/ldoem-lpt"}) {
     EXPECT_NE(text.find(needle), std::string::npos) << needle;
   }

@@ -26,4 +26,16 @@ group="$source_dir/packaging/systemd/ldoem-emud-group@.service"
 if grep -E '^(ExecStart|Environment)=.*(--flash |--tcp|--can-ids|--serial|--lpt|--record)' "$group"; then
   echo "ldoem-emud-group@.service names an option a scanner group refuses"; exit 1
 fi
+# Out of the box a 3D scan works (issue 24): the shipped hub.yaml names ldoem-emud@corridor's
+# LPT pty, and the hub runs as the emulator's dynamic user, so that it may open that pty.
+unit="$source_dir/packaging/systemd/ldoem-emud@.service"
+lpt=$(sed -n 's/^Environment="LDOEM_EMUD_ARGS=.*--lpt pty:\([^ "]*\).*/\1/p' "$unit" | sed 's/%i/corridor/')
+if [ -z "$lpt" ] || ! grep -q "^    lpt: lpt:pty:$lpt\$" "$source_dir/packaging/etc/hub.yaml"; then
+  echo "packaging/etc/hub.yaml does not name the LPT pty of ldoem-emud@corridor (${lpt:-none})"; exit 1
+fi
+for other in ldoem-emud-group@.service ldoem-hub.service; do
+  if [ "$(grep '^User=' "$unit")" != "$(grep '^User=' "$source_dir/packaging/systemd/$other")" ]; then
+    echo "$other does not run as ldoem-emud@.service's user: the hub could not open its ptys"; exit 1
+  fi
+done
 echo "ok"

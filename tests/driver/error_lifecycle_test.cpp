@@ -61,7 +61,7 @@ TEST(DescribeDriverError, MultiLineDetail_StaysOneLine) {
   EXPECT_EQ(describe(make_error(ErrorKind::timeout, "a", "b", "x\ny")), "a b: timeout: x y");
 }
 
-// Every (current, target) pair of the lifecycle, in one table (STYLE.md section 2).
+// Every (current, target) pair of the lifecycle, in one table (design.md convention 2).
 TEST(PlanTransition, EveryPair_HasTheDocumentedAction) {
   using S = LifecycleState;
   using A = LifecycleAction;

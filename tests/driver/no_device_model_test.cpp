@@ -1,4 +1,4 @@
-// DESIGN.md: the driver's correctness must not lean on the simulated device's code. This test
+// design.md: the driver's correctness must not lean on the simulated device's code. This test
 // reads every file under driver/ and fails on any mention of it, even in a comment.
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // Shared helpers of the protocol tests: hex literals, readable failure output, and running a
-// streaming decoder the three ways STYLE.md section 5 asks for.
+// streaming decoder the three ways design.md convention 5 asks for.
 #pragma once
 
 #include <gtest/gtest.h>

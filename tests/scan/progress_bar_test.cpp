@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <sstream>
 
 #include "ldoem/scan/progress_bar.hpp"
@@ -47,13 +48,33 @@ TEST(ProgressBar, UpdatesWithinInterval_AreSkippedButLastStepDrawn) {
   EXPECT_NE(text.find("4/4"), std::string::npos);
 }
 
-TEST(ProgressBar, NotTerminal_WritesNothing) {
+TEST(ProgressBar, NotTerminal_WritesOneWholeLinePerTenth) {
   std::ostringstream out;
   ProgressBar bar(out, false, ten_wide());
-  bar.update(1, 2, milliseconds(0));
-  bar.update(2, 2, milliseconds(500));
+  for (std::uint64_t done = 0; done <= 40; ++done) bar.update(done, 40, milliseconds(500 * done));
   bar.finish();
-  EXPECT_TRUE(out.str().empty());
+  const std::string text = out.str();
+  EXPECT_EQ(text.find('\r'), std::string::npos);
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 11) << text;  // 0 %, 10 %, ..., 100 %
+  EXPECT_NE(text.find("10% layer 4/40, 18s left\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("100% layer 40/40\n"), std::string::npos) << text;
+}
+
+TEST(ProgressBar, TimeLeft_IsTheMeanStepTimeTimesTheStepsLeft) {
+  std::ostringstream out;
+  ProgressBar bar(out, true, ten_wide());
+  bar.update(0, 10, milliseconds(0));  // the first step: no estimate yet
+  EXPECT_EQ(out.str(), "\r[>         ] 0% layer 0/10");
+  bar.update(2, 10, milliseconds(30000));  // 15 s per layer, 8 to go: 2 minutes
+  EXPECT_NE(out.str().find("20% layer 2/10, 2m00s left"), std::string::npos) << out.str();
+}
+
+TEST(ProgressBar, FormatTimeLeft_ReadsAsAPersonWouldSayIt) {
+  EXPECT_EQ(format_time_left(std::chrono::seconds(0)), "0s");
+  EXPECT_EQ(format_time_left(std::chrono::seconds(45)), "45s");
+  EXPECT_EQ(format_time_left(std::chrono::seconds(65)), "1m05s");
+  EXPECT_EQ(format_time_left(std::chrono::seconds(7380)), "2h03m");
+  EXPECT_EQ(format_time_left(std::chrono::seconds(-3)), "0s");
 }
 
 TEST(ProgressBar, ShorterLine_BlanksLeftovers) {

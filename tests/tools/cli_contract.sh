@@ -46,6 +46,10 @@ grep -q "^complete -o filenames -F _" "$work/out" || fail "--completion bash pri
 grep -q -- "--help" "$work/out" || fail "--completion bash does not offer --help"
 expect_exit 2 --completion zsh
 expect_exit 2 --no-such-option
+[ "$(wc -l <"$work/err")" -eq 1 ] || fail "a usage error printed $(wc -l <"$work/err") lines on stderr, not one: $(head -n3 "$work/err")"
+grep -q -- "--help" "$work/err" || fail "a usage error gives no hint: $(cat "$work/err")"
+expect_exit 0 --version
+grep -q "^$name [0-9]" "$work/out" || fail "--version printed: $(head -n1 "$work/out")"
 expect_exit 2 stray-argument
 
 case $name in
@@ -85,6 +89,12 @@ case $name in
     expect_exit 2 --device tcp:127.0.0.1:1 --out scan.ply --reconnect-attempts 0
     expect_exit 2 --device tcp:127.0.0.1:1 --out scan.ply --reconnect-backoff 0.5
     expect_exit 2 --hub 127.0.0.1:49200 --hub-device a --out scan.ply --reconnect-interval 2
+    # Outputs are checked before the first request: the folder's error, not the device's.
+    expect_exit 1 --device tcp:127.0.0.1:1 --vertical-apex 0 --out "$work/missing/scan.ply" --timeout 1
+    grep -q "missing.*No such file or directory" "$work/err" || fail "a missing output folder is not named: $(cat "$work/err")"
+    grep -q "connect" "$work/err" && fail "the device was contacted before the output was checked: $(cat "$work/err")"
+    expect_exit 2 --device tcp:127.0.0.1:1 --vertical-apex 0 --out scan.ply --preview scan.jpg
+    expect_exit 2 --device tcp:127.0.0.1:1 --vertical-apex 0 --out scan.ply --render scan
     # A good command line against a port where nothing listens: a runtime failure, exit 1.
     expect_exit 1 --device tcp:127.0.0.1:1 --vertical-apex 0 --out "$work/scan.ply" --timeout 1
     ;;
@@ -98,6 +108,8 @@ case $name in
     expect_exit 2 --ids 6C0,6C1 --tcp 127.0.0.1:1
     expect_exit 2 --can vcan0 --ids 6C0
     expect_exit 2 --tcp 127.0.0.1:1 --filter ''
+    expect_exit 2 --tcp 127.0.0.1:1 --filter nomatch
+    expect_exit 2 --tcp 127.0.0.1:1 --exclude '*'
     expect_exit 0 --list
     expect_exit 0 --list --tcp 127.0.0.1:1 --filter 'tcp/*' --filter 'x'
     expect_exit 1 --tcp 127.0.0.1:1 --timeout 1 --filter 'tcp/vectors/*'
@@ -119,7 +131,6 @@ case $name in
     grep -q "missing.pcapng" "$work/err" || fail "an unreadable capture is not named: $(cat "$work/err")"
     ;;
   ldoem-emud)
-    expect_exit 0 --version
     expect_exit 0 --help --time-scale 0  # --help and --version first win over later problems
     expect_exit 2
     expect_exit 2 --scene

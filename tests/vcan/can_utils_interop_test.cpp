@@ -1,4 +1,4 @@
-// The endpoint against can-utils, the reference tools for SocketCAN (STYLE.md section 1):
+// The endpoint against can-utils, the reference tools for SocketCAN (design.md convention 1):
 // what cansend writes we read, and what we write candump logs with the same bytes.
 #include <gtest/gtest.h>
 

@@ -148,12 +148,18 @@ Expected<image::RgbImage, RenderError> render_cloud(const PointCloud& cloud, con
   return picture;
 }
 
-Expected<std::size_t, RenderError> write_render_png(const std::filesystem::path& path, const PointCloud& cloud,
-                                                    const RenderOptions& options) {
+Expected<std::string, RenderError> encode_render_png(const PointCloud& cloud, const RenderOptions& options) {
   const auto picture = render_cloud(cloud, options);
   if (!picture) return Unexpected(picture.error());
-  const auto png = image::encode_rgb_png(*picture);
+  auto png = image::encode_rgb_png(*picture);
   if (!png) return Unexpected(RenderError::png_failed);
+  return std::move(*png);
+}
+
+Expected<std::size_t, RenderError> write_render_png(const std::filesystem::path& path, const PointCloud& cloud,
+                                                    const RenderOptions& options) {
+  const auto png = encode_render_png(cloud, options);
+  if (!png) return Unexpected(png.error());
   const auto written = write_file_bytes(path, *png);
   if (!written) {
     return Unexpected(written.error() == CloudIoError::cannot_open_file ? RenderError::cannot_open_file

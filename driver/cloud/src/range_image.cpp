@@ -124,13 +124,20 @@ Expected<image::GrayImage, RangeImageError> make_range_image(const PointCloud& c
   return picture;
 }
 
-Expected<std::size_t, RangeImageError> write_range_image_png(const std::filesystem::path& path,
-                                                              const PointCloud& cloud,
+Expected<std::string, RangeImageError> encode_range_image_png(const PointCloud& cloud,
                                                               const RangeImageOptions& options) {
   const Expected<image::GrayImage, RangeImageError> picture = make_range_image(cloud, options);
   if (!picture) return Unexpected(picture.error());
-  const Expected<std::string, image::PngError> png = image::encode_gray_png(*picture);
+  Expected<std::string, image::PngError> png = image::encode_gray_png(*picture);
   if (!png) return Unexpected(from_png_error(png.error()));
+  return std::move(*png);
+}
+
+Expected<std::size_t, RangeImageError> write_range_image_png(const std::filesystem::path& path,
+                                                              const PointCloud& cloud,
+                                                              const RangeImageOptions& options) {
+  const Expected<std::string, RangeImageError> png = encode_range_image_png(cloud, options);
+  if (!png) return Unexpected(png.error());
   const Expected<std::size_t, CloudIoError> written = write_file_bytes(path, *png);
   if (!written) {
     return Unexpected(written.error() == CloudIoError::cannot_open_file ? RangeImageError::cannot_open_file

@@ -6,6 +6,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "ldoem/base/command_line.hpp"
 #include "ldoem/driver/stop_signals.hpp"
 #include "ldoem/hub/hub_options.hpp"
 #include "ldoem/hub/hub_server.hpp"
@@ -35,8 +36,12 @@ int main(int argc, char** argv) {
   const std::vector<std::string_view> args(argv + 1, argv + argc);
   auto command_line = parse_hub_command_line(args);
   if (!command_line) {
-    std::cerr << "ldoem-hub: " << command_line.error() << "\n" << hub_usage("ldoem-hub");
+    std::cerr << ldoem::base::usage_error_line("ldoem-hub", command_line.error());
     return kExitUsage;
+  }
+  if (command_line->version) {
+    std::cout << ldoem::base::version_line("ldoem-hub");
+    return kExitOk;
   }
   if (command_line->help) {
     std::cout << hub_usage("ldoem-hub");

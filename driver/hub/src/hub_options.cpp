@@ -62,6 +62,8 @@ base::Expected<HubCommandLine, std::string> parse_hub_command_line(const std::ve
     return Unexpected(*problem);
   }
   line.help = command_line.help_requested();
+  line.version = command_line.version_requested();
+  if (line.version) return line;
   if (command_line.completion_requested()) {
     line.completion_script = command_line.completion_script();
   }

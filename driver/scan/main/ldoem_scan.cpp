@@ -1,10 +1,14 @@
 // ldoem-scan: parse, plan, open the device, acquire, write (docs/scan.md).
 #include <iostream>
 
+#include "ldoem/base/command_line.hpp"
+#include "ldoem/cloud/cloud_file.hpp"
+#include "ldoem/cloud/cloud_render.hpp"
 #include "ldoem/cloud/range_image.hpp"
 #include "ldoem/driver/stop_signals.hpp"
 #include "ldoem/hub/hub_client.hpp"
 #include "ldoem/hub/scanner_device.hpp"
+#include "ldoem/scan/output_files.hpp"
 #include "ldoem/scan/progress_bar.hpp"
 #include "ldoem/scan/scan_options.hpp"
 #include "ldoem/scan/scene_fit.hpp"
@@ -30,11 +34,50 @@ base::Expected<std::unique_ptr<driver::Device>, driver::DriverError> open_device
       driver::format_endpoint(*options.device), *options.device, options.lpt, device_options));
 }
 
+// Every output file the options name, in the order they are written and reported.
+std::vector<std::filesystem::path> output_paths(const scan::ScanOptions& options) {
+  std::vector<std::filesystem::path> paths{options.out_path};
+  if (options.preview_path) paths.emplace_back(*options.preview_path);
+  if (options.render_path) paths.emplace_back(*options.render_path);
+  return paths;
+}
+
+// Encodes every output in memory first, so that a cloud that cannot be drawn writes nothing.
+base::Expected<std::vector<scan::OutputFile>, std::string> encode_outputs(const scan::ScanOptions& options,
+                                                                         const scan::Scan& result) {
+  std::vector<scan::OutputFile> files;
+  auto cloud_bytes = cloud::encode_cloud(result.cloud, *scan::output_format(options.out_path, options.encoding));
+  if (!cloud_bytes) {
+    return base::Unexpected(options.out_path + ": " + std::string(cloud::to_string(cloud_bytes.error())));
+  }
+  files.push_back({options.out_path, std::move(*cloud_bytes)});
+  if (options.preview_path) {
+    auto preview = cloud::encode_range_image_png(result.cloud);
+    if (!preview) {
+      return base::Unexpected(*options.preview_path + ": " + std::string(cloud::to_string(preview.error())));
+    }
+    files.push_back({*options.preview_path, std::move(*preview)});
+  }
+  if (options.render_path) {
+    cloud::RenderOptions render;
+    render.colour = options.render_colour;
+    auto picture = cloud::encode_render_png(result.cloud, render);
+    if (!picture) {
+      return base::Unexpected(*options.render_path + ": " + std::string(cloud::to_string(picture.error())));
+    }
+    files.push_back({*options.render_path, std::move(*picture)});
+  }
+  return files;
+}
+
 int write_outputs(const scan::ScanOptions& options, const scan::Scan& result) {
-  const auto format = scan::output_format(options.out_path, options.encoding);
-  auto written = cloud::write_cloud_file(options.out_path, result.cloud, *format);
-  if (!written) {
-    std::cerr << "ldoem-scan: write " << options.out_path << ": " << cloud::to_string(written.error()) << "\n";
+  auto files = encode_outputs(options, result);
+  if (!files) {
+    std::cerr << "ldoem-scan: " << files.error() << " (no file written)\n";
+    return kExitFailure;
+  }
+  if (auto written = scan::write_all_or_none(*files); !written) {
+    std::cerr << "ldoem-scan: " << written.error() << " (no file written)\n";
     return kExitFailure;
   }
   std::cerr << "ldoem-scan: " << result.cloud.size() << " points in " << result.layers_done << " layers written to "
@@ -43,22 +86,6 @@ int write_outputs(const scan::ScanOptions& options, const scan::Scan& result) {
     std::cerr << " (" << result.retries_used << " retries, " << result.restarts << " restarts after faults)";
   }
   std::cerr << "\n";
-  if (options.preview_path) {
-    auto preview = cloud::write_range_image_png(*options.preview_path, result.cloud);
-    if (!preview) {
-      std::cerr << "ldoem-scan: write " << *options.preview_path << ": " << cloud::to_string(preview.error()) << "\n";
-      return kExitFailure;
-    }
-  }
-  if (options.render_path) {
-    cloud::RenderOptions render;
-    render.colour = options.render_colour;
-    auto written = cloud::write_render_png(*options.render_path, result.cloud, render);
-    if (!written) {
-      std::cerr << "ldoem-scan: write " << *options.render_path << ": " << cloud::to_string(written.error()) << "\n";
-      return kExitFailure;
-    }
-  }
   if (options.fit) {
     auto fit = scan::fit_scene(result.cloud);
     if (!fit) {
@@ -76,8 +103,12 @@ int main(int argc, char** argv) {
   const std::vector<std::string_view> args(argv + 1, argv + argc);
   auto options = scan::parse_scan_options(args);
   if (!options) {
-    std::cerr << "ldoem-scan: " << options.error() << "\n" << scan::scan_usage("ldoem-scan");
+    std::cerr << base::usage_error_line("ldoem-scan", options.error());
     return scan::kExitUsage;
+  }
+  if (options->version) {
+    std::cout << base::version_line("ldoem-scan");
+    return scan::kExitOk;
   }
   if (options->help) {
     std::cout << scan::scan_usage("ldoem-scan");
@@ -89,8 +120,16 @@ int main(int argc, char** argv) {
   }
   auto plan = scan::make_plan(*options);
   if (!plan) {
-    std::cerr << "ldoem-scan: " << plan.error() << "\n";
+    std::cerr << base::usage_error_line("ldoem-scan", plan.error());
     return scan::kExitUsage;
+  }
+
+  // Before the first request: a scan's time is not spent on an output that cannot be written.
+  for (const auto& path : output_paths(*options)) {
+    if (auto writable = scan::check_output_path(path); !writable) {
+      std::cerr << "ldoem-scan: " << writable.error() << "\n";
+      return kExitFailure;
+    }
   }
 
   auto stop_signals = driver::StopSignals::block_and_open();
@@ -104,7 +143,9 @@ int main(int argc, char** argv) {
     std::cerr << "ldoem-scan: " << driver::describe(device.error()) << "\n";
     return kExitFailure;
   }
-  scan::ProgressBar progress = scan::ProgressBar::for_stderr();
+  scan::ProgressBarOptions progress_options;
+  progress_options.line_prefix = "ldoem-scan: ";
+  scan::ProgressBar progress = scan::ProgressBar::for_stderr(progress_options);
   int signal_seen = 0;
   scan::AcquisitionHooks hooks;
   hooks.on_layer = [&progress](std::uint32_t done, std::uint32_t total) {

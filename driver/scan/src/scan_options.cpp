@@ -207,6 +207,17 @@ const std::map<std::string_view, Setter>& setters() {
   return table;
 }
 
+// The last four characters in lower case (".ply", ".PNG" -> ".png"); empty when shorter.
+std::string lower_extension(std::string_view path) {
+  if (path.size() < 4) return {};
+  std::string extension(path.substr(path.size() - 4));
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension;
+}
+
+bool ends_in_png(std::string_view path) { return lower_extension(path) == ".png"; }
+
 std::optional<std::string> check_combination(const ScanOptions& options) {
   if (options.device.has_value() == options.hub.has_value()) {
     return "give either --device ENDPOINT or --hub HOST:PORT --hub-device NAME";
@@ -228,6 +239,12 @@ std::optional<std::string> check_combination(const ScanOptions& options) {
   }
   if (!output_format(options.out_path, options.encoding)) {
     return "--out: the file name must end in .ply or .pcd";
+  }
+  if (options.preview_path && !ends_in_png(*options.preview_path)) {
+    return "--preview: the file name must end in .png";
+  }
+  if (options.render_path && !ends_in_png(*options.render_path)) {
+    return "--render: the file name must end in .png";
   }
   return std::nullopt;
 }
@@ -251,6 +268,8 @@ OptionsResult parse_scan_options(const std::vector<std::string_view>& args) {
     return usage_error(*problem);
   }
   options.help = command_line.help_requested();
+  options.version = command_line.version_requested();
+  if (options.version) return options;
   if (command_line.completion_requested()) {
     options.completion_script = command_line.completion_script();
   }
@@ -264,12 +283,7 @@ OptionsResult parse_scan_options(const std::vector<std::string_view>& args) {
 }
 
 std::optional<cloud::CloudFileFormat> output_format(std::string_view path, CloudEncoding encoding) {
-  if (path.size() < 4) {
-    return std::nullopt;
-  }
-  std::string extension(path.substr(path.size() - 4));
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string extension = lower_extension(path);
   const bool ascii = encoding == CloudEncoding::ascii;
   if (extension == ".ply") {
     return ascii ? cloud::CloudFileFormat::ply_ascii : cloud::CloudFileFormat::ply_binary;

@@ -2,6 +2,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include <utility>
+
 namespace ldoem::ctl {
 namespace {
 
@@ -21,6 +23,17 @@ std::optional<json> service_count(const std::string& text, const char* count_key
   }
 }
 
+// The first word that is neither an option nor the value of one of the top-level options: the
+// command the user meant, so that a misspelt one is named ("unknown command `bogus`").
+std::optional<std::string> command_word(const std::vector<std::string>& args) {
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& word = args[i];
+    if (!word.starts_with("-")) return word;
+    if (word.find('=') == std::string::npos && (word == "--control" || word == "--timeout" || word == "--scanner")) ++i;
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::variant<CtlPlan, CtlExit> parse_ctl_options(const std::vector<std::string>& args) {
@@ -36,85 +49,89 @@ std::variant<CtlPlan, CtlExit> parse_ctl_options(const std::vector<std::string>&
              "  ldoem-ctl --control /tmp/ldoem.ctl move-object door --position 2,0.5,0 --rpy 0,0,90 --at 3\n"
              "Fault kinds and their bytes: docs/faults.md");
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("ldoem-ctl ") + LDOEM_VERSION);
   CtlPlan plan;
   double timeout_s = 5.0;
-  app.add_option("--control", plan.control_path, "the daemon's control socket")->required();
+  app.add_option("--control", plan.control_path, "the daemon's control socket")->required()->type_name("PATH");
   app.add_flag("--json", plan.json_output, "print the raw JSON lines");
-  app.add_option("--timeout", timeout_s, "seconds to wait for the reply (events: to follow; 0 = forever)")
-      ->default_val(5.0)->check(CLI::Range(0.0, 86400.0));
+  app.add_option("--timeout", timeout_s, "seconds to wait for the reply, 0..86400 (events: to follow; 0 = forever)")
+      ->default_val(5.0)->check(CLI::Range(0.0, 86400.0).description(""))->type_name("SECONDS");
   std::string scanner;
   app.add_option("--scanner", scanner, "the scanner a fault command acts on, by its scene name (several scanners "
-                                       "in one daemon; default: the first)");
+                                       "in one daemon; default: the first)")->type_name("NAME");
 
   json arguments = json::object();
   auto* inject = app.add_subcommand("inject-fault", "inject a D11 fault now (or at --at)");
   std::string kind;
-  inject->add_option("kind", kind, "a D11 fault name (motor_stall, drop_reply, ...)")->required();
+  inject->add_option("kind", kind, "a D11 fault name (motor_stall, drop_reply, ...)")->required()->type_name("KIND");
   struct NumberOption {
     const char* flag;
     const char* key;
+    const char* type;  // what --help shows as the value
     const char* help;
     double value = 0.0;
   };
   std::vector<NumberOption> numbers{
-      {"--duration", "duration_s", "seconds it stays active"},
-      {"--count", "count", "telegrams (or lost steps) it affects"},
-      {"--at", "at_s", "simulated time at which it starts"},
-      {"--probability", "probability", "per request, drawn from the scene seed"},
-      {"--from-deg", "from_deg", "blind: sector start"},
-      {"--to-deg", "to_deg", "blind: sector end"},
-      {"--fraction", "fraction", "blind / window_dirt fraction"},
-      {"--delay", "delay_s", "delay_reply: seconds"},
-      {"--bytes-kept", "bytes_kept", "truncate_reply: bytes kept"},
-      {"--bytes", "bytes", "garbage: bytes inserted"},
-      {"--bytes-per-s", "bytes_per_s", "bandwidth: bytes per second"},
-      {"--off", "off_s", "power_cycle: seconds off"},
+      {"--duration", "duration_s", "SECONDS", "how long it stays active"},
+      {"--count", "count", "N", "telegrams (or lost steps) it affects"},
+      {"--at", "at_s", "SECONDS", "simulated time at which it starts"},
+      {"--probability", "probability", "P", "0..1 per request, drawn from the scene seed"},
+      {"--from-deg", "from_deg", "DEG", "blind: sector start"},
+      {"--to-deg", "to_deg", "DEG", "blind: sector end"},
+      {"--fraction", "fraction", "F", "0..1, blind / window_dirt fraction"},
+      {"--delay", "delay_s", "SECONDS", "delay_reply: the delay"},
+      {"--bytes-kept", "bytes_kept", "N", "truncate_reply: bytes kept"},
+      {"--bytes", "bytes", "N", "garbage: bytes inserted"},
+      {"--bytes-per-s", "bytes_per_s", "N", "bandwidth: bytes per second"},
+      {"--off", "off_s", "SECONDS", "power_cycle: time off"},
   };
   std::vector<CLI::Option*> number_options;
-  for (NumberOption& number : numbers) number_options.push_back(inject->add_option(number.flag, number.value, number.help));
+  for (NumberOption& number : numbers) {
+    number_options.push_back(inject->add_option(number.flag, number.value, number.help)->type_name(number.type));
+  }
   std::string transport, service, on, every;
-  inject->add_option("--transport", transport, "tcp, serial, can, lpt or any");
-  inject->add_option("--service", service, "only replies to this service (GET_STATUS, ...)");
-  inject->add_option("--on", on, "SERVICE:N: on the Nth request of SERVICE");
-  inject->add_option("--every", every, "SERVICE:N: on every Nth request of SERVICE");
+  inject->add_option("--transport", transport, "tcp, serial, can, lpt or any")->type_name("TRANSPORT");
+  inject->add_option("--service", service, "only replies to this service (GET_STATUS, ...)")->type_name("SERVICE");
+  inject->add_option("--on", on, "on the Nth request of SERVICE")->type_name("SERVICE:N");
+  inject->add_option("--every", every, "on every Nth request of SERVICE")->type_name("SERVICE:N");
 
   auto* clear = app.add_subcommand("clear-fault", "clear one fault (by id) or all");
   std::optional<std::uint64_t> clear_id;
-  clear->add_option("id", clear_id, "the id inject-fault or query-faults gave");
+  clear->add_option("id", clear_id, "the id inject-fault or query-faults gave")->type_name("ID");
   app.add_subcommand("query-faults", "list the active faults");
   app.add_subcommand("query-status", "state, head speed, tilt steps, counters");
   auto* power = app.add_subcommand("power-cycle", "cut the power, then restore it");
   std::optional<double> off_s;
-  power->add_option("--off", off_s, "seconds off (default 1)");
+  power->add_option("--off", off_s, "seconds off (default 1)")->type_name("SECONDS");
   app.add_subcommand("quit", "stop the daemon");
   auto* events = app.add_subcommand("events", "print event lines as they come");
   std::optional<std::uint64_t> event_count;
-  events->add_option("--count", event_count, "stop after this many events");
+  events->add_option("--count", event_count, "stop after this many events")->type_name("N");
   // D12 runtime changes (docs/dynamic-scenes.md "Runtime changes").
   auto* move = app.add_subcommand("move-object", "put a scene object at a new pose (now or at --at)");
   std::string move_name;
   std::vector<double> position, rpy;
   std::optional<double> move_at;
   bool keep_velocity = false;
-  move->add_option("name", move_name, "the object's name: in the scene")->required();
-  move->add_option("--position", position, "x,y,z in metres")->required()->delimiter(',')->expected(3);
-  move->add_option("--rpy", rpy, "roll,pitch,yaw in degrees (default 0,0,0)")->delimiter(',')->expected(3);
-  move->add_option("--at", move_at, "device time in seconds (default: now)");
+  move->add_option("name", move_name, "the object's name: in the scene")->required()->type_name("NAME");
+  move->add_option("--position", position, "in metres")->required()->delimiter(',')->expected(3)->type_name("X,Y,Z");
+  move->add_option("--rpy", rpy, "in degrees (default 0,0,0)")->delimiter(',')->expected(3)->type_name("ROLL,PITCH,YAW");
+  move->add_option("--at", move_at, "device time (default: now)")->type_name("SECONDS");
   move->add_flag("--keep-velocity", keep_velocity, "a dynamics body keeps its velocity (default: at rest)");
   auto* add = app.add_subcommand("add-object", "add an object, given as one entry of a scene's objects list");
   std::string object_text;
   std::optional<double> add_at;
   add->add_option("object", object_text, "JSON, e.g. '{\"name\": \"crate\", \"box\": {\"size_m\": [1, 1, 1]}}'")
-      ->required();
-  add->add_option("--at", add_at, "device time in seconds (default: now)");
+      ->required()->type_name("JSON");
+  add->add_option("--at", add_at, "device time (default: now)")->type_name("SECONDS");
   auto* remove = app.add_subcommand("remove-object", "remove an object (scene or added)");
   std::string remove_name;
   std::optional<double> remove_at;
-  remove->add_option("name", remove_name, "the object's name")->required();
-  remove->add_option("--at", remove_at, "device time in seconds (default: now)");
+  remove->add_option("name", remove_name, "the object's name")->required()->type_name("NAME");
+  remove->add_option("--at", remove_at, "device time (default: now)")->type_name("SECONDS");
   auto* send = app.add_subcommand("send", "send one raw JSON request line");
   std::string raw;
-  send->add_option("request", raw, "a JSON object")->required();
+  send->add_option("request", raw, "a JSON object")->required()->type_name("JSON");
 
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   try {
@@ -123,7 +140,19 @@ std::variant<CtlPlan, CtlExit> parse_ctl_options(const std::vector<std::string>&
     return CtlExit{kExitOk, app.help()};
   } catch (const CLI::CallForAllHelp&) {
     return CtlExit{kExitOk, app.help("", CLI::AppFormatMode::All)};
+  } catch (const CLI::CallForVersion&) {
+    return CtlExit{kExitOk, app.version()};
   } catch (const CLI::ParseError& error) {
+    std::string known;
+    bool is_command = false;
+    const auto word = command_word(args);
+    for (const CLI::App* command : std::as_const(app).get_subcommands([](const CLI::App*) { return true; })) {
+      known += (known.empty() ? "" : ", ") + command->get_name();
+      is_command = is_command || (word && command->get_name() == *word);
+    }
+    if (word && !is_command) {
+      return CtlExit{kExitUsage, "ldoem-ctl: unknown command `" + *word + "`; the commands: " + known};
+    }
     return CtlExit{kExitUsage, std::string("ldoem-ctl: ") + error.what() + " (--help for usage)"};
   }
   plan.timeout = std::chrono::milliseconds(static_cast<long long>(timeout_s * 1000.0));

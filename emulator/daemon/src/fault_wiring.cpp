@@ -1,7 +1,10 @@
 #include "ldoem/daemon/fault_wiring.hpp"
 
+#include <fcntl.h>
+
 #include <algorithm>
 
+#include "ldoem/base/regular_file.hpp"
 #include "ldoem/protocol/isotp.hpp"
 
 namespace ldoem::daemon {
@@ -27,6 +30,7 @@ FaultWiring::FaultWiring(DeviceInstance& device, endpoints::Scheduler& scheduler
 
 FaultWiring::~FaultWiring() {
   if (deadline_) scheduler_.cancel(*deadline_);
+  abandon_import();
   device_.set_fault_hook(nullptr);
   device_.set_connection_observer(nullptr);
   if (device_.wire_tap() == this) device_.set_wire_tap(nullptr);
@@ -38,9 +42,16 @@ base::Expected<std::unique_ptr<FaultWiring>, std::string> FaultWiring::create(
     std::function<void()> stop) {
   std::unique_ptr<FaultWiring> wiring(new FaultWiring(*devices.front(), scheduler, logger, stop));
   wiring->world_ = setup.world;
+  wiring->loop_ = &loop;
+  wiring->imports_off_loop_ = setup.imports_off_loop;
   wiring->several_ = devices.size() > 1;
   if (!scene.scanners.empty()) wiring->name_ = scene.scanners.front().name;
   if (setup.event_log_path) {
+    // Issue 27 (D11): a FIFO, device or folder is refused at once (O_NONBLOCK, then fstat): the
+    // stream's own open would wait for a FIFO's reader with the signals already blocked.
+    if (auto checked = base::open_regular_file(*setup.event_log_path, O_WRONLY | O_CREAT | O_TRUNC); !checked) {
+      return base::Unexpected("--event-log " + *setup.event_log_path + ": " + checked.error().text);
+    }
     wiring->event_log_.open(*setup.event_log_path, std::ios::out | std::ios::trunc);
     if (!wiring->event_log_) return base::Unexpected("--event-log " + *setup.event_log_path + ": cannot open");
   }

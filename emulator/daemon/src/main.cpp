@@ -1,5 +1,5 @@
 // ldoem-emud: parse the command line, load the scene, open the endpoints, run the loop, map the
-// outcome to an exit code (STYLE.md section 1). Everything it decides is in ldoem_daemon.
+// outcome to an exit code (design.md convention 1). Everything it decides is in ldoem_daemon.
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -10,6 +10,7 @@
 #include <system_error>
 #include <vector>
 
+#include "ldoem/base/command_line.hpp"
 #include "ldoem/capture/capture_writer.hpp"
 #include "ldoem/daemon/daemon.hpp"
 #include "ldoem/daemon/device_instance.hpp"
@@ -24,7 +25,7 @@ int run_emud(int argc, char** argv) {
   const std::vector<std::string_view> arguments(argv + 1, argv + argc);
   const auto command = parse_command_line(arguments);
   if (!command) {
-    std::cerr << "ldoem-emud: " << command.error().message << '\n';
+    std::cerr << ldoem::base::usage_error_line("ldoem-emud", command.error().message);
     return kExitUsageError;
   }
   if (command->kind == CommandKind::help) {
@@ -49,6 +50,10 @@ int run_emud(int argc, char** argv) {
   // would lose it only then, so say so before starting.
   if (std::error_code error; options.flash_dir && !std::filesystem::is_directory(*options.flash_dir, error)) {
     std::cerr << "ldoem-emud: --flash-dir " << options.flash_dir->string() << ": not a folder\n";
+    return kExitUsageError;
+  }
+  if (const auto failed = make_default_flash_folder(options)) {
+    std::cerr << "ldoem-emud: " << *failed << '\n';
     return kExitUsageError;
   }
   if (options.flash_mode == FlashMode::file && !options.flash_dir) {

@@ -1,6 +1,10 @@
 #include "ldoem/daemon/options.hpp"
 
+#include <sys/stat.h>
+
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <map>
 #include <set>
@@ -260,6 +264,10 @@ std::optional<UsageError> check_combination(Options& options, const Seen& seen) 
   }
   // "No host transport left" needs the scene (its scanners may name endpoints): scanner_options.hpp.
   if (options.flash_mode == FlashMode::file && !seen.flash) {
+    if (flash_folder(options).empty()) {
+      return UsageError{"--flash: no folder for it (HOME, XDG_STATE_HOME and STATE_DIRECTORY unset): give --flash, "
+                        "--flash-dir or --no-flash"};
+    }
     options.flash_path = flash_folder(options) / options.scene_path.filename();
     options.flash_path += std::string(kFlashFileSuffix);
   }
@@ -272,7 +280,37 @@ std::optional<UsageError> check_combination(Options& options, const Seen& seen) 
 }  // namespace
 
 std::filesystem::path flash_folder(const Options& options) {
-  return options.flash_dir ? *options.flash_dir : options.scene_path.parent_path();
+  return options.flash_dir ? *options.flash_dir : default_flash_folder();
+}
+
+std::filesystem::path default_flash_folder(const Environment& environment) {
+  if (const char* state = environment("STATE_DIRECTORY"); state != nullptr && state[0] == '/') {
+    const std::string_view list(state);
+    return std::filesystem::path(std::string(list.substr(0, list.find(':'))));
+  }
+  if (const char* xdg = environment("XDG_STATE_HOME"); xdg != nullptr && xdg[0] == '/') {
+    return std::filesystem::path(xdg) / "ldoem";
+  }
+  if (const char* home = environment("HOME"); home != nullptr && home[0] == '/') {
+    return std::filesystem::path(home) / ".local" / "state" / "ldoem";
+  }
+  return {};
+}
+
+std::optional<std::string> make_default_flash_folder(const Options& options) {
+  const std::filesystem::path folder = default_flash_folder();
+  if (options.flash_mode != FlashMode::file || options.flash_dir || folder.empty() ||
+      options.flash_path.parent_path() != folder) {
+    return std::nullopt;
+  }
+  std::filesystem::path partial;
+  for (const std::filesystem::path& part : folder) {
+    partial /= part;
+    if (::mkdir(partial.c_str(), 0700) != 0 && errno != EEXIST) {
+      return "flash folder " + partial.string() + ": " + std::strerror(errno);
+    }
+  }
+  return std::nullopt;
 }
 
 Expected<CanIdPair, UsageError> parse_can_id_pair(std::string_view text) {
@@ -311,10 +349,8 @@ Expected<TcpOption, UsageError> parse_tcp_option(std::string_view text) {
 Expected<Command, UsageError> parse_command_line(std::span<const std::string_view> arguments) {
   Command command;
   Seen seen;
-  bool version = false;
   base::CommandLine command_line("ldoem-emud", base::HelpPrecedence::before_problems);
   CLI::App& app = command_line.app();
-  command_line.answer_first("--version", version);
   for (const auto& [name, handler] : flag_options()) {
     app.add_flag_callback(std::string(name), [&, &handler = handler] { handler(command.options, seen); })
         ->disable_flag_override();
@@ -337,7 +373,7 @@ Expected<Command, UsageError> parse_command_line(std::span<const std::string_vie
   if (command_line.help_requested()) {
     return Command{CommandKind::help, {}, {}};
   }
-  if (version) {
+  if (command_line.version_requested()) {
     return Command{CommandKind::version, {}, {}};
   }
   if (command_line.completion_requested()) {
@@ -349,7 +385,7 @@ Expected<Command, UsageError> parse_command_line(std::span<const std::string_vie
   return command;
 }
 
-std::string version_text() { return std::string("ldoem-emud ") + LDOEM_VERSION + "\n"; }
+std::string version_text() { return base::version_line("ldoem-emud"); }
 
 std::string usage_text(std::string_view program_name) {
   const std::string p(program_name);
@@ -367,9 +403,10 @@ std::string usage_text(std::string_view program_name) {
          "  --serial pty:PATH     serial line on a pty, symlinked at PATH [off]\n"
          "  --lpt pty:PATH        tilt stepper register on a pty, symlinked at PATH [off]\n"
          "  --lpt gpio:CHIP       tilt stepper on lines DIR, CLK, MODE of a gpio chip [off]\n"
-         "  --flash FILE          flash image file [<scene>.flash]\n"
-         "  --flash-dir DIR       flash files in DIR, named as beside the scene (<scene>.flash;\n"
-         "                        several scanners: <scene>.<name>.flash or flash_file) [off]\n"
+         "  --flash FILE          flash image file [STATE/<scene>.flash, STATE: $STATE_DIRECTORY,\n"
+         "                        else $XDG_STATE_HOME/ldoem, else ~/.local/state/ldoem]\n"
+         "  --flash-dir DIR       flash files in DIR instead of STATE, same names (<scene>.flash;\n"
+         "                        several scanners: <scene>.<name>.flash or flash_file) [STATE]\n"
          "  --no-flash            keep the flash in memory only\n"
          "  --reset-flash         start from the scene's flash defaults even when FILE cannot be\n"
          "                        read or parsed, and replace it (without: exit 2) [off]\n"

@@ -4,6 +4,7 @@
 #include <string_view>
 #include <vector>
 
+#include "ldoem/base/command_line.hpp"
 #include "ldoem/capture/capture_reader.hpp"
 #include "ldoem/replay/replay_host.hpp"
 
@@ -12,7 +13,7 @@ int main(int argc, char** argv) {
   const std::vector<std::string_view> arguments(argv + 1, argv + argc);
   auto options = replay::parse_replay_options(arguments);
   if (!options) {
-    std::cerr << "ldoem-replay: " << options.error().message << '\n';
+    std::cerr << ldoem::base::usage_error_line("ldoem-replay", options.error().message);
     return 2;
   }
   if (options->completion_script) {
@@ -21,6 +22,10 @@ int main(int argc, char** argv) {
   }
   if (options->help) {
     std::cout << replay::replay_usage_text();
+    return 0;
+  }
+  if (options->version) {
+    std::cout << base::version_line("ldoem-replay");
     return 0;
   }
   protocol::ConversationConfig config;

@@ -109,7 +109,8 @@ base::Expected<ReplayOptions, ReplayUsageError> parse_replay_options(std::span<c
     return options;
   }
   options.help = command_line.help_requested();
-  if (options.help) return options;
+  options.version = command_line.version_requested();
+  if (options.help || options.version) return options;
   if (captures.size() > 1) return usage("more than one CAPTURE given: `" + captures[1] + "`");
   if (captures.empty()) return usage("no CAPTURE given (try --help)");
   options.capture = captures.front();

@@ -117,7 +117,7 @@ void read_tilt_motor(const std::string& file, const YAML::Node& node, const std:
   read_field(map, "supply_voltage_v", motor.supply_voltage_v, Constraint::positive);
   read_field(map, "rotor_inertia_kg_m2", motor.rotor_inertia_kg_m2, Constraint::positive);
   read_field(map, "load_inertia_kg_m2", motor.load_inertia_kg_m2, Constraint::non_negative);
-  read_field(map, "world_step_s", motor.world_step_s, Constraint::positive);
+  read_step(map, "world_step_s", motor.world_step_s);  // issue 27 D5: 1e-9 stalled the loop
   read_field(map, "min_tilt_deg", motor.min_tilt_deg);
   read_field(map, "max_tilt_deg", motor.max_tilt_deg);
   if (!(motor.min_tilt_deg >= -180.0 && motor.max_tilt_deg <= 180.0 &&

@@ -5,6 +5,7 @@
 #include <string_view>
 #include <vector>
 
+#include "ldoem/base/command_line.hpp"
 #include "against.hpp"
 #include "options.hpp"
 #include "runner.hpp"
@@ -15,8 +16,12 @@ int main(int argc, char** argv) {
   const std::vector<std::string_view> arguments(argv + 1, argv + argc);
   auto options = parse_options(arguments);
   if (!options) {
-    std::cerr << "ldoem-conformance: " << options.error().message << '\n';
+    std::cerr << ldoem::base::usage_error_line("ldoem-conformance", options.error().message);
     return kExitUsageError;
+  }
+  if (options->version) {
+    std::cout << ldoem::base::version_line("ldoem-conformance");
+    return kExitAllPassed;
   }
   if (options->help) {
     std::cout << usage_text("ldoem-conformance");

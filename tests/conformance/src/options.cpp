@@ -150,6 +150,8 @@ Expected<Options, UsageError> parse_options(std::span<const std::string_view> ar
   }
   if (auto problem = command_line.parse(arguments)) return usage(*problem);
   parser.options.help = command_line.help_requested();
+  parser.options.version = command_line.version_requested();
+  if (parser.options.version) return parser.options;
   if (command_line.completion_requested()) parser.options.completion_script = command_line.completion_script();
   if (parser.options.completion_script) return parser.options;
   if (!parser.options.masks.empty() && !parser.options.against) {

@@ -1,4 +1,4 @@
-// The command line of ldoem-conformance, parsed by a pure function (STYLE.md section 1).
+// The command line of ldoem-conformance, parsed by a pure function (design.md convention 1).
 #pragma once
 
 #include <chrono>
@@ -14,7 +14,7 @@
 
 namespace ldoem::conformance {
 
-// Exit codes (STYLE.md section 1).
+// Exit codes (design.md convention 1).
 inline constexpr int kExitAllPassed = 0;
 inline constexpr int kExitFailed = 1;      // a case failed, or the endpoint could not be opened
 inline constexpr int kExitUsageError = 2;  // bad option
@@ -34,6 +34,7 @@ struct Options {
   std::vector<std::string> excludes;  // globs over case names left out after the filters
   bool list = false;
   bool help = false;
+  bool version = false;  // --version: print base::version_line and exit 0
   bool verbose = false;               // print every telegram sent and received on stderr
   std::optional<std::string> vectors_file;  // instead of the compiled-in copy
   // --against CAPTURE: replay the capture's requests and compare the replies field by field

@@ -53,6 +53,14 @@ void list_cases(const Options& options, const VectorTable& vectors, std::ostream
 }
 
 int run_cases(const Options& options, const VectorTable& vectors, std::ostream& out, std::ostream& err) {
+  // A --filter or --exclude that selects nothing is a typo, not a green run.
+  const std::vector<Case> cases = all_cases(vectors);
+  const TransportKind kind = kind_of(*options.endpoint);
+  if (select(cases, options, kind).empty()) {
+    err << "ldoem-conformance: --filter/--exclude select no " << prefix_of(kind)
+        << " case (--list with the same options shows what they select)\n";
+    return kExitUsageError;
+  }
   auto transport = open_suite_transport(options);
   if (!transport) {
     err << "ldoem-conformance: " << transport.error() << '\n';
@@ -60,8 +68,6 @@ int run_cases(const Options& options, const VectorTable& vectors, std::ostream& 
     return kExitFailed;
   }
   Session session(std::move(*transport), options, vectors);
-  const std::vector<Case> cases = all_cases(vectors);
-  const TransportKind kind = kind_of(*options.endpoint);
   int passed = 0;
   int failed = 0;
   for (const Case* c : select(cases, options, kind)) {

@@ -1,6 +1,6 @@
 // How ldoem's tools (ldoem-emud, ldoem-hub, ldoem-scan, ldoem-conformance) read their command
-// lines: CLI11 parses, and this wrapper keeps what the tools promise their users (STYLE.md
-// section 1): each tool's own --help text, verbatim, with defaults and examples; every problem
+// lines: CLI11 parses, and this wrapper keeps what the tools promise their users (design.md
+// convention 1): each tool's own --help text, verbatim, with defaults and examples; every problem
 // as one line "OPTION: reason", for stderr and exit code 2; a repeated option keeps its last
 // value unless the tool takes them all. Values are checked by the tool's own functions, so the
 // reasons stay the tool's.
@@ -39,6 +39,9 @@ class CommandLine {
   // -h or --help was given: the tool prints its usage and exits 0, whatever else was given.
   bool help_requested() const { return help_; }
 
+  // --version was given (every tool has it): the tool prints version_line(program) and exits 0.
+  bool version_requested() const { return version_; }
+
   // `--completion bash` was given (hidden; it is no part of the usage text): the tool prints
   // completion_script() and exits 0.
   bool completion_requested() const { return !completion_shell_.empty(); }
@@ -52,9 +55,18 @@ class CommandLine {
   std::string program_;
   HelpPrecedence precedence_;
   bool help_ = false;
+  bool version_ = false;
   std::vector<std::pair<std::vector<std::string>, bool*>> first_answers_;
   std::string completion_shell_;
 };
+
+// "ldoem-scan 0.9.0\n": what --version prints, the project's version (CMake's PROJECT_VERSION).
+std::string version_line(std::string_view program);
+
+// What every tool prints for a bad command line, one line for stderr (exit code 2):
+// "ldoem-scan: --speed: `3` is not ... (try ldoem-scan --help)\n". The hint is left out where the
+// reason gives one already.
+std::string usage_error_line(std::string_view program, std::string_view reason);
 
 // Declares `--name VALUE` whose text goes to `accept`; accept returns nothing when the value is
 // taken, else the reason (the message becomes "--name: reason"). Rejecting one value rejects

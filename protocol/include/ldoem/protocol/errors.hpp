@@ -1,5 +1,5 @@
 // Typed errors of every decoder in protocol/ and the D2 failure reasons the LD answers with.
-// A caller branches on these values, never on text (STYLE.md section 5).
+// A caller branches on these values, never on text (design.md convention 5).
 #pragma once
 
 #include <cstdint>

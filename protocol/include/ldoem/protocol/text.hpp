@@ -1,5 +1,5 @@
 // One-line text form of a telegram payload, for logs, dump helpers and test tables
-// (STYLE.md section 1). format_telegram and parse_telegram are inverse on every payload.
+// (design.md convention 1). format_telegram and parse_telegram are inverse on every payload.
 //
 // Grammar (tokens separated by single spaces; hex digits either case on input, lowercase on
 // output):

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <string_view>
 
 #include "ldoem/cloud/point_cloud.hpp"
@@ -38,7 +39,11 @@ struct RenderOptions {
 [[nodiscard]] base::Expected<image::RgbImage, RenderError> render_cloud(const PointCloud& cloud,
                                                                            const RenderOptions& options = {});
 
-// render_cloud + image::encode_rgb_png + write; returns the number of bytes written.
+// render_cloud + image::encode_rgb_png: the PNG file's bytes.
+[[nodiscard]] base::Expected<std::string, RenderError> encode_render_png(const PointCloud& cloud,
+                                                                         const RenderOptions& options = {});
+
+// encode_render_png + write; returns the number of bytes written.
 [[nodiscard]] base::Expected<std::size_t, RenderError> write_render_png(const std::filesystem::path& path,
                                                                            const PointCloud& cloud,
                                                                            const RenderOptions& options = {});

@@ -46,7 +46,11 @@ struct RangeImageOptions {
 [[nodiscard]] base::Expected<image::GrayImage, RangeImageError> make_range_image(
     const PointCloud& cloud, const RangeImageOptions& options = {});
 
-// make_range_image + image::encode_gray_png + write; returns the number of bytes written.
+// make_range_image + image::encode_gray_png: the PNG file's bytes.
+[[nodiscard]] base::Expected<std::string, RangeImageError> encode_range_image_png(
+    const PointCloud& cloud, const RangeImageOptions& options = {});
+
+// encode_range_image_png + write; returns the number of bytes written.
 [[nodiscard]] base::Expected<std::size_t, RangeImageError> write_range_image_png(
     const std::filesystem::path& path, const PointCloud& cloud, const RangeImageOptions& options = {});
 

@@ -1,4 +1,4 @@
-// ldoem-hub's command line, parsed by a pure function (STYLE.md section 1).
+// ldoem-hub's command line, parsed by a pure function (design.md convention 1).
 #pragma once
 
 #include <chrono>
@@ -13,7 +13,7 @@
 
 namespace ldoem::hub {
 
-// Exit codes (STYLE.md section 1).
+// Exit codes (design.md convention 1).
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailure = 1;
 inline constexpr int kExitUsage = 2;
@@ -21,6 +21,7 @@ inline constexpr int kExitSignalBase = 128;
 
 struct HubCommandLine {
   bool help = false;
+  bool version = false;  // --version: print base::version_line and exit 0
   std::string config_path;
   std::optional<ListenAddress> listen;               // overrides the file's `listen`
   std::optional<std::chrono::milliseconds> max_age;  // overrides the file's `max_age_ms`

@@ -1,6 +1,6 @@
 // The device as the hub's back-end handlers and ldoem-scan see it: the paper's generic
 // interface (INITIALIZE, ROTATE, MEASURE, IDLE, GET2DPROFILE, MOVEMOTOR, STATUS) as one small
-// abstract class (STYLE.md section 2). ScannerDevice drives a scanner and its tilt stepper
+// abstract class (design.md convention 2). ScannerDevice drives a scanner and its tilt stepper
 // through libldoem; HubDevice forwards to a hub over TCP; tests implement fakes. A caller
 // cannot tell which one it holds.
 #pragma once

@@ -1,5 +1,5 @@
 // Endpoint strings: the one place where a user's `can:vcan0` or `lpt:pty:/tmp/ldoem-lpt`
-// becomes a typed value (STYLE.md section 2). parse_endpoint is pure; opening happens in
+// becomes a typed value (design.md convention 2). parse_endpoint is pure; opening happens in
 // open_transport (transport.hpp) and open_lpt_port (lpt_port.hpp).
 //
 // Grammar (examples are rows of the test table in tests/driver/endpoint_test.cpp):

@@ -1,5 +1,5 @@
 // The one error type of libldoem. Callers branch on `kind` (and is_retryable), never on the
-// text that describe() makes for logs (STYLE.md sections 2 and 5).
+// text that describe() makes for logs (design.md conventions 2 and 5).
 #pragma once
 
 #include <cstdint>

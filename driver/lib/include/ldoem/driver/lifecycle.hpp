@@ -1,4 +1,4 @@
-// The lifecycle of a device handle (STYLE.md section 2): every (current, target) pair is
+// The lifecycle of a device handle (design.md convention 2): every (current, target) pair is
 // decided in plan_transition, one switch, tested exhaustively. Moving to the current state
 // succeeds (as D2 does for the device's own transitions); Closed refuses everything else.
 //

@@ -1,6 +1,6 @@
 // SIGINT and SIGTERM as a readable descriptor (signalfd), so that a tool's loop sees a stop
 // request like any other input, with no handler and no global flag. ldoem-hub and ldoem-scan
-// set it up this one way and exit with 128 + the signal's number (STYLE.md section 1).
+// set it up this one way and exit with 128 + the signal's number (design.md convention 1).
 #pragma once
 
 #include <utility>

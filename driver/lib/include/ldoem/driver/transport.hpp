@@ -1,4 +1,4 @@
-// One telegram transport to the scanner (STYLE.md section 2): send one payload, receive one
+// One telegram transport to the scanner (design.md convention 2): send one payload, receive one
 // payload before a deadline, close. Implemented for TCP (spec 4.1), serial (spec 4.2) and
 // ISO-TP over CAN (D1); the Scanner, the hub and ldoem-scan see only this interface.
 #pragma once

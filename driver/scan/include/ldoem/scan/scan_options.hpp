@@ -1,4 +1,4 @@
-// ldoem-scan's command line, parsed and checked by pure functions (STYLE.md section 1).
+// ldoem-scan's command line, parsed and checked by pure functions (design.md convention 1).
 #pragma once
 
 #include <chrono>
@@ -26,6 +26,7 @@ enum class CloudEncoding : std::uint8_t { ascii, binary };
 
 struct ScanOptions {
   bool help = false;
+  bool version = false;  // --version: print base::version_line and exit 0
   std::optional<driver::Endpoint> device;  // direct: --device
   std::optional<hub::ListenAddress> hub;   // through a hub: --hub with --hub-device
   std::string hub_device;

@@ -1,4 +1,4 @@
-// The control unit: the LD-OEM itself, as a pure state machine (DESIGN.md; STYLE.md section 4).
+// The control unit: the LD-OEM itself, as a pure state machine (design.md convention 4).
 //
 //   (time, event) -> Actions{telegrams to send, timers to arm, flash image to store}
 //

@@ -1,7 +1,7 @@
 // What the control unit exchanges with the rest of the daemon: who a telegram comes from, what
 // it asks the daemon to do, and the three questions it asks the outside world (head spin-up,
 // ranges, transport back-pressure). Everything here is a value or a small interface, so that
-// tests use fakes and the daemon wires the real models (STYLE.md sections 2 and 4).
+// tests use fakes and the daemon wires the real models (design.md conventions 2 and 4).
 #pragma once
 
 #include <compare>

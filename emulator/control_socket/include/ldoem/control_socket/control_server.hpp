@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstddef>
+#include <deque>
 #include <functional>
 #include <memory>
 #include <string>
@@ -40,6 +41,15 @@ class ControlServer {
   void set_client_observer(ClientObserver observer) { observer_ = std::move(observer); }
   // One line (no newline) to every client.
   void broadcast(const std::string& line);
+
+  // Issue 27: a request whose work runs off the loop (add-object's mesh import). The line handler
+  // calls defer() while it handles a line and returns anything: that line's reply is the one
+  // given to complete(ticket, ...) later, on the loop's thread. Until then the client's further
+  // lines wait (replies stay in request order) and it is not read from; the other clients are
+  // served. complete() for a client that has gone does nothing.
+  using Ticket = int;
+  Ticket defer();
+  void complete(Ticket ticket, const std::string& line);
   std::size_t client_count() const { return clients_.size(); }
   std::uint64_t clients_dropped() const { return clients_dropped_; }
   const std::string& path() const { return path_; }
@@ -49,6 +59,10 @@ class ControlServer {
   ControlServer(io::EventLoop& loop, std::string path, std::string greeting, LineHandler handler, ServerLimits limits);
   void accept_clients();
   void on_client(int fd, io::Readiness readiness);
+  // Handles the client's held lines until one is deferred; false when the client was dropped.
+  bool serve(int number);
+  void update_interest(Client& client);
+  Client* find(int number);
   void queue(Client& client, const std::string& line);
   void flush(Client& client);
   void drop(int fd);
@@ -62,6 +76,8 @@ class ControlServer {
   base::UniqueFd listen_fd_;
   std::vector<std::unique_ptr<Client>> clients_;
   int next_client_number_ = 1;
+  int serving_ = 0;        // the client whose line the handler is handling (0: none)
+  bool deferred_ = false;  // the handler called defer()
   std::uint64_t clients_dropped_ = 0;
 };
 

@@ -1,4 +1,4 @@
-// ldoem-emud's loop (DESIGN.md data flow): one epoll loop, the simulated clock (D7) that turns
+// ldoem-emud's loop (design.md data flow): one epoll loop, the simulated clock (D7) that turns
 // deadlines into wall time or jumps over idle time, and the device instances it drives: each is
 // a control unit with its plant and its endpoints (device_instance.hpp). Which endpoints open
 // comes from the options through the endpoint registry (endpoint_registry.hpp). Everything that

@@ -14,10 +14,12 @@
 #include <set>
 #include <string>
 #include <string_view>
+#include <variant>
 #include <vector>
 
 #include "ldoem/control_socket/control_protocol.hpp"
 #include "ldoem/control_socket/control_server.hpp"
+#include "ldoem/control_socket/object_commands.hpp"
 #include "ldoem/daemon/device_instance.hpp"
 #include "ldoem/daemon/endpoint_faults.hpp"
 #include "ldoem/endpoints/scheduler.hpp"
@@ -33,6 +35,9 @@ class FaultWiring final : public endpoints::WireTap, public control_socket::Cont
     std::optional<std::string> event_log_path;  // --event-log
     std::string version;
     plant::SceneWorld* world = nullptr;  // for the object commands (object_control.cpp); must outlive it
+    // add-object imports a mesh on a worker thread (issue 27); false under --virtual-time, where
+    // the clock stands still while the loop imports, so that runs stay deterministic.
+    bool imports_off_loop = false;
   };
   // One wiring per device, `devices` in the scene's order (issue 15): the scene's faults, the
   // control socket and the event log belong to the first; the others start without faults and
@@ -58,6 +63,7 @@ class FaultWiring final : public endpoints::WireTap, public control_socket::Cont
   control_socket::CommandResult move_object(const nlohmann::json& arguments) override;
   control_socket::CommandResult add_object(const nlohmann::json& arguments) override;
   control_socket::CommandResult remove_object(const nlohmann::json& arguments) override;
+  bool add_object_later(const nlohmann::json& arguments, ReplyLine reply_line) override;
 
   // Every scanner's together.
   std::uint64_t injections() const;
@@ -72,6 +78,12 @@ class FaultWiring final : public endpoints::WireTap, public control_socket::Cont
   void publish_for(const std::string& scanner, fault_injection::InjectorEvent event);
   void on_connection(bool opened, control::ConnectionId connection, std::string_view peer);
   void arm_deadline();
+  // add-object after its parse (and mesh import): the world change, the event, the reply.
+  control_socket::CommandResult add_parsed(const nlohmann::json& arguments,
+                                           std::variant<control_socket::AddObjectRequest, std::string> parsed,
+                                           base::SimTime now);
+  void finish_import();
+  void abandon_import();  // at destruction: the worker may still run, and owns what it uses
   endpoints::WireVerdict to_host(endpoints::WireTelegram& telegram);
 
   DeviceInstance& device_;
@@ -87,6 +99,10 @@ class FaultWiring final : public endpoints::WireTap, public control_socket::Cont
   std::set<control::ConnectionId> connections_;  // seen from hosts; a power cycle drops them
   std::map<control::ConnectionId, std::string> peers_;  // open TCP connections' addresses
   plant::SceneWorld* world_ = nullptr;
+  io::EventLoop* loop_ = nullptr;
+  bool imports_off_loop_ = false;
+  struct Import;                    // object_control.cpp: the one mesh import in flight
+  std::shared_ptr<Import> import_;
   std::string name_;                 // the scanner's name in the scene (empty: a scanner: section)
   FaultWiring* first_ = nullptr;     // the first scanner's wiring, which publishes for all; null in it
   bool several_ = false;             // events name their scanner

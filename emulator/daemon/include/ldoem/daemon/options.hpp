@@ -1,9 +1,11 @@
 // The command line of ldoem-emud, parsed into a plain Options value by a pure function
-// (STYLE.md section 1: main is a short script; everything it decides is reachable by a test).
+// (design.md convention 1: main is a short script; everything it decides is reachable by a test).
 #pragma once
 
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -18,7 +20,7 @@
 
 namespace ldoem::daemon {
 
-// Exit codes (STYLE.md section 1, as can-utils' candump): --help documents them.
+// Exit codes (design.md convention 1, as can-utils' candump): --help documents them.
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitRuntimeFailure = 1;
 inline constexpr int kExitUsageError = 2;  // bad option, bad scene, unusable transport setup
@@ -117,8 +119,19 @@ struct UsageError {
 
 std::string usage_text(std::string_view program_name);
 // Where the flash files go unless --flash or a scanner's absolute flash_file says otherwise:
-// --flash-dir, else the scene's folder.
+// --flash-dir, else default_flash_folder(), never the scene's folder (a scene in a clone or in
+// /usr/share stays untouched).
 std::filesystem::path flash_folder(const Options& options);
+// The state folder: a unit's StateDirectory= ($STATE_DIRECTORY, the first of its list), else
+// $XDG_STATE_HOME/ldoem, else $HOME/.local/state/ldoem (XDG Base Directory; a relative value is
+// ignored as the specification says). Empty when none is set. `environment` is getenv.
+using Environment = std::function<const char*(const char*)>;
+std::filesystem::path default_flash_folder(const Environment& environment = [](const char* name) {
+  return static_cast<const char*>(std::getenv(name));
+});
+// Creates default_flash_folder() (mode 0700, as XDG asks) when the flash goes there; the
+// reason when it cannot. A folder given with --flash or --flash-dir must exist already.
+std::optional<std::string> make_default_flash_folder(const Options& options);
 std::string version_text();
 
 }  // namespace ldoem::daemon

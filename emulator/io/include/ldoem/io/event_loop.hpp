@@ -1,4 +1,4 @@
-// One epoll loop per daemon (DESIGN.md): endpoints register their descriptors with a callback,
+// One epoll loop per daemon (design.md): endpoints register their descriptors with a callback,
 // timers fire on the monotonic clock, SIGINT/SIGTERM arrive through a signalfd. No threads.
 // This is the one place of the emulator that reads a clock; it only drives the simulated clock
 // (D7), the pure state machines get time as a parameter.

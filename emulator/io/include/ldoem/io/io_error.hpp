@@ -1,6 +1,6 @@
 // Errors of the I/O edges as typed values: which operation failed, on what, and why (errno).
 // Printed as one line that names the operation and the object, as can-utils does
-// (STYLE.md section 1): `bind vcan0: No such device`.
+// (design.md convention 1): `bind vcan0: No such device`.
 #pragma once
 
 #include <string>

@@ -1,4 +1,4 @@
-// One scanner's physics in a scene (DESIGN.md data flow): the sensor model on the shared world,
+// One scanner's physics in a scene (design.md data flow): the sensor model on the shared world,
 // the tilt plate with its stepper drive board, the head's spin-up model and (D9 head_dynamics
 // only) its ripple, and the MeasurementSource the control unit asks. The world (geometry and
 // ray caster) is built once per scene and may be shared by several plants, one per scanner.

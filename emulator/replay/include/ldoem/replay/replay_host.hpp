@@ -1,5 +1,5 @@
 // ldoem-replay's loop: the emulator's endpoints (emulator/endpoints, opened from the daemon's
-// endpoint registry) with a ReplayDevice behind them instead of a control unit (DESIGN.md:
+// endpoint registry) with a ReplayDevice behind them instead of a control unit (design.md:
 // "Replaying a capture is a different device behind the same endpoints"). Time runs on the wall
 // clock; the recorded delays are scaled by --speed inside the ReplayDevice. Telegrams due for a
 // connection leave in order, one at a time once the endpoint is no longer busy with the previous

@@ -22,6 +22,7 @@ struct ReplayOptions {
   double speed = 1.0;         // recorded seconds per replayed second
   std::optional<protocol::WireTransport> transport;  // which recorded transport; default: busiest
   bool help = false;
+  bool version = false;  // --version: print base::version_line and exit 0
   std::optional<std::string> completion_script;  // --completion bash (base/command_line.hpp)
 };
 
