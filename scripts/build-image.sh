@@ -78,12 +78,15 @@ if [[ -z $deb ]]; then
 fi
 [[ -f $deb ]] || { echo "$tool: no .deb at $deb" >&2; exit 1; }
 
-# The base's packages: the .deb's Depends, less systemd (a container has no init; the units are
-# of no use in it), plus socat; each pinned to the version apt's lists here name as candidate
-# (the mirror's newest), so the recipe, and the cache key, say exactly what goes in.
+# The base's packages: the .deb's Depends, less those the emulator and the hub never use in a
+# container (left_out: systemd, as a container has no init and the units are of no use in it;
+# python3 and numpy, for the Python package, about 60 MB), plus socat; each pinned to the
+# version apt's lists here name as candidate (the mirror's newest), so the recipe, and the
+# cache key, say exactly what goes in.
+left_out=(systemd python3 python3-numpy)
 packages=()
 while read -r name; do
-  [[ -z $name || $name == systemd ]] && continue
+  [[ -z $name || " ${left_out[*]} " == *" $name "* ]] && continue
   version=$(apt-cache policy "$name" | sed -n 's/^ *Candidate: //p')
   [[ -n $version && $version != "(none)" ]] || { echo "$tool: no version of $name found" >&2; exit 1; }
   packages+=("$name=$version")
@@ -100,6 +103,9 @@ done
 # Quoted: the globs are the root's, expanded inside it (below), never this machine's.
 excludes=('/usr/share/doc/*' '/usr/share/man/*' '/usr/share/info/*' '/usr/share/locale/*' '/usr/share/lintian/*'
           '/usr/include/*' '/usr/lib/libldoem*.a' '/usr/lib/cmake/*' '/usr/lib/pkgconfig/*'
+          '/usr/lib/x86_64-linux-gnu/libldoem*.a' '/usr/lib/x86_64-linux-gnu/cmake/ldoem'
+          '/usr/lib/x86_64-linux-gnu/pkgconfig/ldoem.pc' '/usr/lib/x86_64-linux-gnu/wireshark'
+          '/usr/lib/python3' '/usr/share/bash-completion'  # the Python package: no interpreter here
           '/usr/lib/x86_64-linux-gnu/gconv/*'  # iconv's converters: no program here uses iconv
           # perl-base is Essential, so dpkg installs it, but nothing in the image runs perl (it
           # has no apt, and nothing installs packages into it after this script): 9 MB.
@@ -155,8 +161,8 @@ root=$work/root
 mkdir "$root"
 tar -C "$root" -xf "$base"
 cp "$deb" "$root/tmp/ldoem.deb"
-# The one dependency left out on purpose (above); the .deb has no maintainer scripts that need it.
-chroot "$root" dpkg --ignore-depends=systemd -i /tmp/ldoem.deb >"$work/dpkg.log" 2>&1 ||
+# The dependencies left out on purpose (above); no maintainer script of the .deb needs them.
+chroot "$root" dpkg --ignore-depends="$(IFS=,; echo "${left_out[*]}")" -i /tmp/ldoem.deb >"$work/dpkg.log" 2>&1 ||
   { cat "$work/dpkg.log" >&2; echo "$tool: dpkg -i the .deb failed" >&2; exit 1; }
 rm -f "$root/tmp/ldoem.deb" "$root"/var/log/*.log
 (cd "$root" && for path in "${excludes[@]}"; do rm -rf .$path; done)  # unquoted: the root's globs
