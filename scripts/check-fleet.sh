@@ -92,6 +92,7 @@ teardown() {
   podman images --format '{{.Repository}}:{{.Tag}}' | sort | comm -13 <(echo "$images_before") - |
     grep -v '^localhost/ldoem:' | xargs -r podman rmi --force >/dev/null 2>&1 || true
 }
+# shellcheck disable=SC2154  # status is set inside the trap
 trap 'status=$?; teardown; rm -rf "$work"; exit $status' EXIT
 teardown
 
@@ -123,7 +124,6 @@ python3 deploy/kubernetes/render.py podman --scanners "$scanners" --image "$imag
 say "podman kube play: $scanners scanners and the hub"
 play_started=$SECONDS
 timeout 180 podman kube play "$pods_file" >"$work/play.out" 2>&1 || { cat "$work/play.out" >&2; fail "podman kube play"; }
-ready_ms=()
 for ((k = 0; k < scanners; ++k)); do
   port=$((port_base + 2 * k))
   deadline=$((SECONDS + 60))
@@ -223,7 +223,9 @@ for name in $(podman ps --format '{{.Names}}' | grep "^$prefix-.*-ldoem-" | sort
 done
 
 say "stop (SIGTERM): every scanner exits 143 with its flash saved on its volume"
-timeout 60 podman pod stop --time 15 $(for ((k = 0; k < scanners; ++k)); do echo "$prefix-scanner-$k"; done) \
+scanner_pods=()
+for ((k = 0; k < scanners; ++k)); do scanner_pods+=("$prefix-scanner-$k"); done
+timeout 60 podman pod stop --time 15 "${scanner_pods[@]}" \
   >/dev/null 2>"$work/stop.err" || { cat "$work/stop.err" >&2; fail "podman pod stop"; }
 for ((k = 0; k < scanners; ++k)); do
   code=$(podman inspect --format '{{.State.ExitCode}}' "$prefix-scanner-$k-ldoem-emud")

@@ -1,3 +1,4 @@
+# shellcheck shell=bash
 # Sourced by scripts/build-image.sh and scripts/check-fleet.sh: the podman settings under which
 # containers run on machines like CI's (docs/scaling.md, "Podman on this kind of machine"):
 #   - runtime runc: crun fails on a kernel with hybrid cgroups (v1 controllers, a v2 mount);
