@@ -273,6 +273,13 @@ const char* kind_name(Kind kind) {
 }
 
 PartAnswer cast_part(const Part& part, const Ray& ray, double grow_m, bool exact) {
+  // Exact numbers of infinities do not exist (CORE aborts on them).
+  const auto finite = [](const auto& values) { return std::all_of(values.begin(), values.end(), [](double x) { return std::isfinite(x); }); };
+  if (!std::isfinite(grow_m) || !finite(ray.origin) || !finite(ray.direction) || !finite(part.centre) || !finite(part.rotation) ||
+      !finite(part.half) || !finite(part.normal) || !finite(part.vertices[0]) || !finite(part.vertices[1]) ||
+      !finite(part.vertices[2]) || !std::isfinite(part.radius) || !std::isfinite(part.half_length) || !std::isfinite(part.offset)) {
+    throw std::domain_error("oracle: an input is not finite");
+  }
   if (!exact) {
     try {
       return interval_answer(part, ray, grow_m);

@@ -61,6 +61,7 @@ struct CastContext {
   const detail::CheckedRay* ray = nullptr;
   std::optional<detail::Contact> best;
   unsigned ignored_primitive = RTC_INVALID_GEOMETRY_ID;  // the Embree primID of Ray::ignored_object
+  Eigen::Vector3d local_origin;  // the ray's origin in Embree's (re-centred) frame, in double
 };
 
 struct PrimitiveSet {
@@ -113,11 +114,29 @@ void primitive_intersect(const RTCIntersectFunctionNArguments* args) {
   rayhit->hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
 }
 
-// Called by Embree for each triangle the ray meets while it is still traversing: starts loading
-// that triangle's double-precision plane, which mesh_hit reads once traversal ends.
-void prefetch_triangle_plane(const RTCFilterFunctionNArguments* args) {
+// The range of a hit on a triangle: from the triangle's double-precision plane, unless the ray
+// grazes that plane (|n . d| <= 1e-6: zero for a degenerate triangle), then Embree's float
+// distance. Embree's float distance is exact only to ~1e-7 relative.
+double triangle_range(const TrianglePlane& plane, const Eigen::Vector3d& local_origin, const Eigen::Vector3d& direction,
+                      float embree_t) {
+  const double denominator = plane.normal.dot(direction);
+  if (std::abs(denominator) > 1e-6) {
+    const double exact_m = (plane.offset_m - plane.normal.dot(local_origin)) / denominator;
+    if (std::isfinite(exact_m)) return exact_m;
+  }
+  return embree_t;
+}
+
+// Called by Embree for each triangle the ray meets while it is still traversing. Embree accepts
+// float distances >= tnear = 0; a triangle whose range in double is not in (0, reach] (the ray
+// leaves its surface, issue 26) is refused here, so that it does not shorten the ray (a tfar of
+// 0 hid everything else) and Embree goes on to the next candidate.
+void accept_triangle_ahead(const RTCFilterFunctionNArguments* args) {
   const auto* planes = static_cast<const TrianglePlane*>(args->geometryUserPtr);
-  __builtin_prefetch(planes + RTCHitN_primID(args->hit, args->N, 0));
+  const auto* context = reinterpret_cast<const CastContext*>(args->context);
+  const TrianglePlane& plane = planes[RTCHitN_primID(args->hit, args->N, 0)];
+  const double range_m = triangle_range(plane, context->local_origin, context->ray->direction, RTCRayN_tfar(args->ray, args->N, 0));
+  if (!(range_m > 0.0) || range_m > context->ray->max_range_m) args->valid[0] = 0;
 }
 
 void primitive_occluded(const RTCOccludedFunctionNArguments* args) {
@@ -244,10 +263,8 @@ void EmbreeRayCaster::Impl::attach_mesh(MeshRecord& mesh) {
   }
   mesh.world_vertices_m = {};
   mesh.triangles = {};
-  // The plane records of a large mesh do not stay in cache between casts (a 100k-triangle
-  // mesh has 3.2 MB of them): loading one only after traversal was ~6 % of a cast.
   rtcSetGeometryUserData(geometry, mesh.planes.data());
-  rtcSetGeometryIntersectFilterFunction(geometry, prefetch_triangle_plane);
+  rtcSetGeometryIntersectFilterFunction(geometry, accept_triangle_ahead);
   rtcCommitGeometry(geometry);
   const unsigned geom_id = rtcAttachGeometry(scene, geometry);
   rtcReleaseGeometry(geometry);
@@ -294,14 +311,7 @@ std::optional<Hit> EmbreeRayCaster::Impl::mesh_hit(const detail::CheckedRay& ray
   const MeshRecord& mesh = meshes[static_cast<std::size_t>(mesh_by_geom_id[rayhit.hit.geomID])];
   const TrianglePlane& plane = mesh.planes[rayhit.hit.primID];
   const Eigen::Vector3d& normal = plane.normal;
-  // Embree's float distance is exact only to ~1e-7 relative; the plane of the triangle it found
-  // gives the double-precision distance unless the ray grazes that plane.
-  double range_m = rayhit.ray.tfar;
-  const double denominator = normal.dot(ray.direction);
-  if (std::abs(denominator) > 1e-6) {  // zero for a degenerate triangle: Embree's distance stays
-    const double exact_m = (plane.offset_m - normal.dot(ray.origin_m - frame_origin_m)) / denominator;
-    if (std::isfinite(exact_m) && exact_m > 0.0) range_m = exact_m;
-  }
+  const double range_m = triangle_range(plane, ray.origin_m - frame_origin_m, ray.direction, rayhit.ray.tfar);
   if (!(range_m > 0.0) || range_m > ray.max_range_m) return std::nullopt;
   return Hit{range_m, detail::facing_normal(normal, ray.direction),
              scene::optical_reflectance(world.object(mesh.object_index)), static_cast<std::uint32_t>(mesh.object_index)};
@@ -353,6 +363,7 @@ std::optional<Hit> EmbreeRayCaster::cast(const Ray& ray) const {
   CastContext context;  // not value-initialised: zeroing Embree's part first cost ~10 % of a cast
   rtcInitIntersectContext(&context.embree);
   context.ray = &*checked;
+  context.local_origin = checked->origin_m - impl_->frame_origin_m;
   if (checked->ignored_object < impl_->primitive_by_object.size()) {
     context.ignored_primitive = impl_->primitive_by_object[checked->ignored_object];
   }
