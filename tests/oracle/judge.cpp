@@ -88,6 +88,28 @@ bool float_range(const Part& part, const Ray& ray, double t, Engine engine) {
   return engine == Engine::moving || incidence(part, ray, t).cosine <= kEmbreeRefineCosine;
 }
 
+// Distance from x to the closed triangle (double precision; the judge's tolerance only).
+double triangle_distance(const Vec& x, const std::array<Vec, 3>& v) {
+  const Vec ab = minus(v[1], v[0]), ac = minus(v[2], v[0]), ap = minus(x, v[0]);
+  const Vec n = cross(ab, ac);
+  const double nn = dot(n, n);
+  double best = std::numeric_limits<double>::infinity();
+  if (nn > 0) {  // inside the prism over the triangle: the distance to its plane
+    const Vec b = cross(ap, ac), c = cross(ab, ap);
+    const double wb = dot(b, n) / nn, wc = dot(c, n) / nn;
+    if (wb >= 0 && wc >= 0 && wb + wc <= 1) best = std::abs(dot(ap, n)) / std::sqrt(nn);
+  }
+  for (int e = 0; e < 3; ++e) {  // else the nearest point of an edge (also for degenerate triangles)
+    const Vec& a = v[e];
+    const Vec ed = minus(v[(e + 1) % 3], a);
+    const double len = dot(ed, ed);
+    const double s = len > 0 ? std::clamp(dot(minus(x, a), ed) / len, 0.0, 1.0) : 0.0;
+    const Vec p{a[0] + s * ed[0], a[1] + s * ed[1], a[2] + s * ed[2]};
+    best = std::min(best, norm(minus(x, p)));
+  }
+  return best;
+}
+
 double ulp(double x) {
   x = std::abs(x);
   return std::nextafter(x, std::numeric_limits<double>::infinity()) - x;
@@ -211,14 +233,34 @@ Verdict judge(std::span<const Part> parts, std::span<const PartScale> scales, co
       for (std::size_t i = 0; !found && i < parts.size(); ++i) {
         if (parts[i].object != answer.object) continue;
         const double t = answer.range_m;
-        const double bound = std::max(range_bound(parts[i], scales[i], ray, t, engine), boundary_bound(parts[i], scales[i], ray, t, engine));
-        for (const PartAnswer& a : variants(parts[i], ray, boundary_bound(parts[i], scales[i], ray, t, engine), bound)) {
+        // A boundary moved by the tolerance moves the hit along the ray by that over the cosine.
+        const double boundary = boundary_bound(parts[i], scales[i], ray, t, engine);
+        const double bound = range_bound(parts[i], scales[i], ray, t, engine) + boundary / std::max(incidence(parts[i], ray, t).cosine, 1e-300);
+        for (const PartAnswer& a : variants(parts[i], ray, boundary, bound)) {
           if (a.hit && std::abs(t - a.range_m) <= bound + a.range_error_m) {
             found = i;
             found_bound = bound;
             v.excused = true;
             break;
           }
+        }
+      }
+      // A triangle's hit is decided on its float copy: accepted where the hit point lies within
+      // the float boundary tolerance of the double triangle in space (slivers and degenerate
+      // triangles, whose plane the rounding turns, are held to this only).
+      for (std::size_t i = 0; !found && i < parts.size(); ++i) {
+        if (parts[i].object != answer.object || parts[i].kind != Kind::triangle) continue;
+        const Vec d = unit(ray.direction);
+        const double t = answer.range_m;
+        const Vec x{ray.origin[0] + t * d[0], ray.origin[1] + t * d[1], ray.origin[2] + t * d[2]};
+        // Along the ray the hit may be off by the range bound (Embree's float distance at grazing
+        // incidence), across it by the float rounding of the vertices and the ray.
+        const double tolerance = kFloatOps * kFloatRoundoff * magnitude(parts[i], scales[i], ray, t) +
+                                 range_bound(parts[i], scales[i], ray, t, engine);
+        if (triangle_distance(x, parts[i].vertices) <= tolerance) {
+          found = i;
+          found_bound = range_bound(parts[i], scales[i], ray, t, engine);
+          v.excused = true;
         }
       }
       if (!found) {
@@ -242,14 +284,22 @@ Verdict judge(std::span<const Part> parts, std::span<const PartScale> scales, co
       const double t = exact[i].range_m;
       const bool same_object = answer.hit && parts[i].object == answer.object;
       const double bound = same_object ? order_bound(parts[i], scales[i], ray, t, engine) : range_bound(parts[i], scales[i], ray, t, engine);
-      if (t > ray.reach + bound) continue;
+      // Whether a triangle is hit at all, also near the origin and the reach, is decided in
+      // Embree's (or ODE's) float arithmetic: its boundary bound applies there.
+      const double decided = std::max(bound, boundary_bound(parts[i], scales[i], ray, t, engine));
+      if (t > ray.reach + decided) continue;
       if (answer.hit && t >= answer.range_m - bound - found_bound) continue;  // behind, or a tie within the bounds
-      if (t >= ray.reach - bound) continue;  // at the reach within the bound
+      if (t >= ray.reach - decided) continue;  // at the reach within the bound
+      if (t <= decided) continue;  // at the origin within the bound: a range of 0 is no hit
       const double limit = answer.hit ? answer.range_m - found_bound : ray.reach;
       bool excused = false;
-      for (const PartAnswer& a : variants(parts[i], ray, boundary_bound(parts[i], scales[i], ray, t, engine), bound)) {
+      const auto answers = variants(parts[i], ray, boundary_bound(parts[i], scales[i], ray, t, engine), bound);
+      for (const PartAnswer& a : answers) {
         if (!a.hit || a.range_m + bound >= limit) excused = true;
       }
+      // The origin within the tolerance of a solid's surface (inside the grown solid, not the
+      // shrunk one): the caster may take it as on the surface, where a range of 0 is no hit.
+      if (answers[0].origin_inside != answers[1].origin_inside) excused = true;
       if (excused) {
         v.excused = true;
         continue;

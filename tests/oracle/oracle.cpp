@@ -106,6 +106,7 @@ struct Solution {
   bool hit = false;
   NT l{};  // origin + l * direction
   bool boundary = false;
+  bool inside = false;  // the origin is strictly inside the solid
 };
 
 // The caster's rule for a solid: the entry if at or ahead of the origin, else the exit; a
@@ -116,6 +117,7 @@ Solution<NT> from_span(Span<NT> span) {
   if (*span.enter > *span.leave) return {};
   Solution<NT> out;
   out.boundary = *span.enter == *span.leave;
+  out.inside = *span.enter < NT(0) && *span.leave > NT(0);
   out.l = *span.enter >= NT(0) ? *span.enter : *span.leave;
   out.hit = out.l > NT(0);
   return out;
@@ -225,6 +227,7 @@ PartAnswer interval_answer(const Part& part, const Ray& ray, double grow_m) {
   FilterScope scope;
   const Solution<Interval> s = solve<Interval>(part, ray, grow_m);
   PartAnswer out;
+  out.origin_inside = s.inside;
   if (!s.hit) return out;
   const V<Interval> d = make<Interval>(ray.direction);
   const Interval range = s.l * CGAL::sqrt(dot(d, d));
@@ -245,6 +248,7 @@ PartAnswer exact_answer(const Part& part, const Ray& ray, double grow_m) {
   const Solution<Exact> s = solve<Exact>(part, ray, grow_m);
   PartAnswer out;
   out.exact = true;
+  out.origin_inside = s.inside;
   if (!s.hit) return out;
   const Exact range = exact_range(s, ray);
   out.hit = true;

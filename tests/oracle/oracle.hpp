@@ -63,6 +63,7 @@ struct PartAnswer {
   double range_error_m = 0.0;
   bool boundary = false;  // tangent (a solid touched, not entered) or a triangle's edge or vertex
   bool exact = false;     // the exact numbers were needed (the intervals could not decide)
+  bool origin_inside = false;  // a solid with the ray's origin strictly inside (the hit is its exit)
 };
 // Throws std::domain_error where CORE::Expr itself fails: its approximation of square roots
 // below ~1e-150 of their operands' scale trips an internal assertion (CGAL 5.5), so a ray

@@ -2,6 +2,8 @@
 // each reduced to the smallest scene that shows it, with the answer the oracle gives.
 #include "caster_fixture.hpp"
 
+#include "ldoem/raycast/moving_ray_caster.hpp"
+
 namespace ldoem::raycast {
 namespace {
 
@@ -31,6 +33,47 @@ TEST(OracleFindings, OriginOnATriangle_DoesNotHideTheSphereAround) {
     ASSERT_TRUE(hit.has_value()) << direction.transpose();
     EXPECT_EQ(hit->object_index, 1u) << direction.transpose();
     EXPECT_NEAR(hit->range_m, 1.0, 1e-15) << direction.transpose();
+  }
+}
+
+// Every object where the scene put it, for ever.
+class StandStill final : public MotionSource {
+ public:
+  explicit StandStill(std::vector<scene::Pose> poses) : poses_(std::move(poses)) {}
+  scene::Pose pose_at(std::size_t k, double) const override { return poses_[k]; }
+  scene::PathBounds origin_bounds(std::size_t k, double, double) const override { return {poses_[k].position_m, poses_[k].position_m}; }
+  bool keeps_orientation(std::size_t) const override { return true; }
+
+ private:
+  std::vector<scene::Pose> poses_;
+};
+
+// A closed unit cube as 12 triangles about its centre.
+scene::Mesh cube_mesh() {
+  scene::Mesh mesh;
+  mesh.path = "inline";
+  for (int i = 0; i < 8; ++i) mesh.vertices_m.emplace_back(i & 1 ? 0.5f : -0.5f, i & 2 ? 0.5f : -0.5f, i & 4 ? 0.5f : -0.5f);
+  mesh.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                    {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return mesh;
+}
+
+// Found (scenes/hard/mesh_edges.yaml's seed): a ray leaving a moving mesh's face from a point
+// on it. ODE's trimesh reported only its closest triangle, the face the ray starts on (range 0,
+// no hit), and the moving caster answered nothing instead of the face the ray leaves through.
+TEST(OracleFindings, MovingMesh_RayFromItsFaceFindsTheExit) {
+  std::vector<scene::SceneObject> objects{make_object(cube_mesh(), Eigen::Vector3d(0, 4, 0))};
+  const StandStill still({objects[0].pose});
+  MovingRayCaster caster(objects, {0}, still);
+  caster.prepare(0.0, 1.0);
+  for (const Eigen::Vector3d& direction : {Eigen::Vector3d(0.3, 0.2, 1), Eigen::Vector3d(-0.1, 0.4, 1), Eigen::Vector3d(0, 0, 1)}) {
+    const Ray ray = make_ray(Eigen::Vector3d(0.1, 4.05, -0.5), direction, 10);
+    const auto hit = caster.cast(ray);
+    expect_sane(hit, ray);
+    ASSERT_TRUE(hit.has_value()) << direction.transpose();
+    EXPECT_EQ(hit->object_index, 0u);
+    // It leaves through the top face z = 0.5 (the side faces are farther for these directions).
+    EXPECT_NEAR(hit->range_m, 1.0 / ray.direction.z(), 1e-6) << direction.transpose();
   }
 }
 

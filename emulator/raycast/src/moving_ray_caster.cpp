@@ -165,7 +165,7 @@ std::optional<detail::Contact> MovingRayCaster::Impl::test(std::size_t k, const 
   const Eigen::Quaterniond inverse = pose.orientation.conjugate();
   const detail::CheckedRay local{inverse * (ray.origin_m - pose.position_m), inverse * ray.direction, max_range_m};
   auto contact = primitives[k] ? detail::intersect(*primitives[k], local)
-                               : detail::collide(detail::aim_thread_probe(local), local, *local_world, k);
+                               : detail::collide(detail::aim_thread_probe(local), local, *local_world, k, true);
   if (contact) contact->normal = pose.orientation * contact->normal;
   return contact;
 }
