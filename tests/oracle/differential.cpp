@@ -132,6 +132,11 @@ void tally(Stats& stats, const Verdict& v, Engine engine, const std::vector<Part
   if (v.exact) ++stats.exact;
   if (v.excused) ++stats.excused;
   const char* engine_name = engine == Engine::embree ? "embree" : "moving";
+  if (v.fault != Fault::none && engine == Engine::moving && v.fault_on_mesh && v.fault != Fault::not_finite) {
+    ++stats.ode_mesh_faults;
+    if (stats.ode_mesh_examples.size() < 5) stats.ode_mesh_examples.push_back(std::string(fault_name(v.fault)) + ": " + v.what);
+    return;
+  }
   switch (v.fault) {
     case Fault::none: break;
     case Fault::not_finite: ++stats.not_finite; break;
@@ -148,6 +153,7 @@ void tally(Stats& stats, const Verdict& v, Engine engine, const std::vector<Part
   ++k.hits;
   k.worst_error_m = std::max(k.worst_error_m, v.error_m);
   k.worst_ulps = std::max(k.worst_ulps, v.ulps);
+  if (v.cosine >= 0.5) k.worst_ulps_steep = std::max(k.worst_ulps_steep, v.ulps);
   if (v.error_m / v.bound_m > k.worst_ratio) {
     k.worst_ratio = v.error_m / v.bound_m;
     std::ostringstream s;
@@ -170,12 +176,17 @@ void Stats::merge(const Stats& o) {
   missed += o.missed;
   not_finite += o.not_finite;
   oracle_failed += o.oracle_failed;
+  ode_mesh_faults += o.ode_mesh_faults;
+  for (const std::string& e : o.ode_mesh_examples) {
+    if (ode_mesh_examples.size() < 5) ode_mesh_examples.push_back(e);
+  }
   for (std::size_t i = 0; i < kinds.size(); ++i) {
     KindStats& k = kinds[i];
     const KindStats& ok = o.kinds[i];
     k.hits += ok.hits;
     k.worst_error_m = std::max(k.worst_error_m, ok.worst_error_m);
     k.worst_ulps = std::max(k.worst_ulps, ok.worst_ulps);
+    k.worst_ulps_steep = std::max(k.worst_ulps_steep, ok.worst_ulps_steep);
     if (ok.worst_ratio > k.worst_ratio) {
       k.worst_ratio = ok.worst_ratio;
       k.worst_case = ok.worst_case;
@@ -191,15 +202,16 @@ std::string Stats::text() const {
   s.precision(3);
   s << "cases=" << cases << "\nrays=" << rays << "\nexact=" << exact << "\nexcused=" << excused << "\nwrong_object=" << wrong_object
     << "\nrange_faults=" << range_faults << "\nmissed=" << missed << "\nnot_finite=" << not_finite
-    << "\noracle_failed=" << oracle_failed << "\n";
+    << "\noracle_failed=" << oracle_failed << "\node_mesh_faults=" << ode_mesh_faults << "\n";
   for (std::size_t i = 0; i < kinds.size(); ++i) {
     const KindStats& k = kinds[i];
     const std::string name = kind_name(static_cast<Kind>(i));
     s << name << ".hits=" << k.hits << "\n" << name << ".worst_error_m=" << k.worst_error_m << "\n" << name
-      << ".worst_ulps=" << k.worst_ulps << "\n" << name << ".worst_ratio=" << k.worst_ratio << "\n" << name
+      << ".worst_ulps=" << k.worst_ulps << "\n" << name << ".worst_ulps_steep=" << k.worst_ulps_steep << "\n" << name << ".worst_ratio=" << k.worst_ratio << "\n" << name
       << ".worst_case=" << k.worst_case << "\n";
   }
   for (const std::string& f : faults) s << "fault=" << f << "\n";
+  for (const std::string& f : ode_mesh_examples) s << "ode_mesh_fault=" << f << "\n";
   return s.str();
 }
 

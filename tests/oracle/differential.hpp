@@ -16,6 +16,7 @@ struct KindStats {
   std::uint64_t hits = 0;          // caster hits measured on a part of this kind
   double worst_error_m = 0.0;      // largest |range - exact|
   double worst_ulps = 0.0;         // largest error in ulps of the exact range
+  double worst_ulps_steep = 0.0;   // the same over hits at incidence cos >= 0.5 (not grazing)
   double worst_ratio = 0.0;        // largest error / bound
   std::string worst_case;          // the inputs of the worst-ratio case
 };
@@ -30,8 +31,12 @@ struct Stats {
   std::uint64_t missed = 0;
   std::uint64_t not_finite = 0;
   std::uint64_t oracle_failed = 0;
+  // Faults of the moving caster on meshes (ODE's float trimesh): known to exceed the float bound
+  // (docs/numerics.md "Findings"), tallied apart from the faults the fuzzer fails on.
+  std::uint64_t ode_mesh_faults = 0;
   std::array<KindStats, 6> kinds{};  // by Kind
   std::vector<std::string> faults;   // the first few, with their inputs
+  std::vector<std::string> ode_mesh_examples;  // the first few ode_mesh_faults
 
   std::uint64_t fault_count() const { return wrong_object + range_faults + missed + not_finite; }
   void merge(const Stats& other);

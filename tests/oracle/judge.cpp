@@ -29,7 +29,8 @@ struct Incidence {
 };
 
 // The surface normal where the ray meets `part` at range t (in double: only the bound uses it).
-Incidence incidence(const Part& part, const Ray& ray, double t) {
+// Within `edge_gap` of an edge of a box or a cylinder, the least cosine of the faces there.
+Incidence incidence(const Part& part, const Ray& ray, double t, double edge_gap = 0.0) {
   const Vec d = unit(ray.direction);
   const Vec x{ray.origin[0] + t * d[0], ray.origin[1] + t * d[1], ray.origin[2] + t * d[2]};
   if (part.kind == Kind::plane) return {std::abs(dot(unit(part.normal), d)), false};
@@ -54,15 +55,21 @@ Incidence incidence(const Part& part, const Ray& ray, double t) {
           face = i;
         }
       }
-      return {std::abs(dl[face]), false};
+      double cosine = std::abs(dl[face]);
+      for (int i = 0; i < 3; ++i) {
+        if (std::abs(part.half[i] - std::abs(u[i])) <= closest + edge_gap) cosine = std::min(cosine, std::abs(dl[i]));
+      }
+      return {cosine, false};
     }
     case Kind::sphere:
       return {std::abs(dot(unit(u), dl)), true};
     case Kind::cylinder: {
       const double side_gap = std::abs(std::hypot(u[0], u[1]) - part.radius);
       const double cap_gap = std::abs(std::abs(u[2]) - part.half_length);
-      if (cap_gap < side_gap) return {std::abs(dl[2]), false};
-      return {std::abs(dot(unit(Vec{u[0], u[1], 0.0}), dl)), true};
+      const double cap = std::abs(dl[2]), side = std::abs(dot(unit(Vec{u[0], u[1], 0.0}), dl));
+      if (std::abs(cap_gap - side_gap) <= edge_gap) return {std::min(cap, side), cap > side};
+      if (cap_gap < side_gap) return {cap, false};
+      return {side, true};
     }
     case Kind::capsule: {
       const double axis = std::clamp(u[2], -part.half_length, part.half_length);
@@ -206,6 +213,10 @@ Verdict judge(std::span<const Part> parts, std::span<const PartScale> scales, co
     for (std::size_t i = 0; i < parts.size(); ++i) {
       if (parts[i].object == ignored) continue;
       exact[i] = cast_part(parts[i], ray);
+      // The filter's enclosure must be far narrower than the bound it is held against.
+      if (exact[i].hit && exact[i].range_error_m > 0.05 * range_bound(parts[i], scales[i], ray, exact[i].range_m, engine)) {
+        exact[i] = cast_part(parts[i], ray, 0.0, true);
+      }
       v.exact = v.exact || exact[i].exact;
     }
     // 1. The caster's hit must be a part of that object, at its range within the bound (or at
@@ -228,6 +239,7 @@ Verdict judge(std::span<const Part> parts, std::span<const PartScale> scales, co
           v.error_m = error;
           v.bound_m = bound;
           v.ulps = error / ulp(exact[i].range_m);
+          v.cosine = incidence(parts[i], ray, exact[i].range_m).cosine;
         }
       }
       for (std::size_t i = 0; !found && i < parts.size(); ++i) {
@@ -235,7 +247,8 @@ Verdict judge(std::span<const Part> parts, std::span<const PartScale> scales, co
         const double t = answer.range_m;
         // A boundary moved by the tolerance moves the hit along the ray by that over the cosine.
         const double boundary = boundary_bound(parts[i], scales[i], ray, t, engine);
-        const double bound = range_bound(parts[i], scales[i], ray, t, engine) + boundary / std::max(incidence(parts[i], ray, t).cosine, 1e-300);
+        const double bound = range_bound(parts[i], scales[i], ray, t, engine) +
+                             boundary / std::max(incidence(parts[i], ray, t, 4.0 * boundary).cosine, 1e-300);
         for (const PartAnswer& a : variants(parts[i], ray, boundary, bound)) {
           if (a.hit && std::abs(t - a.range_m) <= bound + a.range_error_m) {
             found = i;
@@ -266,6 +279,7 @@ Verdict judge(std::span<const Part> parts, std::span<const PartScale> scales, co
       if (!found) {
         bool object_hit = false;
         for (std::size_t i = 0; i < parts.size(); ++i) {
+          if (parts[i].object == answer.object) v.fault_on_mesh = parts[i].kind == Kind::triangle;
           if (parts[i].object == answer.object && exact[i].hit) {
             object_hit = true;
             what << "object " << answer.object << " (" << kind_name(parts[i].kind) << ") at " << answer.range_m
@@ -282,8 +296,9 @@ Verdict judge(std::span<const Part> parts, std::span<const PartScale> scales, co
     for (std::size_t i = 0; i < parts.size(); ++i) {
       if (parts[i].object == ignored || !exact[i].hit || (found && i == *found)) continue;
       const double t = exact[i].range_m;
-      const bool same_object = answer.hit && parts[i].object == answer.object;
-      const double bound = same_object ? order_bound(parts[i], scales[i], ray, t, engine) : range_bound(parts[i], scales[i], ray, t, engine);
+      // Embree (and ODE) order triangles against other surfaces by float distances: a triangle
+      // within its order bound of the answer may lose to it.
+      const double bound = order_bound(parts[i], scales[i], ray, t, engine);
       // Whether a triangle is hit at all, also near the origin and the reach, is decided in
       // Embree's (or ODE's) float arithmetic: its boundary bound applies there.
       const double decided = std::max(bound, boundary_bound(parts[i], scales[i], ray, t, engine));
@@ -304,11 +319,12 @@ Verdict judge(std::span<const Part> parts, std::span<const PartScale> scales, co
         v.excused = true;
         continue;
       }
+      v.fault_on_mesh = parts[i].kind == Kind::triangle;
       what << "skipped object " << parts[i].object << " (" << kind_name(parts[i].kind) << ", part " << i << ") exact "
            << exact_range_text(parts[i], ray) << " bound " << bound << "; caster "
            << (answer.hit ? "hit object " + std::to_string(answer.object) + " at " : std::string("missed"));
       if (answer.hit) what << answer.range_m;
-      return fail(!answer.hit ? Fault::missed : same_object ? Fault::range : Fault::wrong_object);
+      return fail(!answer.hit ? Fault::missed : parts[i].object == answer.object ? Fault::range : Fault::wrong_object);
     }
   } catch (const std::domain_error& e) {
     what << e.what();

@@ -54,6 +54,7 @@ const char* fault_name(Fault fault);
 
 struct Verdict {
   Fault fault = Fault::none;
+  bool fault_on_mesh = false;  // the part the fault is about is a triangle
   std::string what;  // for a fault: what disagreed, with numbers
   // For a hit accepted on a part: that part's kind, the error against its exact range, the
   // bound it was held to, and the error in ulps of the exact range.
@@ -63,6 +64,7 @@ struct Verdict {
   double error_m = 0.0;
   double bound_m = 0.0;
   double ulps = 0.0;
+  double cosine = 0.0;   // of the incidence on that part
   bool excused = false;  // accepted only because the ray is within the bound of a boundary, tie or the reach
   bool exact = false;    // the oracle needed its exact numbers (the filter could not decide)
 };

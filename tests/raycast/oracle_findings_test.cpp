@@ -36,6 +36,26 @@ TEST(OracleFindings, OriginOnATriangle_DoesNotHideTheSphereAround) {
   }
 }
 
+// Found: spheres of 1e-6 m seen from 800 m. Embree traversed a float copy of the ray whose
+// rounding (~6e-8 of 800 m, 5e-5 m sideways) exceeded the padding of the boxes (1e-5 of the
+// scene's size, a scene of 1e-6 m), so the sphere was never tested and the caster missed it.
+TEST(OracleFindings, TinySphereFromFarAway_IsHit) {
+  const Eigen::Vector3d centre(-1.7446140151343865, -2.160481332999503, -22.075968050757773);
+  // Two of them 1e-11 m apart (with one, Embree's tree is a single leaf and tests no box).
+  auto rig = rig_of<EmbreeRayCaster>({make_object(scene::Sphere{1.07e-6}, centre),
+                                      make_object(scene::Sphere{1.07e-6}, centre + Eigen::Vector3d(-4e-12, 1.6e-11, -9e-12))});
+  for (int i = 0; i < 64; ++i) {  // directions all round
+    const double phi = 0.1 + 0.37 * i, z = -0.9 + 1.8 * i / 63.0;
+    const Eigen::Vector3d unit(std::sqrt(1 - z * z) * std::cos(phi), std::sqrt(1 - z * z) * std::sin(phi), z);
+    const Eigen::Vector3d beside = 1e-7 * unit.unitOrthogonal();  // 1e-7 m off the centre
+    const Ray ray = make_ray(centre + beside - 800.0 * unit, unit, 5000.0);
+    const auto hit = rig->caster.cast(ray);
+    expect_sane(hit, ray);
+    ASSERT_TRUE(hit.has_value()) << unit.transpose();
+    EXPECT_NEAR(hit->range_m, 800.0 - std::sqrt(1.07e-6 * 1.07e-6 - 1e-14), 1e-10) << unit.transpose();
+  }
+}
+
 // Every object where the scene put it, for ever.
 class StandStill final : public MotionSource {
  public:
