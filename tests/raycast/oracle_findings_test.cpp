@@ -97,5 +97,25 @@ TEST(OracleFindings, MovingMesh_RayFromItsFaceFindsTheExit) {
   }
 }
 
+// Found: the moving caster had the same fault as TinySphereFromFarAway_IsHit with its swept
+// boxes: a sphere of 1e-6 m 800 m away was never tested.
+TEST(OracleFindings, MovingTinySphereFromFarAway_IsHit) {
+  const Eigen::Vector3d centre(-1.7446140151343865, -2.160481332999503, -22.075968050757773);
+  std::vector<scene::SceneObject> objects{make_object(scene::Sphere{1.07e-6}, centre),
+                                         make_object(scene::Sphere{1.07e-6}, centre + Eigen::Vector3d(-4e-12, 1.6e-11, -9e-12))};
+  const StandStill still({objects[0].pose, objects[1].pose});
+  MovingRayCaster caster(objects, {0, 1}, still);
+  caster.prepare(0.0, 1.0);
+  for (int i = 0; i < 64; ++i) {
+    const double phi = 0.1 + 0.37 * i, z = -0.9 + 1.8 * i / 63.0;
+    const Eigen::Vector3d unit(std::sqrt(1 - z * z) * std::cos(phi), std::sqrt(1 - z * z) * std::sin(phi), z);
+    const Ray ray = make_ray(centre + 1e-7 * unit.unitOrthogonal() - 800.0 * unit, unit, 5000.0);
+    const auto hit = caster.cast(ray);
+    expect_sane(hit, ray);
+    ASSERT_TRUE(hit.has_value()) << unit.transpose();
+    EXPECT_NEAR(hit->range_m, 800.0 - std::sqrt(1.07e-6 * 1.07e-6 - 1e-14), 1e-10) << unit.transpose();
+  }
+}
+
 }  // namespace
 }  // namespace ldoem::raycast
