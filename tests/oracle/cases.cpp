@@ -139,12 +139,16 @@ scene::SceneObject generated_object(Bytes& in, const Vector3d& centre, double s,
 scene::SceneObject explicit_object(Bytes& in) {
   scene::SceneObject o;
   const int kind = in.u8() % 6;
-  for (int i = 0; i < 3; ++i) o.pose.position_m[i] = sane(in.f64(), -1e7, 1e7, 0.0);
+  // Scenes give orientations as angles in degrees: a quaternion component below 1e-12 (a
+  // rotation by 1e-61 rad, say) is none; subnormal positions are 0. Such inputs are outside
+  // the loader's domain and drove CORE::Expr into numbers of 1e-600 (docs/numerics.md).
+  const auto flush = [](double x, double tiny) { return std::abs(x) < tiny ? 0.0 : x; };
+  for (int i = 0; i < 3; ++i) o.pose.position_m[i] = flush(sane(in.f64(), -1e7, 1e7, 0.0), 1e-300);
   Eigen::Quaterniond q;
-  q.w() = sane(in.f64(), -1, 1, 1);
-  q.x() = sane(in.f64(), -1, 1, 0);
-  q.y() = sane(in.f64(), -1, 1, 0);
-  q.z() = sane(in.f64(), -1, 1, 0);
+  q.w() = flush(sane(in.f64(), -1, 1, 1), 1e-12);
+  q.x() = flush(sane(in.f64(), -1, 1, 0), 1e-12);
+  q.y() = flush(sane(in.f64(), -1, 1, 0), 1e-12);
+  q.z() = flush(sane(in.f64(), -1, 1, 0), 1e-12);
   o.pose.orientation = q.norm() > 1e-3 ? q.normalized() : Eigen::Quaterniond::Identity();
   const auto size = [&] { return sane(in.f64(), 1e-7, 1e6, 1.0); };
   switch (kind) {

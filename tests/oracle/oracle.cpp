@@ -254,6 +254,7 @@ PartAnswer exact_answer(const Part& part, const Ray& ray, double grow_m) {
   out.hit = true;
   out.boundary = s.boundary;
   out.range_m = CGAL::to_double(range);
+  if (!std::isfinite(out.range_m)) return PartAnswer{};  // beyond any double, so beyond any reach
   const Exact tail = range - Exact(out.range_m);
   out.range_tail_m = CGAL::to_double(tail);
   out.range_error_m = 4.0 * std::numeric_limits<double>::epsilon() * std::abs(out.range_tail_m);
@@ -349,7 +350,7 @@ Answer exact_scene(std::span<const Part> parts, const Ray& ray, std::uint32_t ig
     const Solution<Exact> s = solve<Exact>(parts[i], ray, 0.0);
     if (!s.hit) continue;
     const Exact range = exact_range(s, ray);
-    if (range > reach) continue;
+    if (range > reach) continue;  // (also every range beyond the doubles)
     const bool nearer = !best.hit || range < *best_exact;
     const bool same = best.hit && range == *best_exact;
     if (same && parts[i].object != best.object) best.tie = true;
@@ -376,6 +377,7 @@ std::string exact_range_text(const Part& part, const Ray& ray, int digits) {
   const Solution<Exact> s = solve<Exact>(part, ray, 0.0);
   if (!s.hit) return "miss";
   const Exact range = exact_range(s, ray);
+  if (!std::isfinite(CGAL::to_double(range))) return "beyond the doubles";
   // Two doubles give ~32 digits; more come from subtracting them off exactly.
   std::ostringstream out;
   out.precision(17);
