@@ -8,7 +8,8 @@
 #      against the installed daemon, the .deb (scripts/check-install.sh); then the .deb through
 #      lintian and into a clean Debian 12 root (mmdebstrap, cached), booted with systemd-nspawn,
 #      where the installed units take a 3D scan through the hub (scripts/check-deb-root.sh);
-#   3. the `plain` tests on the plain build;
+#   3. the PLY/PCD files read back by Open3D (scripts/check-cloud-formats.sh), and the `plain`
+#      tests on the plain build;
 #   4. the vcan-labelled tests inside one User-Mode Linux boot with a real vcan0 (daemon on CAN,
 #      conformance, can-utils interop, robustness floods, the paper's scan end to end), then a
 #      60 s soak test (scripts/soak.sh) in the same boot, so CAN is in it;
@@ -67,6 +68,10 @@ scripts/check-install.sh build/default
 
 step "the .deb in a clean Debian 12 root: lintian, dpkg -i, a 3D scan through its units"
 scripts/check-deb-root.sh build/default
+
+step "cloud files read back by Open3D (scripts/check-cloud-formats.sh)"
+cmake --build --preset default --target ldoem_write_sample_clouds
+scripts/check-cloud-formats.sh build/default
 
 step "tests that assert wall time, on the plain build (label plain)"
 ctest --preset default -L plain -j2
