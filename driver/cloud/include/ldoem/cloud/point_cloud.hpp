@@ -44,11 +44,12 @@ struct PointRecord {
   Point3f position;
   float intensity = 0.0F;
   std::uint16_t ring = 0;
+  ImagePosition image_position;
+  // The beam channel (NaN range without an echo).
   float time_s = 0.0F;
   float range_m = 0.0F;
   float azimuth_rad = 0.0F;
   float tilt_rad = 0.0F;
-  ImagePosition image_position;
   // Not defaulted: NaN fields (a point without an echo) compare equal to NaN here, as a round
   // trip through a file must keep them.
   friend bool operator==(const PointRecord& a, const PointRecord& b);
