@@ -75,13 +75,9 @@ TEST(Acquire, ScriptedDevice_CloudMatchesTheScriptedRanges) {
       EXPECT_FLOAT_EQ(point.intensity, 100.0F + beam);
     }
   }
-  // Time: 0 at the first beam, rising along a layer and from layer to layer.
-  const auto at = [&](std::uint32_t layer, std::uint32_t beam) {
-    return scan->cloud.record(std::size_t{layers - 1 - layer} * 81 + (80 - beam)).time_s;
-  };
-  EXPECT_EQ(at(0, 0), 0.0F);
-  EXPECT_GT(at(0, 80), at(0, 0));
-  EXPECT_GT(at(1, 0), at(0, 80));
+  // t: the scripted LD sends TSTART = TEND = 0, so every beam is at 0 (scan_grid_test.cpp
+  // checks the timing).
+  EXPECT_EQ(scan->cloud.record(0).time_s, 0.0F);
   // The scan ends in IDLE with the plate home.
   EXPECT_EQ(bench.ld.mode(), protocol::SensorMode::idle);
   EXPECT_EQ(bench.port->position_half_steps(), 0);
