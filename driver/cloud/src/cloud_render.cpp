@@ -131,7 +131,7 @@ struct Camera {
   }
 };
 
-ColourScale make_scale(const PointCloud& cloud, bool by_intensity, std::vector<double>& values) {
+ColourScale make_scale(bool by_intensity, std::vector<double>& values) {
   ColourScale scale;
   scale.points = values.size();
   if (!by_intensity) {
@@ -143,7 +143,6 @@ ColourScale make_scale(const PointCloud& cloud, bool by_intensity, std::vector<d
   // ECHO spans decades (D6: 1000 at the threshold, ~1/l^2), so the colours follow log10(ECHO),
   // stretched over the central 98 % of the echoes below the ceiling; echoes at the ceiling say
   // only "at least 65535" and get a colour of their own.
-  (void)cloud;
   scale.logarithmic = true;
   scale.title = "ECHO (log scale)";
   std::vector<double> below;
@@ -166,36 +165,47 @@ ColourScale make_scale(const PointCloud& cloud, bool by_intensity, std::vector<d
   return scale;
 }
 
+// Metre or half-metre ticks, whichever gives a handful over the extent.
+double tick_step(double extent) { return extent < 2.0 ? 0.5 : (extent < 6.0 ? 1.0 : (extent < 15.0 ? 2.0 : 5.0)); }
+
 void draw_axes(image::RgbImage& picture, const Camera& camera, const Vec3& low, const Vec3& high) {
-  // The scanner frame's axes from its origin, ticked every metre over the cloud's extent.
+  // Three edges of the cloud's box (its central 98 %), as in a 3D plot: x along the floor on the
+  // left (+y) side, y across the floor at the near end, z up the near left corner; each ticked
+  // and labelled in metres of the scanner frame.
   struct Axis {
+    Vec3 start;
     Vec3 direction;
     double from, to;
     const char* name;
     Rgb colour;
   };
   const std::array<Axis, 3> axes{{
-      {{1, 0, 0}, 0.0, std::max(1.0, std::ceil(high.x)), "x", {235, 95, 85}},
-      {{0, 1, 0}, std::min(0.0, std::floor(low.y)), std::max(1.0, std::ceil(high.y)), "y", {110, 215, 110}},
-      {{0, 0, 1}, std::min(0.0, std::floor(low.z)), std::max(1.0, std::ceil(high.z)), "z", {110, 160, 250}},
+      {{0, high.y, low.z}, {1, 0, 0}, low.x, high.x, "x", {235, 95, 85}},
+      {{low.x, 0, low.z}, {0, 1, 0}, low.y, high.y, "y", {110, 215, 110}},
+      {{low.x, high.y, 0}, {0, 0, 1}, low.z, high.z, "z", {110, 160, 250}},
   }};
   for (const Axis& axis : axes) {
-    const auto a = camera.project(axis.direction * axis.from);
-    const auto b = camera.project(axis.direction * axis.to);
+    const auto a = camera.project(axis.start + axis.direction * axis.from);
+    const auto b = camera.project(axis.start + axis.direction * axis.to);
     if (!a || !b) continue;
     detail::draw_line(picture, a->u, a->v, b->u, b->v, axis.colour);
-    for (double metre = axis.from; metre <= axis.to + 1e-9; metre += 1.0) {
-      const auto tick = camera.project(axis.direction * metre);
+    const double step = tick_step(axis.to - axis.from);
+    for (double value = std::ceil(axis.from / step) * step; value <= axis.to + 1e-9; value += step) {
+      const auto tick = camera.project(axis.start + axis.direction * value);
       if (!tick) continue;
-      detail::fill_rect(picture, static_cast<int>(tick->u) - 2, static_cast<int>(tick->v) - 2,
-                        static_cast<int>(tick->u) + 3, static_cast<int>(tick->v) + 3, axis.colour);
-      if (metre != 0.0) {
-        detail::draw_text(picture, static_cast<int>(tick->u) + 5, static_cast<int>(tick->v) + 4,
-                          number_text(metre, 0), axis.colour, kScale);
+      const int u = static_cast<int>(tick->u);
+      const int v = static_cast<int>(tick->v);
+      detail::fill_rect(picture, u - 2, v - 2, u + 3, v + 3, axis.colour);
+      const std::string label = number_text(value, 1);
+      // x and y labels below their tick, z labels to the left of it.
+      if (axis.name[0] == 'z') {
+        detail::draw_text(picture, u - 8 - detail::text_width(label, kScale), v - 7, label, axis.colour, kScale);
+      } else {
+        detail::draw_text(picture, u - detail::text_width(label, kScale) / 2, v + 8, label, axis.colour, kScale);
       }
     }
-    detail::draw_text(picture, static_cast<int>(b->u) + 8, static_cast<int>(b->v) - 18,
-                      std::string(axis.name) + " (m)", axis.colour, kScale);
+    const std::string name = std::string(axis.name) + " (m)";
+    detail::draw_text(picture, static_cast<int>(b->u) + 10, static_cast<int>(b->v) - 20, name, axis.colour, kScale);
   }
 }
 
@@ -268,7 +278,7 @@ Expected<image::RgbImage, RenderError> render_cloud(const PointCloud& cloud, con
   }
   const Vec3 low{percentile(xs, kLowPercentile), percentile(ys, kLowPercentile), percentile(zs, kLowPercentile)};
   const Vec3 high{percentile(xs, kHighPercentile), percentile(ys, kHighPercentile), percentile(zs, kHighPercentile)};
-  const ColourScale scale = make_scale(cloud, by_intensity, values);
+  const ColourScale scale = make_scale(by_intensity, values);
   const Vec3 target = (low + high) * 0.5;
   const double radius = std::max(1.0, 0.5 * std::sqrt((high - low).dot(high - low)));
 
