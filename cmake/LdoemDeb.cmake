@@ -50,6 +50,11 @@ set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)  # runtime library dependencies from dpkg-shlibdeps
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "systemd")
+if(TARGET ldoem_python_extension)
+  # The extension is built for this interpreter's ABI (python/CMakeLists.txt).
+  set(CPACK_DEBIAN_PACKAGE_DEPENDS
+      "systemd, python3 (>= ${LDOEM_PYTHON_ABI}), python3 (<< ${LDOEM_PYTHON_ABI_NEXT}), python3-numpy")
+endif()
 set(CPACK_DEBIAN_PACKAGE_SUGGESTS "tshark | wireshark")
 set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA ${PROJECT_BINARY_DIR}/debian/conffiles)
 set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)

@@ -6,8 +6,11 @@
 #      ldoem::driver) and once more with pkg-config (ldoem.pc) from a `cmake --install --prefix
 #      DIR`, as docs/service.md shows it (no --define-prefix: ldoem.pc finds its own prefix);
 #   4. the consumer run against the installed ldoem-emud with an installed scene (TCP);
-#   5. `cpack -G DEB`, and the package holds the programs, units, scenes and the library, with
-#      /etc/ldoem/hub.yaml as a conffile (scripts/check-deb-root.sh installs and runs it).
+#   5. the Python package (when built): `import ldoem` from the installed prefix, on the
+#      interpreter's sys.path, and ldoem.Scanner against the installed daemon;
+#   6. `cpack -G DEB`, and the package holds the programs, units, scenes, the library and the
+#      Python package, with /etc/ldoem/hub.yaml as a conffile (scripts/check-deb-root.sh installs
+#      and runs it).
 #   scripts/check-install.sh [BUILD_DIR]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -71,6 +74,22 @@ for consumer in "$work/consumer/ldoem-consumer" "$work/consumer-pc"; do
     { echo "check-install: $consumer took no profile" >&2; exit 1; }
 done
 
+if grep -q '^LDOEM_PYTHON:BOOL=ON' "$build/CMakeCache.txt"; then
+  step "the Python package from the installed prefix"
+  python=$(sed -n 's/^Python3_EXECUTABLE:[A-Z]*=//p' "$build/CMakeCache.txt")
+  init=$(cd "$root" && find usr -path '*-packages/ldoem/__init__.py' | head -n 1)
+  [ -n "$init" ] || { echo "check-install: the ldoem Python package is not installed" >&2; exit 1; }
+  site=/$(dirname "$(dirname "$init")")
+  "$python" -c "import sys; sys.exit(0 if '$site' in sys.path else 1)" ||
+    { echo "check-install: $site is not on $python's sys.path" >&2; exit 1; }
+  ls "$root$site"/ldoem-*.dist-info/entry_points.txt >/dev/null
+  (cd "$work" && PYTHONPATH="$root$site" "$python" -c "import ldoem; print('ldoem', ldoem.__version__)")
+  (cd "$work" && PYTHONPATH="$root$site" LDOEM_EMUD="$root/usr/bin/ldoem-emud" LDOEM_SCENES="$root/usr/share/ldoem/scenes" \
+    timeout 60 "$python" -c "import ldoem
+with ldoem.Emulator('minimal', virtual_time=True) as emulator, ldoem.Scanner(emulator.device) as scanner:
+    print('ldoem.Scanner against the installed ldoem-emud:', scanner.status())")
+fi
+
 step "cpack -G DEB"
 (cd "$build" && cpack -G DEB -B "$work/deb" >/dev/null)
 deb=$(ls "$work"/deb/*.deb)
@@ -79,6 +98,10 @@ for file in ./usr/bin/ldoem-emud ./usr/bin/ldoem-replay ./usr/lib/systemd/system
             ./usr/share/ldoem/scenes/corridor.yaml ./etc/ldoem/hub.yaml; do
   grep -q " $file\$" <<<"$contents" || { echo "check-install: $file missing from $(basename "$deb")" >&2; exit 1; }
 done
+if grep -q '^LDOEM_PYTHON:BOOL=ON' "$build/CMakeCache.txt"; then
+  grep -q 'dist-packages/ldoem/__init__.py$\|site-packages/ldoem/__init__.py$' <<<"$contents" ||
+    { echo "check-install: the ldoem Python package is missing from the package" >&2; exit 1; }
+fi
 grep -q 'libldoem.a$' <<<"$contents" || { echo "check-install: libldoem.a missing from the package" >&2; exit 1; }
 grep -q ' ./usr/etc' <<<"$contents" && { echo "check-install: the package installs into /usr/etc" >&2; exit 1; }
 [ "$(dpkg-deb --ctrl-tarfile "$deb" | tar -xOf - ./conffiles)" = /etc/ldoem/hub.yaml ] ||

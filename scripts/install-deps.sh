@@ -30,6 +30,8 @@ packages=(
   # Debian 12 root it is installed into and systemd-nspawn boots it (scripts/check-deb-root.sh)
   dpkg-dev help2man lintian mmdebstrap systemd-container zstd
   nlohmann-json3-dev libcli11-dev   # control socket (JSON lines), ldoem-ctl
+  # the ldoem Python package (python/, docs/python.md): bindings, tests, examples
+  pybind11-dev python3-dev python3-pytest python3-numpy python3-matplotlib
   # for the gpio-sim UML kernel (scripts/uml/build-gpio-kernel.sh)
   linux-source-6.1 build-essential bc flex bison libelf-dev xz-utils
 )

@@ -33,6 +33,20 @@ TEST(MotorFaults, StallWithoutHeadDynamics_StopsAtOnce_ErrorOneRevolutionLater) 
   EXPECT_EQ(bench.unit.state().head.speed_hz, 0);
 }
 
+// Found by the Python fault matrix (tcp-motor_stall-while_streaming): a stall triggered by the
+// GET_PROFILE itself leaves MEASURE with the head at 0 Hz; the request then divided by the
+// speed (SIGFPE, the daemon died). A stopped head turns no revolution: no stream, no profile.
+TEST(MotorFaults, GetProfileWithTheHeadStalledStartsNoStreamAndTheDaemonLivesOn) {
+  Bench bench;
+  bench.enter_measure();
+  bench.deliver(bench.unit.inject_motor_fault(bench.now, MotorFault::stall, false));
+  ASSERT_EQ(bench.unit.state().head.speed_hz, 0);
+  bench.request(kTcp1, "GET_PROFILE 0000 39ff");
+  bench.advance_by(2s);
+  EXPECT_TRUE(bench.profiles_to(kTcp1).empty());
+  EXPECT_EQ(bench.reply_text(kTcp1, "GET_STATUS"), "GET_STATUS reply 0000 00b4");
+}
+
 TEST(MotorFaults, StallWithHeadDynamics_CoastsThroughSpinTooLow) {
   Bench bench;
   stream(bench);

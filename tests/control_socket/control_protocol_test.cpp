@@ -1,6 +1,8 @@
 // QMP-shaped request/reply lines (docs/faults.md).
 #include "ldoem/control_socket/control_protocol.hpp"
 
+#include <algorithm>
+
 #include <gtest/gtest.h>
 
 #include "fake_target.hpp"
@@ -24,6 +26,32 @@ TEST(ControlProtocol, GreetingHasVersionAndCapabilities) {
   EXPECT_EQ(greeting["QMP"]["version"]["package"], "ldoem-emud");
   EXPECT_TRUE(greeting["QMP"]["capabilities"].is_array());
   EXPECT_NE(greeting["QMP"]["commands"].dump().find("inject-fault"), std::string::npos);
+}
+
+TEST(ControlProtocol, QueryCommandsAnswersTheTableWithEachCommandsArguments) {
+  FakeTarget target;
+  const json reply = ask(target, R"({"execute": "query-commands", "id": 4})");
+  ASSERT_TRUE(reply["return"].is_array()) << reply.dump();
+  EXPECT_EQ(reply["id"], 4);
+  std::vector<std::string> names;
+  for (const json& command : reply["return"]) {
+    names.push_back(command["name"].get<std::string>());
+    if (command["name"] == "power-cycle") {
+      EXPECT_EQ(command["arguments"], json::array({"off_s", "scanner"}));
+    }
+  }
+  EXPECT_EQ(names, command_names());
+  EXPECT_NE(std::find(names.begin(), names.end(), "query-commands"), names.end());
+  // Every command in the table is dispatched: none is "has not been found" (the object commands
+  // of a target without a world say so in their own words).
+  for (const std::string& name : names) {
+    if (name == "quit") continue;
+    const json answer = ask(target, R"({"execute": ")" + name + R"("})");
+    EXPECT_FALSE(answer.contains("error") && answer["error"]["desc"].get<std::string>().find("has not been found") !=
+                                                 std::string::npos)
+        << name;
+  }
+  EXPECT_EQ(ask(target, R"({"execute": "query-commands", "arguments": {"x": 1}})")["error"]["class"], "GenericError");
 }
 
 TEST(ControlProtocol, InjectFaultGoesThroughTheSceneGrammar) {

@@ -56,6 +56,12 @@ void ControlUnit::serve(const Event& event, const protocol::GetProfile& request)
     fail(event, Service::get_profile, FailureReason::out_of_range);  // D3
     return;
   }
+  // A stalled head (D11 motor_stall: MEASURE at 0 Hz until ERROR) turns no revolution, so no
+  // stream starts and no profile comes, as for a stream the stall stopped.
+  if (state_.head.speed_hz == 0) {
+    state_.streams.erase(event.from);
+    return;
+  }
   // The first profile is that of the first revolution starting at or after the request; a new
   // GET_PROFILE replaces the connection's stream and restarts PROFILESENT (D3). The answer is
   // the stream itself: no reply telegram (spec 3.5).
@@ -83,7 +89,7 @@ void ControlUnit::serve(const Event& event, const protocol::CancelProfile&) {
 }
 
 void ControlUnit::ensure_revolution_timer(Actions& out) {
-  if (state_.streams.empty()) return;
+  if (state_.streams.empty() || state_.head.speed_hz == 0) return;  // a stopped head: no revolution
   std::uint64_t due = state_.streams.begin()->second.next_revolution;
   for (const auto& [connection, stream] : state_.streams) due = std::min(due, stream.next_revolution);
   if (state_.revolution_timer && state_.revolution_timer->revolution <= due) return;

@@ -33,10 +33,32 @@ std::string field_error_text(const faults::FieldError& error) {
 
 }  // namespace
 
+const std::vector<CommandInfo>& command_table() {
+  // inject-fault's arguments are a fault entry's fields (faults::FaultEntryBuilder, with `on` and
+  // `every` as maps) plus "scanner".
+  static const std::vector<CommandInfo> table{
+      {"qmp_capabilities", {}},
+      {"inject-fault", {"kind", "at_s", "on", "every", "probability", "duration_s", "count", "transport", "service",
+                        "from_deg", "to_deg", "fraction", "delay_s", "bytes_kept", "bytes", "bytes_per_s", "off_s",
+                        "scanner"}},
+      {"clear-fault", {"id", "scanner"}},
+      {"query-faults", {"scanner"}},
+      {"query-status", {"scanner"}},
+      {"power-cycle", {"off_s", "scanner"}},
+      {"move-object", {"name", "position_m", "rpy_deg", "at_s", "keep_velocity"}},
+      {"add-object", {"object", "at_s"}},
+      {"remove-object", {"name", "at_s"}},
+      {"query-commands", {}},
+      {"quit", {}}};
+  return table;
+}
+
 const std::vector<std::string>& command_names() {
-  static const std::vector<std::string> names{"qmp_capabilities", "inject-fault", "clear-fault", "query-faults",
-                                              "query-status", "power-cycle", "move-object", "add-object",
-                                              "remove-object", "quit"};
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> out;
+    for (const CommandInfo& command : command_table()) out.push_back(command.name);
+    return out;
+  }();
   return names;
 }
 
@@ -107,6 +129,12 @@ std::string handle_line(std::string_view line, ControlTarget& target) {
   }
   try {
     if (command == "qmp_capabilities") return reply(json{{"return", json::object()}}, id);
+    if (command == "query-commands") {
+      if (auto problem = no_arguments(arguments, command)) return error_line(kGenericError, *problem, id);
+      json commands = json::array();
+      for (const CommandInfo& info : command_table()) commands.push_back({{"name", info.name}, {"arguments", info.arguments}});
+      return reply(json{{"return", commands}}, id);
+    }
     // The fault commands act on one scanner: "scanner" names it, else the daemon's first.
     ControlTarget* chosen = &target;
     const bool per_scanner = command == "inject-fault" || command == "power-cycle" || command == "clear-fault" ||

@@ -62,7 +62,15 @@ class ControlTarget {
   }
 };
 
-// The command names this protocol knows (greeting capabilities and help).
+// One command of the table: its name and the argument names it takes (query-commands answers
+// the table, so that clients such as the Python package can check themselves against it).
+struct CommandInfo {
+  std::string name;
+  std::vector<std::string> arguments;
+};
+const std::vector<CommandInfo>& command_table();
+
+// The command names this protocol knows (greeting capabilities and help), in table order.
 const std::vector<std::string>& command_names();
 
 std::string greeting_line(std::string_view version);
