@@ -50,7 +50,11 @@ std::string render_title(const scan::ScanOptions& options) {
                 options.vertical_apex_deg, options.horizontal_resolution_deg, options.vertical_resolution_deg,
                 static_cast<unsigned>(options.speed_hz));
   std::string title = options.title.empty() ? std::string() : options.title + "  |  ";
-  title += options.device ? "LD-OEM at " + driver::format_endpoint(*options.device) : "LD-OEM " + options.hub_device + " via hub";
+  // The transport, not the whole endpoint: a TCP port is often ephemeral, and the same scan must
+  // give the same picture.
+  const std::string endpoint = options.device ? driver::format_endpoint(*options.device) : std::string();
+  title += options.device ? "LD-OEM over " + endpoint.substr(0, endpoint.find(':'))
+                          : "LD-OEM " + options.hub_device + " via hub";
   return title + "  |  " + settings;
 }
 
