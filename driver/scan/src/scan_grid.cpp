@@ -8,8 +8,8 @@
 namespace ldoem::scan {
 namespace {
 
-constexpr double kRadiansPerDegree = std::numbers::pi / 180.0;
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr double kRadiansPerDegreeOfTilt = std::numbers::pi / 180.0;
+constexpr float kNoValue = std::numeric_limits<float>::quiet_NaN();
 
 }  // namespace
 
@@ -55,21 +55,21 @@ cloud::PointCloud ScanGrid::build() const {
       cloud::PointRecord record;
       record.ring = static_cast<std::uint16_t>(layer.layer);
       record.image_position = {static_cast<std::uint32_t>(row), static_cast<std::uint32_t>(column)};
-      record.tilt_rad = static_cast<float>(layer.tilt_deg * kRadiansPerDegree);
+      record.tilt_rad = static_cast<float>(layer.tilt_deg * kRadiansPerDegreeOfTilt);
       if (index < layer.beams.size()) {
         const Beam& beam = layer.beams[index];
         record.position = beam.position;
         record.intensity = beam.echo;
         record.range_m = static_cast<float>(beam.range_m);
-        record.azimuth_rad = static_cast<float>(beam.azimuth_deg * kRadiansPerDegree);
+        record.azimuth_rad = static_cast<float>(beam.azimuth_deg * kRadiansPerDegreeOfTilt);
         record.time_s = static_cast<float>((beam.device_time_ms - first_ms) / 1000.0);
       } else {
         // A layer with fewer beams than the widest (not seen from a device that keeps its
         // sectors): cells without a beam at all.
-        record.position = {kNaN, kNaN, kNaN};
-        record.range_m = kNaN;
-        record.azimuth_rad = kNaN;
-        record.time_s = kNaN;
+        record.position = {kNoValue, kNoValue, kNoValue};
+        record.range_m = kNoValue;
+        record.azimuth_rad = kNoValue;
+        record.time_s = kNoValue;
       }
       cloud.push_back(record);
     }
