@@ -188,7 +188,7 @@ TEST(SceneLoader, MissingSceneFile_IsIoError) {
   auto result = load_scene("/nonexistent/ldoem/scene.yaml");
   ASSERT_FALSE(result);
   EXPECT_EQ(result.error().kind, SceneErrorKind::io);
-  EXPECT_EQ(result.error().message(), "/nonexistent/ldoem/scene.yaml: cannot open scene file");
+  EXPECT_EQ(result.error().message(), "/nonexistent/ldoem/scene.yaml: cannot open scene file: No such file or directory");
 }
 
 TEST(SceneLoader, EffectNames_RoundTrip) {

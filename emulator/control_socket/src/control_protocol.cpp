@@ -177,7 +177,14 @@ std::string handle_line(std::string_view line, ControlTarget& target) {
       return reply(json{{"return", json::object()}}, id);
     }
     if (command == "move-object") return result_line(target.move_object(arguments), id);
-    if (command == "add-object") return result_line(target.add_object(arguments), id);
+    if (command == "add-object") {
+      const std::optional<json> kept_id = id ? std::optional<json>(*id) : std::nullopt;
+      const auto reply_line = [kept_id](const CommandResult& result) {
+        return result_line(result, kept_id ? &*kept_id : nullptr);
+      };
+      if (target.add_object_later(arguments, reply_line)) return std::string();  // answered later
+      return result_line(target.add_object(arguments), id);
+    }
     if (command == "remove-object") return result_line(target.remove_object(arguments), id);
   } catch (const json::exception& failure) {
     return error_line(kGenericError, failure.what(), id);

@@ -21,6 +21,8 @@ struct ControlServer::Client {
   std::string output;  // bytes not yet written
   bool closing = false;  // write what is queued, then close (too many clients, queue overflow)
   bool greeted = false;  // counted as a client (CONNECTION events)
+  bool waiting = false;  // a deferred reply is outstanding: lines wait in `held`
+  std::deque<AssembledLine> held;  // at most one read's worth: the client is not read while waiting
 };
 
 namespace {
@@ -92,9 +94,10 @@ io::IoResult<std::unique_ptr<ControlServer>> ControlServer::open(io::EventLoop& 
 }
 
 ControlServer::~ControlServer() {
+  if (resting_) loop_.cancel_timer(resume_timer_);
   for (const auto& client : clients_) loop_.unwatch(client->fd.get());
   if (listen_fd_.get() >= 0) {
-    loop_.unwatch(listen_fd_.get());
+    if (!resting_) loop_.unwatch(listen_fd_.get());
     unlink(path_.c_str());
   }
 }
@@ -102,9 +105,13 @@ ControlServer::~ControlServer() {
 void ControlServer::accept_clients() {
   for (;;) {
     const int fd = accept4(listen_fd_.get(), nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC);
-    if (fd < 0) return;  // EAGAIN, or a client that vanished: nothing to do
+    if (fd < 0) {
+      const int error = errno;
+      if (error == EMFILE || error == ENFILE || error == ENOBUFS || error == ENOMEM) rest(error);
+      return;  // EAGAIN, or a client that vanished: nothing to do
+    }
     auto client = std::make_unique<Client>(Client{base::UniqueFd(fd), next_client_number_++,
-                                                  LineAssembler(limits_.max_line_bytes), {}, false, false});
+                                                  LineAssembler(limits_.max_line_bytes), {}, false, false, false, {}});
     Client& added = *client;
     clients_.push_back(std::move(client));
     if (clients_.size() > limits_.max_clients) {
@@ -122,6 +129,35 @@ void ControlServer::accept_clients() {
       drop(fd);
     }
   }
+}
+
+// Issue 27 D3: out of descriptors (or kernel memory), the pending connection stays pending and
+// the socket stays readable: a level-triggered loop would call accept4() again at once, forever.
+// The listener rests as the TCP listener does, and says so at most every 10 s.
+void ControlServer::rest(int error) {
+  ++listener_rests_;
+  const auto now = std::chrono::steady_clock::now();
+  if (!warned_once_ || now - last_warning_ >= kRestWarningPeriod) {
+    std::string line = "control: accept " + path_ + ": " + std::strerror(error) + "; not accepting for " +
+                       std::to_string(kListenerRest.count()) + " ms";
+    if (rests_unsaid_ > 0) line += " (" + std::to_string(rests_unsaid_) + " more since the last report)";
+    if (warn_) warn_(line);
+    warned_once_ = true;
+    last_warning_ = now;
+    rests_unsaid_ = 0;
+  } else {
+    ++rests_unsaid_;
+  }
+  if (resting_) return;
+  resting_ = true;
+  loop_.unwatch(listen_fd_.get());
+  resume_timer_ = loop_.add_timer_after(kListenerRest, [this] {
+    resting_ = false;
+    if (auto watched = loop_.watch(listen_fd_.get(), io::Interest::readable, [this](io::Readiness) { accept_clients(); });
+        !watched && warn_) {
+      warn_("control: " + watched.error().message());
+    }
+  });
 }
 
 void ControlServer::queue(Client& client, const std::string& line) {
@@ -148,8 +184,9 @@ void ControlServer::on_client(int fd, io::Readiness readiness) {
   auto found = std::find_if(clients_.begin(), clients_.end(), [fd](const auto& c) { return c->fd.get() == fd; });
   if (found == clients_.end()) return;
   Client& client = **found;
+  const int number = client.number;
   bool peer_gone = readiness.hang_up || readiness.error;
-  if (readiness.readable && !client.closing) {
+  if (readiness.readable && !client.closing && !client.waiting) {
     char buffer[kReadChunkBytes];
     const ssize_t got = recv(fd, buffer, sizeof(buffer), 0);
     if (got == 0 || (got < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR)) {
@@ -157,24 +194,78 @@ void ControlServer::on_client(int fd, io::Readiness readiness) {
     } else if (got > 0) {
       std::vector<AssembledLine> lines;
       client.lines.feed(std::string_view(buffer, static_cast<std::size_t>(got)), lines);
-      for (const AssembledLine& line : lines) {
-        if (line.too_long) {
-          queue(client, error_line(kGenericError, "line longer than " + std::to_string(limits_.max_line_bytes) +
-                                                      " bytes: skipped"));
-        } else if (!line.text.empty()) {
-          queue(client, handler_(line.text));
-        }
-      }
+      for (AssembledLine& line : lines) client.held.push_back(std::move(line));
+      if (!serve(number)) return;
     }
   }
-  flush(client);
-  if (peer_gone || (client.closing && client.output.empty())) {
+  Client* still = find(number);
+  if (still == nullptr) return;
+  flush(*still);
+  if (peer_gone || (still->closing && still->output.empty())) {
     drop(fd);
     return;
   }
-  // Wait for writability only while something is queued (level-triggered epoll would spin).
-  const io::Interest interest = client.output.empty() ? io::Interest::readable : (io::Interest::readable | io::Interest::writable);
-  (void)loop_.change_interest(fd, client.closing ? io::Interest::writable : interest);
+  update_interest(*still);
+}
+
+bool ControlServer::serve(int number) {
+  for (Client* client = find(number); client != nullptr && !client->waiting && !client->held.empty();
+       client = find(number)) {
+    const AssembledLine line = std::move(client->held.front());
+    client->held.pop_front();
+    if (line.too_long) {
+      queue(*client, error_line(kGenericError, "line longer than " + std::to_string(limits_.max_line_bytes) +
+                                                   " bytes: skipped"));
+      continue;
+    }
+    if (line.text.empty()) continue;
+    serving_ = number;
+    deferred_ = false;
+    const std::string reply = handler_(line.text);
+    serving_ = 0;
+    client = find(number);  // the handler's events may have dropped it (a full queue)
+    if (client == nullptr) return false;
+    if (deferred_) {
+      client->waiting = true;
+    } else {
+      queue(*client, reply);
+    }
+  }
+  return find(number) != nullptr;
+}
+
+void ControlServer::update_interest(Client& client) {
+  // Wait for writability only while something is queued (level-triggered epoll would spin); read
+  // nothing while a deferred reply is outstanding (hang-ups are reported all the same).
+  std::uint32_t bits = 0;
+  if (!client.closing && !client.waiting) bits |= static_cast<std::uint32_t>(io::Interest::readable);
+  if (!client.output.empty() || client.closing) bits |= static_cast<std::uint32_t>(io::Interest::writable);
+  (void)loop_.change_interest(client.fd.get(), static_cast<io::Interest>(bits));
+}
+
+ControlServer::Client* ControlServer::find(int number) {
+  auto found = std::find_if(clients_.begin(), clients_.end(), [number](const auto& c) { return c->number == number; });
+  return found == clients_.end() ? nullptr : found->get();
+}
+
+ControlServer::Ticket ControlServer::defer() {
+  deferred_ = true;
+  return serving_;
+}
+
+void ControlServer::complete(Ticket ticket, const std::string& line) {
+  Client* client = find(ticket);
+  if (client == nullptr) return;
+  client->waiting = false;
+  queue(*client, line);
+  if (!serve(ticket)) return;
+  client = find(ticket);
+  flush(*client);
+  if (client->closing && client->output.empty()) {
+    drop(client->fd.get());
+    return;
+  }
+  update_interest(*client);
 }
 
 void ControlServer::broadcast(const std::string& line) {

@@ -105,10 +105,10 @@ struct Daemon::Impl final : endpoints::Scheduler {
 
 base::Expected<std::unique_ptr<control::FlashStore>, StartFailure> Daemon::Impl::open_flash(
     const Options& device_options) {
-  if (device_options.flash_mode == FlashMode::memory) {
-    return std::unique_ptr<control::FlashStore>(new control::MemoryFlashStore());
-  }
-  return std::unique_ptr<control::FlashStore>(new FileFlashStore(device_options.flash_path));
+  if (device_options.flash_mode == FlashMode::memory) return std::unique_ptr<control::FlashStore>(new control::MemoryFlashStore());
+  auto store = std::make_unique<FileFlashStore>(device_options.flash_path);
+  if (auto note = store->remove_stale_temporaries()) logger.log(endpoints::LogLevel::info, *note);  // issue 27 D13
+  return std::unique_ptr<control::FlashStore>(std::move(store));
 }
 
 // Issue 11: a flash file that exists but cannot be read or parsed stops the start (exit 2): the
@@ -200,7 +200,7 @@ std::optional<StartFailure> Daemon::Impl::open_device(std::size_t index, const O
 endpoints::Counters Daemon::Impl::counters() const {
   endpoints::Counters all;
   for (const auto& device : devices) all += device->counters();
-  if (faults) all.fault_injections = faults->injections();
+  if (faults) faults->fill_counters(all);
   return all;
 }
 
@@ -211,6 +211,7 @@ std::optional<StartFailure> Daemon::Impl::build_faults() {
   if (options.event_log_path) setup.event_log_path = options.event_log_path->string();
   setup.version = LDOEM_VERSION;
   setup.world = world.get();
+  setup.imports_off_loop = !options.virtual_time;  // issue 27: a stopped virtual clock keeps imports deterministic
   auto wiring = FaultWiring::create(scene, devices, *this, *loop, logger, std::move(setup), [this] { loop->stop(); });
   if (!wiring) return StartFailure{kExitUsageError, wiring.error()};
   faults = std::move(*wiring);
@@ -393,7 +394,6 @@ std::optional<std::uint16_t> Daemon::tcp_port(std::size_t scanner) const {
 }
 
 DeviceInstance& Daemon::device(std::size_t scanner) { return *impl_->devices.at(scanner); }
-
 std::size_t Daemon::device_count() const { return impl_->devices.size(); }
 
 SimTime Daemon::now() const { return impl_->now(); }

@@ -1,5 +1,8 @@
 #include "ldoem/daemon/file_flash_store.hpp"
 
+#include "ldoem/base/regular_file.hpp"
+
+#include <dirent.h>
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -9,13 +12,63 @@
 #include <cstring>
 
 namespace ldoem::daemon {
+namespace {
+
+constexpr int kMaxSymlinkHops = 40;  // as the kernel's ELOOP limit
+
+// Issue 27 (D12): save() renames a new file over the flash; over a symlink that would replace
+// the link and leave its target stale. Resolving the links first writes through them.
+std::filesystem::path resolve_links(std::filesystem::path path) {
+  std::error_code error;
+  for (int hop = 0; hop < kMaxSymlinkHops && std::filesystem::is_symlink(path, error); ++hop) {
+    const std::filesystem::path target = std::filesystem::read_symlink(path, error);
+    if (error) break;
+    path = target.is_absolute() ? target : path.parent_path() / target;
+  }
+  return path;
+}
+
+// mkstemp's names: "." + the flash's file name + "." + six characters of [A-Za-z0-9].
+bool is_temporary_of(std::string_view name, std::string_view flash_name) {
+  constexpr std::size_t kSuffix = 7;  // ".XXXXXX"
+  if (name.size() != 1 + flash_name.size() + kSuffix || name[0] != '.') return false;
+  if (name.substr(1, flash_name.size()) != flash_name || name[1 + flash_name.size()] != '.') return false;
+  for (const char c : name.substr(name.size() - 6)) {
+    if (!((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9'))) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+FileFlashStore::FileFlashStore(std::filesystem::path path) : path_(resolve_links(std::move(path))) {}
+
+std::optional<std::string> FileFlashStore::remove_stale_temporaries() const {
+  const std::filesystem::path folder = path_.has_parent_path() ? path_.parent_path() : std::filesystem::path(".");
+  const std::string flash_name = path_.filename().string();
+  DIR* listing = ::opendir(folder.c_str());
+  if (listing == nullptr) return std::nullopt;
+  std::size_t removed = 0;
+  while (const dirent* entry = ::readdir(listing)) {
+    if (!is_temporary_of(entry->d_name, flash_name)) continue;
+    struct stat info {};
+    // Only regular files: whatever else wears the name is not ours.
+    if (::fstatat(::dirfd(listing), entry->d_name, &info, AT_SYMLINK_NOFOLLOW) != 0 || !S_ISREG(info.st_mode)) continue;
+    if (::unlinkat(::dirfd(listing), entry->d_name, 0) == 0) ++removed;
+  }
+  ::closedir(listing);
+  if (removed == 0) return std::nullopt;
+  return "flash " + path_.string() + ": removed " + std::to_string(removed) + " temporary file(s) of a save that was killed";
+}
 
 base::Expected<protocol::Bytes, std::string> FileFlashStore::read() const {
-  const int fd = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) {
-    if (errno == ENOENT) return protocol::Bytes{};  // never saved: the scene's defaults (D4)
-    return base::Unexpected("cannot open: " + std::string(std::strerror(errno)));
+  // Issue 27 (D11): O_NONBLOCK and fstat first, so a FIFO is refused at once, not waited on.
+  auto opened = base::open_regular_file(path_, O_RDONLY);
+  if (!opened) {
+    if (opened.error().error_number == ENOENT) return protocol::Bytes{};  // never saved: the scene's defaults (D4)
+    return base::Unexpected(opened.error().text);
   }
+  const int fd = opened->release();
   protocol::Bytes image;
   std::uint8_t buffer[4096];
   for (;;) {
@@ -35,6 +88,9 @@ base::Expected<protocol::Bytes, std::string> FileFlashStore::read() const {
     image.insert(image.end(), buffer, buffer + got);
   }
   ::close(fd);
+  // D12: a file that exists is a saved image; an empty one was truncated or made by hand, and
+  // running on the defaults would overwrite it without a word.
+  if (image.empty()) return base::Unexpected(std::string("is empty (0 bytes): not a flash image"));
   return image;
 }
 

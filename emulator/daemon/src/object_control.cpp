@@ -1,7 +1,16 @@
 // FaultWiring's D12 commands (move-object, add-object, remove-object) and the CONNECTION events:
 // the control socket's side of the world, kept apart from the fault machinery in fault_wiring.cpp.
-// Each command runs on the loop's thread, between revolutions, so the casters are never busy.
+// Each command runs on the loop's thread, between revolutions, so the casters are never busy;
+// only add-object's parse and mesh import may run on a worker thread (issue 27), and its result
+// comes back to the loop's thread before it touches the world.
+#include <poll.h>
+#include <sys/eventfd.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <chrono>
+#include <mutex>
+#include <thread>
 
 #include "ldoem/daemon/fault_wiring.hpp"
 #include "ldoem/control_socket/object_commands.hpp"
@@ -20,6 +29,9 @@ using control_socket::CommandResult;
 using nlohmann::json;
 
 namespace {
+
+// How long a stopping daemon waits for an import in flight (abandon_import).
+constexpr std::chrono::milliseconds kImportGrace{5000};
 
 double seconds(base::SimTime time) { return std::chrono::duration<double>(time).count(); }
 
@@ -61,11 +73,88 @@ CommandResult FaultWiring::move_object(const json& arguments) {
   return json{{"name", request.name}, {"at_s", std::get<double>(moved)}};
 }
 
+// The one add-object whose mesh is being imported. Shared with the worker, which may outlive the
+// wiring (the daemon stops mid-import): it owns its eventfd, and it touches nothing else.
+struct FaultWiring::Import {
+  base::UniqueFd done;  // eventfd: written by the worker when `parsed` is set
+  json arguments;
+  ReplyLine reply_line;
+  control_socket::ControlServer::Ticket ticket = 0;
+  base::SimTime asked_at{};
+  std::mutex mutex;
+  std::variant<AddObjectRequest, std::string> parsed{std::string("add-object: the import did not finish")};
+};
+
 CommandResult FaultWiring::add_object(const json& arguments) {
-  auto parsed = parse_add_object(arguments);
+  const bool mesh = arguments.contains("object") && arguments["object"].is_object() && arguments["object"].contains("mesh");
+  if (mesh && import_) return refused("add-object: another add-object is still importing its mesh; ask again when it has answered");
+  return add_parsed(arguments, parse_add_object(arguments), scheduler_.now());
+}
+
+// Issue 27 (D8): the project's own large-rock.obj kept the loop, and so every host, unanswered
+// for 657 ms while assimp read it. A mesh is now parsed and imported on a worker thread; the
+// world changes on the loop's thread when it is done. One import at a time.
+bool FaultWiring::add_object_later(const json& arguments, ReplyLine reply_line) {
+  const bool mesh = arguments.contains("object") && arguments["object"].is_object() && arguments["object"].contains("mesh");
+  if (!imports_off_loop_ || !mesh || import_ || server_ == nullptr || loop_ == nullptr || world_ == nullptr) return false;
+  auto job = std::make_shared<Import>();
+  job->done.reset(::eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK));
+  if (!job->done.valid()) return false;  // no eventfd: import on the loop as before
+  if (!loop_->watch(job->done.get(), io::Interest::readable, [this](io::Readiness) { finish_import(); })) return false;
+  job->arguments = arguments;
+  job->reply_line = std::move(reply_line);
+  job->asked_at = scheduler_.now();
+  job->ticket = server_->defer();
+  import_ = job;
+  std::thread([job] {
+    auto parsed = parse_add_object(job->arguments);
+    {
+      const std::lock_guard<std::mutex> lock(job->mutex);
+      job->parsed = std::move(parsed);
+    }
+    const std::uint64_t one = 1;
+    while (::write(job->done.get(), &one, sizeof one) < 0 && errno == EINTR) {
+    }
+  }).detach();
+  return true;
+}
+
+void FaultWiring::finish_import() {
+  const std::shared_ptr<Import> job = std::move(import_);
+  if (!job) return;
+  loop_->unwatch(job->done.get());
+  std::variant<AddObjectRequest, std::string> parsed{std::string()};
+  {
+    const std::lock_guard<std::mutex> lock(job->mutex);
+    parsed = std::move(job->parsed);
+  }
+  // The object goes in at the later of at_s and now: device time went on during the import (an
+  // at_s already past when asked was refused as ever).
+  if (auto* request = std::get_if<AddObjectRequest>(&parsed);
+      request != nullptr && request->at_s && *request->at_s >= seconds(job->asked_at) &&
+      *request->at_s < seconds(scheduler_.now())) {
+    request->at_s.reset();
+  }
+  const CommandResult result = add_parsed(job->arguments, std::move(parsed), scheduler_.now());
+  if (server_) server_->complete(job->ticket, job->reply_line(result));
+}
+
+// The daemon stops during an import: the worker is given a bounded time to finish, so that it is
+// not still inside assimp while the process runs its exit handlers; after that it is left alone
+// (it owns everything it touches).
+void FaultWiring::abandon_import() {
+  if (!import_) return;
+  if (loop_ != nullptr) loop_->unwatch(import_->done.get());
+  pollfd done{import_->done.get(), POLLIN, 0};
+  while (::poll(&done, 1, static_cast<int>(kImportGrace.count())) < 0 && errno == EINTR) {
+  }
+  import_.reset();
+}
+
+CommandResult FaultWiring::add_parsed(const json& arguments, std::variant<AddObjectRequest, std::string> parsed,
+                                      base::SimTime now) {
   if (auto* problem = std::get_if<std::string>(&parsed)) return refused(*problem);
   AddObjectRequest& request = std::get<AddObjectRequest>(parsed);
-  const base::SimTime now = scheduler_.now();
   auto at_s = command_time(request.at_s, seconds(now));
   if (auto* problem = std::get_if<std::string>(&at_s)) return refused("add-object: " + *problem);
   if (world_ == nullptr) return refused("add-object: this daemon has no scene world");
@@ -96,9 +185,12 @@ void FaultWiring::on_connection(bool opened, control::ConnectionId connection, s
   if (opened) {
     peers_[connection] = std::string(peer);
     data["peer"] = std::string(peer);
-  } else if (const auto known = peers_.find(connection); known != peers_.end()) {
-    data["peer"] = known->second;
-    peers_.erase(known);
+  } else {
+    forget_delayed(connection);
+    if (const auto known = peers_.find(connection); known != peers_.end()) {
+      data["peer"] = known->second;
+      peers_.erase(known);
+    }
   }
   publish({opened ? "CONNECTION_OPENED" : "CONNECTION_CLOSED", data, scheduler_.now()});
 }

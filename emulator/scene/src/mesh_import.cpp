@@ -1,23 +1,55 @@
 #include "mesh_import.hpp"
 
+#include "mesh_precount.hpp"
+
+#include "ldoem/base/regular_file.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
 #include <cmath>
-#include <system_error>
 
 namespace ldoem::scene::detail {
 
 std::optional<std::string> import_mesh(const std::filesystem::path& file, Mesh& mesh, std::size_t max_triangles,
                                        std::size_t max_vertices) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(file, ec)) return "mesh file not found: " + file.string();
-
-  const auto bytes = std::filesystem::file_size(file, ec);
-  if (ec || bytes > kMaxMeshFileBytes) {
+  // Issue 27: a FIFO, a device or a folder is named as such (it was "not found"), and the size
+  // comes from fstat of what was opened.
+  auto opened = base::open_regular_file(file, O_RDONLY);
+  if (!opened) {
+    if (opened.error().error_number == ENOENT) return "mesh file not found: " + file.string();
+    return "mesh " + file.string() + ": " + opened.error().text;
+  }
+  struct stat info {};
+  if (::fstat(opened->get(), &info) != 0) return "mesh " + file.string() + ": fstat failed";
+  const auto bytes = static_cast<std::uintmax_t>(info.st_size);
+  if (bytes > kMaxMeshFileBytes) {
     return "mesh " + file.string() + " is larger than " + std::to_string(kMaxMeshFileBytes >> 20) + " MiB";
   }
+  // D8: the triangles and vertices are counted from the header or in one streaming pass before
+  // assimp spends memory on them; formats without a count have a tighter size cap instead.
+  std::string extension = file.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const MeshCountResult counted = precount_mesh(opened->get(), bytes, extension);
+  if (counted.problem) return "mesh " + file.string() + ": " + *counted.problem;
+  if (counted.count && (counted.count->triangles > max_triangles || counted.count->vertices > max_vertices)) {
+    return "mesh " + file.string() + " has " + std::to_string(counted.count->triangles) + " triangles and " +
+           std::to_string(counted.count->vertices) + " vertices, more than the scene's remaining budget of " +
+           std::to_string(max_triangles) + " triangles or " + std::to_string(max_vertices) + " vertices";
+  }
+  if (!counted.count && bytes > kMaxUncountedMeshFileBytes) {
+    return "mesh " + file.string() + " is larger than " + std::to_string(kMaxUncountedMeshFileBytes >> 20) +
+           " MiB (the cap for formats other than OBJ, STL and PLY, whose triangles are counted before import)";
+  }
+  opened->reset();
 
   Assimp::Importer importer;
   // Drop points and lines (we cast rays at surfaces), bake node transforms into one frame.

@@ -8,11 +8,6 @@ namespace ldoem::scene::detail {
 namespace {
 
 constexpr double kRadPerDeg = std::numbers::pi / 180.0;
-// Bounds of world_step_s: finer than 1 us costs without a use; coarser than 0.1 s lets a body
-// fall through a floor in one step.
-constexpr double kMinWorldStep_s = 1e-6;
-constexpr double kMaxWorldStep_s = 0.1;
-constexpr std::size_t kMaxWaypoints = 100000;
 
 bool read_bool(const std::string& file, const YAML::Node& node, const std::string& path) {
   bool value = false;
@@ -148,12 +143,7 @@ WorldConfig read_world(const std::string& file, const YAML::Node& node, const st
   MapReader map(file, node, path);
   WorldConfig world;
   read_field(map, "gravity_mps2", world.gravity_mps2);
-  if (auto step = map.get("world_step_s")) {
-    world.world_step_s = read_double(file, *step, map.child_path("world_step_s"), Constraint::positive);
-    if (world.world_step_s < kMinWorldStep_s || world.world_step_s > kMaxWorldStep_s) {
-      fail(file, SceneErrorKind::out_of_range, *step, map.child_path("world_step_s"), "must be in [1e-6, 0.1] s");
-    }
-  }
+  read_step(map, "world_step_s", world.world_step_s);
   if (auto beam_time = map.get("beam_time")) {
     const std::string name = read_string(file, *beam_time, map.child_path("beam_time"));
     if (name == "per_beam") {

@@ -10,12 +10,17 @@
 #include "scanner_reader.hpp"
 #include "scanners_reader.hpp"
 #include "yaml_fields.hpp"
+#include "yaml_precount.hpp"
+
+#include "ldoem/base/regular_file.hpp"
 
 #include <array>
+#include <cerrno>
+#include <cstring>
+#include <istream>
 #include <map>
+#include <streambuf>
 #include <utility>
-#include <fstream>
-#include <sstream>
 
 namespace ldoem::scene {
 namespace {
@@ -39,6 +44,7 @@ struct LoadContext {
   // repeats a mesh object repeats its triangles too.
   std::size_t triangles = 0;
   std::size_t vertices = 0;
+  std::size_t waypoints = 0;  // all objects' together, checked against kMaxSceneWaypoints
   // Each (file, scale) is imported once per scene, however often aliases repeat it.
   std::map<std::pair<std::string, std::array<double, 3>>, Mesh> imported;
 };
@@ -132,7 +138,7 @@ Shape read_shape(LoadContext& context, std::string_view kind, const YAML::Node& 
 }
 
 // D12: `motion` or `dynamics`, checked against the object's shape and pose.
-void read_object_motion(const LoadContext& context, MapReader& map, std::string_view shape_key, SceneObject& object) {
+void read_object_motion(LoadContext& context, MapReader& map, std::string_view shape_key, SceneObject& object) {
   if (map.has("motion") && map.has("dynamics")) {
     fail(context.file, SceneErrorKind::conflicting_keys, map.node(), map.child_path("dynamics"),
          "an object moves by motion or by dynamics, not both");
@@ -145,6 +151,13 @@ void read_object_motion(const LoadContext& context, MapReader& map, std::string_
   }
   if (auto motion = map.get("motion")) {
     object.motion = detail::read_motion(context.file, *motion, map.child_path("motion"));
+    if (const auto* path = std::get_if<Waypoints>(&*object.motion)) {
+      context.waypoints += path->points.size();
+      if (context.waypoints > kMaxSceneWaypoints) {
+        fail(context.file, SceneErrorKind::out_of_range, *motion, map.child_path("motion"),
+             "the scene would have more than " + std::to_string(kMaxSceneWaypoints) + " waypoints in all");
+      }
+    }
     if (std::holds_alternative<Waypoints>(*object.motion) && map.has("pose")) {
       fail(context.file, SceneErrorKind::conflicting_keys, *map.get("pose"), map.child_path("pose"),
            "waypoints give absolute poses; drop pose or use velocities");
@@ -300,6 +313,15 @@ Scene read_scene(LoadContext& context, const YAML::Node& root) {
   return scene;
 }
 
+// The text as an istream without a copy (YAML::Load(std::string) copies it into a stringstream).
+class TextBuffer : public std::streambuf {
+ public:
+  explicit TextBuffer(std::string_view text) {
+    char* begin = const_cast<char*>(text.data());  // read only: get area, no put area
+    setg(begin, begin, begin + text.size());
+  }
+};
+
 SceneError whole_file_error(std::string file, SceneErrorKind kind, std::string detail) {
   SceneError error;
   error.kind = kind;
@@ -355,7 +377,10 @@ SceneResult load_scene_from_string(std::string_view yaml, std::string_view displ
   context.file = std::string(display_name);
   context.mesh_folder = std::filesystem::path(display_name).parent_path();
   try {
-    const YAML::Node root = YAML::Load(std::string(yaml));
+    detail::precount_yaml(yaml, context.file);  // the limits before the node tree's memory
+    TextBuffer buffer(yaml);
+    std::istream in(&buffer);
+    const YAML::Node root = YAML::Load(in);
     if (!root.IsDefined() || root.IsNull()) {
       return base::Unexpected(whole_file_error(context.file, SceneErrorKind::wrong_type, "empty scene: expected a map"));
     }
@@ -375,18 +400,17 @@ SceneResult load_scene_from_string(std::string_view yaml, std::string_view displ
 }
 
 SceneResult load_scene(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return base::Unexpected(whole_file_error(path.string(), SceneErrorKind::io, "cannot open scene file"));
-  std::error_code size_error;
-  if (const auto bytes = std::filesystem::file_size(path, size_error); !size_error && bytes > kMaxSceneFileBytes) {
-    return base::Unexpected(whole_file_error(path.string(), SceneErrorKind::io,
-                                                 "scene file larger than " +
-                                                     std::to_string(kMaxSceneFileBytes >> 20) + " MiB"));
+  // Issue 27 (D7): a FIFO, /dev/zero or a folder is refused at once; the 64 MiB bound counts the
+  // bytes read, not st_size (0 for /dev/zero).
+  auto text = base::read_regular_file(path, kMaxSceneFileBytes);
+  if (!text) {
+    const int error_number = text.error().error_number;
+    std::string detail = text.error().text;  // "is a FIFO, not a regular file"
+    if (error_number == EFBIG) detail = "scene file larger than " + std::to_string(kMaxSceneFileBytes >> 20) + " MiB";
+    if (detail.rfind("cannot open", 0) == 0) detail = "cannot open scene file: " + std::string(std::strerror(error_number));
+    return base::Unexpected(whole_file_error(path.string(), SceneErrorKind::io, detail));
   }
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) return base::Unexpected(whole_file_error(path.string(), SceneErrorKind::io, "cannot read scene file"));
-  return load_scene_from_string(text.str(), path.string());
+  return load_scene_from_string(*text, path.string());
 }
 
 }  // namespace ldoem::scene

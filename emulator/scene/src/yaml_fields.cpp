@@ -192,4 +192,13 @@ void read_field(MapReader& map, std::string_view key, Eigen::Vector3d& out, Cons
   if (auto node = map.get(key)) out = read_vector3(map.file(), *node, map.child_path(key), constraint);
 }
 
+void read_step(MapReader& map, std::string_view key, double& step_s) {
+  const auto node = map.get(key);
+  if (!node) return;
+  step_s = read_double(map.file(), *node, map.child_path(key), Constraint::positive);
+  if (step_s < kMinSceneStep_s || step_s > kMaxSceneStep_s) {
+    fail(map.file(), SceneErrorKind::out_of_range, *node, map.child_path(key), "must be in [1e-6, 0.1] s");
+  }
+}
+
 }  // namespace ldoem::scene::detail

@@ -89,4 +89,8 @@ void read_field(MapReader& map, std::string_view key, Unsigned& out, std::uint64
   }
 }
 
+// A `*_step_s` key: in [kMinSceneStep_s, kMaxSceneStep_s] (scene_loader.hpp), else a located
+// out_of_range error. Left as it is when absent.
+void read_step(MapReader& map, std::string_view key, double& step_s);
+
 }  // namespace ldoem::scene::detail

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -50,6 +51,11 @@ class ControlTarget {
   virtual CommandResult move_object(const nlohmann::json& arguments) { return no_world("move-object", arguments); }
   virtual CommandResult add_object(const nlohmann::json& arguments) { return no_world("add-object", arguments); }
   virtual CommandResult remove_object(const nlohmann::json& arguments) { return no_world("remove-object", arguments); }
+  // Issue 27: an add-object whose object needs slow work (a mesh import) may be answered later,
+  // off the loop's thread: the target returns true and, once done, sends reply_line(result)
+  // itself (ControlServer::defer/complete). False: handle_line calls add_object() at once.
+  using ReplyLine = std::function<std::string(const CommandResult&)>;
+  virtual bool add_object_later(const nlohmann::json& /*arguments*/, ReplyLine /*reply_line*/) { return false; }
   // quit: the daemon stops after this reply.
   virtual void quit() = 0;
   // The target of one scanner by its scene name, for the fault commands' "scanner" argument

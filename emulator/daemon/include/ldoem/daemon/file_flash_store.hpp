@@ -4,6 +4,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "ldoem/control/flash_image.hpp"
@@ -15,14 +16,19 @@ class FileFlashStore final : public control::FlashStore {
  public:
   static constexpr std::size_t kMaxImageBytes = 1 << 20;
 
-  explicit FileFlashStore(std::filesystem::path path) : path_(std::move(path)) {}
+  // A symlink is resolved here (issue 27 D12): saves write through it to its target, and the link
+  // stays a link. path() is the resolved path.
+  explicit FileFlashStore(std::filesystem::path path);
 
   // The image; empty when the file does not exist yet (first power-up). A file that exists but
-  // cannot be read (permissions, a folder, an I/O error) is an error naming the path and errno:
-  // the daemon refuses to start on it rather than overwrite it at exit (issue 11).
+  // cannot be read (permissions, a folder, a FIFO, an I/O error) or is empty is an error naming
+  // what was wrong: the daemon refuses to start on it rather than overwrite it (issue 11, 27).
   base::Expected<protocol::Bytes, std::string> read() const;
   // read(), with an unreadable file as empty (the FlashStore interface has no error channel).
   protocol::Bytes load() const override;
+  // Removes the temporary files a save killed before its rename left beside the flash
+  // (".NAME.XXXXXX", regular files only; issue 27 D13). Returns a line to log when it removed any.
+  std::optional<std::string> remove_stale_temporaries() const;
   // False on failure; last_error() then names the flash file, the step and the OS error.
   bool save(protocol::ByteView image) override;
 

@@ -53,6 +53,20 @@ inline constexpr std::size_t kMaxSceneObjects = 100'000;
 inline constexpr std::size_t kMaxSceneTriangles = 4'000'000;
 inline constexpr std::size_t kMaxSceneVertices = 12'000'000;
 inline constexpr std::uintmax_t kMaxSceneFileBytes = std::uintmax_t{64} << 20;
+// Every `*_step_s` (world.world_step_s, tilt_motor.world_step_s): finer than 1 us costs without
+// a use and stalls the loop (1e-9 s took over 100 s per LPT pulse, issue 27 D5); coarser than
+// 0.1 s lets a body fall through a floor in one step.
+inline constexpr double kMinSceneStep_s = 1e-6;
+inline constexpr double kMaxSceneStep_s = 0.1;
+// Issue 27 (D6): yaml-cpp's node tree costs about 470 bytes per node (2e6 nodes: 940 MB peak),
+// so the node count, not the file size, bounds the loader's memory: 1e6 nodes stay under half
+// the units' MemoryMax=1G. Counted on a streaming parse before the tree is built, as are the
+// objects and each waypoints list. 1e5 objects with a pose are 1.2e6 nodes, beyond it; a YAML
+// alias (`- *crate`) is one node.
+inline constexpr std::size_t kMaxSceneYamlNodes = 1'000'000;
+inline constexpr std::size_t kMaxWaypoints = 100'000;  // in one waypoints list
+// YAML aliases can repeat one waypoints list on every object: the total is bounded too.
+inline constexpr std::size_t kMaxSceneWaypoints = 1'000'000;
 
 // Reads and validates a scene file. Mesh paths are resolved relative to the file's folder.
 [[nodiscard]] SceneResult load_scene(const std::filesystem::path& path);
