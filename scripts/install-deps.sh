@@ -23,6 +23,8 @@ packages=(
   libcgal-dev libgmp-dev libmpfr-dev
   # the Wireshark dissector's tests
   tshark
+  # an independent reader of the PLY/PCD files (scripts/check-cloud-formats.sh)
+  python3-open3d
   # sd_notify for the systemd units, systemd-analyze to check them (scripts/check-units.sh)
   libsystemd-dev systemd
   # cpack -G DEB finds the package's library dependencies with dpkg-shlibdeps; help2man makes

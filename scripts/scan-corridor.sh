@@ -37,7 +37,7 @@ scene_scan_start_daemon scenes/corridor.yaml
 
 # The paper's settings (Koceski & Koceska 2013): 20 deg x 21.6 deg at 0.25 deg x 0.18 deg, 10 Hz.
 scene_scan_run --horizontal-apex 20 --horizontal-resolution 0.25 \
-  --vertical-apex 21.6 --vertical-resolution 0.18 --speed 10 \
+  --vertical-apex 21.6 --vertical-resolution 0.18 --speed 10 --title "scene corridor.yaml" \
   --out "$out_dir/corridor.ply" --preview "$out_dir/corridor.png" --fit
 
 # "wall distance 4.1801 m (3488 points); cylinder diameter 0.1949 m, length 0.9958 m (1490 points)"

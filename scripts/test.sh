@@ -11,8 +11,9 @@
 #   2b. the fleet (scripts/check-fleet.sh): the OCI image from the .deb (mmdebstrap, cached in
 #      ${LDOEM_CACHE}), 3 scanners and the hub under podman kube play, a scan through the hub from
 #      each, one killed and recovered, all removed;
-#   3. the `plain` tests on the plain build, then scripts/hostile.sh (the hostile inputs of
-#      issue 27 against the plain build's programs, docs/robustness.md);
+#   3. the PLY/PCD files read back by Open3D (scripts/check-cloud-formats.sh), the `plain`
+#      tests on the plain build, then scripts/hostile.sh (the hostile inputs of issue 27
+#      against the plain build's programs, docs/robustness.md);
 #   4. the vcan-labelled tests inside one User-Mode Linux boot with a real vcan0 (daemon on CAN,
 #      conformance, can-utils interop, robustness floods, the paper's scan end to end), then a
 #      60 s soak test (scripts/soak.sh) in the same boot, so CAN is in it;
@@ -74,6 +75,10 @@ scripts/check-deb-root.sh build/default
 
 step "the fleet: OCI image, 3 emulated scanners and the hub under podman (scripts/check-fleet.sh)"
 scripts/check-fleet.sh --build-dir build/default
+
+step "cloud files read back by Open3D (scripts/check-cloud-formats.sh)"
+cmake --build --preset default --target ldoem_write_sample_clouds
+scripts/check-cloud-formats.sh build/default
 
 step "tests that assert wall time, on the plain build (label plain)"
 ctest --preset default -L plain -j2

@@ -1,7 +1,9 @@
 // ldoem.scan(): ldoem-scan's acquisition (driver/scan acquire()) from Python, the same plan and
-// the same retries, returning the cloud as one (N, 5) float32 array with the PCD file's fields
-// x y z intensity ring (metres in the pivot frame of D5; ring = layer). The cloud is copied once,
-// straight into the array numpy owns.
+// the same retries, returning the cloud as one (N, 9) float32 array with the PCD file's fields
+// x y z intensity t range azimuth tilt ring (docs/point-clouds.md: metres in the pivot frame of
+// D5, seconds, radians, ring = layer), in the organised order (HEIGHT rows of WIDTH, row 0 the
+// highest tilt, column 0 the leftmost beam; NaN x/y/z/range without an echo). The cloud is
+// copied once, straight into the array numpy owns.
 #include <cmath>
 #include <optional>
 #include <string>
@@ -19,19 +21,23 @@
 namespace ldoem::python {
 namespace {
 
+constexpr py::ssize_t kScanFields = 9;
+
 py::array_t<float> cloud_array(const cloud::PointCloud& cloud) {
   const auto count = static_cast<py::ssize_t>(cloud.size());
-  py::array_t<float> out({count, py::ssize_t{5}});
+  py::array_t<float> out({count, kScanFields});
   float* row = out.mutable_data();
-  const auto positions = cloud.positions();
-  const auto intensities = cloud.intensities();
-  const auto rings = cloud.rings();
-  for (std::size_t index = 0; index < cloud.size(); ++index, row += 5) {
-    row[0] = positions[index].x_m;
-    row[1] = positions[index].y_m;
-    row[2] = positions[index].z_m;
-    row[3] = intensities.empty() ? 0.0F : intensities[index];
-    row[4] = rings.empty() ? 0.0F : static_cast<float>(rings[index]);
+  for (std::size_t index = 0; index < cloud.size(); ++index, row += kScanFields) {
+    const cloud::PointRecord point = cloud.record(index);
+    row[0] = point.position.x_m;
+    row[1] = point.position.y_m;
+    row[2] = point.position.z_m;
+    row[3] = point.intensity;
+    row[4] = point.time_s;
+    row[5] = point.range_m;
+    row[6] = point.azimuth_rad;
+    row[7] = point.tilt_rad;
+    row[8] = static_cast<float>(point.ring);
   }
   return out;
 }
@@ -95,6 +101,8 @@ py::object scan(const std::string& device, std::optional<std::string> lpt, doubl
   details["layers_done"] = result->layers_done;
   details["retries_used"] = result->retries_used;
   details["restarts"] = result->restarts;
+  details["width"] = result->cloud.layout().width;    // beams per layer
+  details["height"] = result->cloud.layout().height;  // layers
   details["status"] = status_dict(result->device.status);
   py::dict identification;
   for (const auto& entry : result->device.identification) identification[py::int_(entry.item)] = entry.text;
@@ -110,9 +118,10 @@ void bind_scan(py::module_& m) {
         py::arg("vertical_apex_deg") = 21.6, py::arg("vertical_resolution_deg") = 0.18, py::arg("speed_hz") = 10,
         py::arg("half_step") = false, py::arg("step_rate_hz") = 200.0, py::arg("timeout") = 5.0,
         py::arg("retries") = scan::kDefaultRetries, py::arg("info") = false,
-        "A 3D scan as ldoem-scan takes it: an (N, 5) float32 array x y z intensity ring (the PCD fields); "
-        "with info=True, (array, dict of layers_done, retries_used, restarts, status, identification)");
-  m.attr("SCAN_FIELDS") = py::make_tuple("x", "y", "z", "intensity", "ring");
+        "A 3D scan as ldoem-scan takes it: an (N, 9) float32 array x y z intensity t range azimuth tilt ring "
+        "(the PCD fields, organised: reshape to (height, width, 9)); with info=True, (array, dict of "
+        "layers_done, retries_used, restarts, status, identification, width, height)");
+  m.attr("SCAN_FIELDS") = py::make_tuple("x", "y", "z", "intensity", "t", "range", "azimuth", "tilt", "ring");
 }
 
 }  // namespace ldoem::python

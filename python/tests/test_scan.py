@@ -15,10 +15,17 @@ def corridor_scan():
 
 def test_the_paper_scan_is_9801_points_with_the_pcd_fields(corridor_scan):
     cloud, info = corridor_scan
-    assert ldoem.SCAN_FIELDS == ("x", "y", "z", "intensity", "ring")
-    assert cloud.shape == (81 * 121, 5) and cloud.dtype == np.float32
+    assert ldoem.SCAN_FIELDS == ("x", "y", "z", "intensity", "t", "range", "azimuth", "tilt", "ring")
+    assert cloud.shape == (81 * 121, 9) and cloud.dtype == np.float32
     assert info["layers_done"] == 121
-    assert set(np.unique(cloud[:, 4]).astype(int)) == set(range(121))
+    assert (info["width"], info["height"]) == (81, 121)
+    assert set(np.unique(cloud[:, 8]).astype(int)) == set(range(121))
+    # Organised as seen from the scanner: row 0 the highest tilt, column 0 the leftmost beam.
+    grid = cloud.reshape(121, 81, 9)
+    assert np.all(np.diff(grid[:, 0, 7]) < 0) and np.all(np.diff(grid[0, :, 6]) < 0)
+    echo = np.isfinite(grid[..., 5])
+    assert np.allclose(np.linalg.norm(grid[..., :3][echo], axis=1), grid[..., 5][echo], atol=1e-3)
+    assert grid[-1, -1, 4] == 0.0 and grid[0, 0, 4] > 20.0  # t: first beam .. last (s)
     assert len(info["identification"]) == 11
 
 

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <set>
 
@@ -81,6 +82,76 @@ TEST(CloudRender, RefusesWhatItCannotDraw) {
   options.width = 100000;
   EXPECT_EQ(render_cloud(plain, options).error(), RenderError::bad_size);
   EXPECT_EQ(write_render_png("/nonexistent-dir/x.png", plain).error(), RenderError::cannot_open_file);
+}
+
+}  // namespace
+}  // namespace ldoem::cloud
+
+namespace ldoem::cloud {
+namespace {
+
+std::array<int, 3> pixel_at(const image::RgbImage& picture, std::uint32_t x, std::uint32_t y) {
+  const std::size_t at = 3 * (std::size_t{y} * picture.width + x);
+  return {picture.pixels[at], picture.pixels[at + 1], picture.pixels[at + 2]};
+}
+
+// The legend's colour bar sits 16 px into the 190 px band on the right, from 74 px below the
+// top to 110 px above the bottom (intensity: room for the ceiling's swatch below it).
+TEST(CloudRenderLegend, ColourBarRunsFromRedAtTheTopToBlueAtTheBottom) {
+  RenderOptions options;
+  options.width = 800;
+  options.height = 500;
+  options.colour = RenderColour::intensity;
+  options.title = "legend test";
+  const auto picture = render_cloud(floor_and_post(), options);
+  ASSERT_TRUE(picture);
+  const std::uint32_t bar_x = 800 - 190 + 16 + 13;
+  EXPECT_EQ(pixel_at(*picture, bar_x, 74), (std::array<int, 3>{242, 63, 38}));
+  EXPECT_EQ(pixel_at(*picture, bar_x, 500 - 110), (std::array<int, 3>{45, 76, 242}));
+  // The ceiling's swatch below the bar, and text in the title band.
+  EXPECT_EQ(pixel_at(*picture, bar_x, 500 - 110 + 38), (std::array<int, 3>{245, 110, 245}));
+  std::size_t text_pixels = 0;
+  for (std::uint32_t y = 0; y < 34; ++y) {
+    for (std::uint32_t x = 0; x < 400; ++x) text_pixels += pixel_at(*picture, x, y) == std::array<int, 3>{225, 228, 232};
+  }
+  EXPECT_GT(text_pixels, 100u);
+}
+
+TEST(CloudRenderLegend, EchoAtTheCeilingHasItsOwnColourAndTheRestSpreads) {
+  // Like the corridor: most echoes at 65535, the rest spread over two decades.
+  PointCloud cloud(CloudChannels{.intensity = true});
+  for (int i = 0; i < 100; ++i) {
+    for (int j = -50; j < 50; ++j) {
+      const float echo = i < 70 ? 65535.0F : static_cast<float>(1000.0 * std::pow(10.0, (i - 70) / 15.0));
+      cloud.push_back({Point3f{2.0F + 0.08F * i, 0.08F * j, 0.0F}, echo, 0, {}});
+    }
+  }
+  RenderOptions options;
+  options.width = 800;
+  options.height = 500;
+  options.colour = RenderColour::intensity;
+  const auto picture = render_cloud(cloud, options);
+  ASSERT_TRUE(picture);
+  std::size_t magenta = 0;
+  std::set<int> hues;
+  for (std::uint32_t y = 34; y < 500; ++y) {
+    for (std::uint32_t x = 0; x < 800 - 190; ++x) {
+      const auto [r, g, b] = pixel_at(*picture, x, y);
+      magenta += r > 150 && b > 150 && g < r * 0.6;
+      if (!(r > 150 && b > 150 && g < r * 0.6) && (r + g + b) > 200) hues.insert((r / 32) * 64 + (g / 32) * 8 + b / 32);
+    }
+  }
+  EXPECT_GT(magenta, 5000u) << "echoes at the ceiling drawn in the ceiling's colour";
+  EXPECT_GT(hues.size(), 12u) << "the echoes below the ceiling spread over the colour map";
+}
+
+TEST(CloudRenderLegend, SmallPicturesGetNoLabels) {
+  RenderOptions options;
+  options.width = 200;
+  options.height = 150;
+  const auto picture = render_cloud(floor_and_post(), options);
+  ASSERT_TRUE(picture);
+  EXPECT_NE(pixel_at(*picture, 200 - 190 + 29, 74), (std::array<int, 3>{242, 63, 38}));
 }
 
 }  // namespace

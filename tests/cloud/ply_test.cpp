@@ -68,7 +68,7 @@ TEST(PlyEncode, AsciiHeaderAndBody_MatchHandWrittenFile) {
       "property float y\n"
       "property float z\n"
       "property float intensity\n"
-      "property ushort ring\n"
+      "property uint16 ring\n"
       "end_header\n"
       "1 -2.5 0.125 100 0\n"
       "0.1 3.3333333 -7.75 65535 1\n"

@@ -47,26 +47,37 @@ TEST(Acquire, ScriptedDevice_CloudMatchesTheScriptedRanges) {
   ASSERT_EQ(layers, 11u);
   EXPECT_EQ(progress.size(), layers);
   EXPECT_EQ(scan->layers_done, layers);
-  ASSERT_EQ(scan->cloud.size(), layers * (81u - 1u));  // beam 7 has no echo
-  std::size_t index = 0;
+  // Organised as seen from the scanner: row 0 = the highest layer, column 0 = the leftmost beam
+  // (the largest head angle); beam 7 has no echo and is a NaN point.
+  ASSERT_EQ(scan->cloud.size(), layers * 81u);
+  ASSERT_EQ(scan->cloud.organised(), (cloud::OrganisedSize{81u, layers}));
   for (std::uint32_t layer = 0; layer < layers; ++layer) {
     const std::int64_t half_steps = -20 + 4 * static_cast<std::int64_t>(layer);  // -0.9 deg .. +0.9 deg
     const double phi = half_steps * 0.045 * M_PI / 180.0;
     for (std::uint32_t beam = 0; beam < 81; ++beam) {
+      const std::uint32_t row = layers - 1 - layer;
+      const std::uint32_t column = 80 - beam;
+      const cloud::PointRecord point = scan->cloud.record(std::size_t{row} * 81 + column);
+      const double theta = (-10.0 + 0.25 * beam) * M_PI / 180.0;
+      EXPECT_EQ(point.ring, layer);
+      EXPECT_EQ(point.image_position, (cloud::ImagePosition{row, column}));
+      EXPECT_NEAR(point.azimuth_rad, theta, 1e-6);
+      EXPECT_NEAR(point.tilt_rad, phi, 1e-6);
       if (beam == 7) {
+        EXPECT_TRUE(std::isnan(point.position.x_m) && std::isnan(point.range_m)) << layer;
         continue;
       }
       const double range_m = range_without_echo_on_beam_7(beam, half_steps) / 256.0;
-      const double theta = (-10.0 + 0.25 * beam) * M_PI / 180.0;
-      const cloud::PointRecord point = scan->cloud.record(index++);
+      EXPECT_NEAR(point.range_m, range_m, 1e-6);
       EXPECT_NEAR(point.position.x_m, range_m * std::cos(theta) * std::cos(phi), 1e-5) << layer << "/" << beam;
       EXPECT_NEAR(point.position.y_m, range_m * std::sin(theta), 1e-5) << layer << "/" << beam;
       EXPECT_NEAR(point.position.z_m, range_m * std::cos(theta) * std::sin(phi), 1e-5) << layer << "/" << beam;
-      EXPECT_EQ(point.ring, layer);
-      EXPECT_EQ(point.image_position, (cloud::ImagePosition{layer, beam}));
       EXPECT_FLOAT_EQ(point.intensity, 100.0F + beam);
     }
   }
+  // t: the scripted LD sends TSTART = TEND = 0, so every beam is at 0 (scan_grid_test.cpp
+  // checks the timing).
+  EXPECT_EQ(scan->cloud.record(0).time_s, 0.0F);
   // The scan ends in IDLE with the plate home.
   EXPECT_EQ(bench.ld.mode(), protocol::SensorMode::idle);
   EXPECT_EQ(bench.port->position_half_steps(), 0);

@@ -135,14 +135,14 @@ TEST(ScanViaHub, ScriptedLdOverTcp_CloudMatchesTheScriptedRanges) {
   ASSERT_EQ(plan.layers.layer_count, 9u);
   ASSERT_EQ(scan->cloud.size(), 9u * 21u);
   EXPECT_EQ(scan->device.identification.size(), driver::kIdentificationItems.size());
-  std::size_t index = 0;
   for (std::uint32_t layer = 0; layer < 9; ++layer) {
     const std::int64_t half_steps = -8 + 2 * static_cast<std::int64_t>(layer);
     const double phi = half_steps * 0.045 * M_PI / 180.0;
     for (std::uint32_t beam = 0; beam < 21; ++beam) {
       const double range_m = ranges(beam, half_steps) / 256.0;
       const double theta = (-5.0 + 0.5 * beam) * M_PI / 180.0;
-      const cloud::PointRecord point = scan->cloud.record(index++);
+      // Organised as seen from the scanner: row 0 the highest layer, column 0 the leftmost beam.
+      const cloud::PointRecord point = scan->cloud.record(std::size_t{8 - layer} * 21 + (20 - beam));
       EXPECT_NEAR(point.position.x_m, range_m * std::cos(theta) * std::cos(phi), 1e-5);
       EXPECT_NEAR(point.position.y_m, range_m * std::sin(theta), 1e-5);
       EXPECT_NEAR(point.position.z_m, range_m * std::cos(theta) * std::sin(phi), 1e-5);

@@ -16,16 +16,35 @@ namespace {
 using detail::FieldSpec;
 using detail::ScalarType;
 
+// Open3D's tensor reader (o3d.t.io.read_point_cloud) keeps a property only when its type is
+// one it maps to a tensor dtype: it drops "ushort" (0.16) but keeps the sized name "uint16",
+// which PCL's reader and CloudCompare take too.
+constexpr std::string_view kRingType = "uint16";
+
 std::string ply_header(const PointCloud& cloud, PlyEncoding encoding, std::string_view comment) {
   std::string header = "ply\n";
   header += encoding == PlyEncoding::ascii ? "format ascii 1.0\n" : "format binary_little_endian 1.0\n";
   header += "comment ";
   header += comment;
-  header += "\nelement vertex ";
+  header += '\n';
+  // PCL's convention for an organised cloud (its PLY writer and reader): the grid's size as
+  // obj_info lines; readers that do not know them skip obj_info.
+  if (const std::optional<OrganisedSize> organised = cloud.organised()) {
+    header += "obj_info num_cols ";
+    detail::append_uint_text(header, organised->width);
+    header += "\nobj_info num_rows ";
+    detail::append_uint_text(header, organised->height);
+    header += '\n';
+  }
+  header += "element vertex ";
   detail::append_uint_text(header, cloud.size());
-  header += "\nproperty float x\nproperty float y\nproperty float z\n";
-  if (cloud.channels().intensity) header += "property float intensity\n";
-  if (cloud.channels().ring) header += "property ushort ring\n";
+  header += '\n';
+  for (const detail::FieldDeclaration& field : detail::written_fields(cloud.channels())) {
+    header += "property ";
+    header += field.is_ring ? kRingType : std::string_view("float");
+    (header += ' ') += field.name;
+    header += '\n';
+  }
   header += "end_header\n";
   return header;
 }
@@ -51,6 +70,8 @@ struct PlyElement {
 
 struct PlyHeader {
   PlyEncoding encoding = PlyEncoding::ascii;
+  std::optional<std::uint64_t> columns;  // obj_info num_cols / num_rows (PCL's organised size)
+  std::optional<std::uint64_t> rows;
   std::vector<PlyElement> elements;
   std::size_t body_offset = 0;
 };
@@ -116,7 +137,15 @@ Expected<PlyHeader, CloudIoError> parse_ply_header(std::string_view file_bytes) 
     detail::TokenCursor tokens(*line);
     const std::optional<std::string_view> keyword = tokens.next();
     if (!keyword) return Unexpected(CloudIoError::malformed_header);
-    if (*keyword == "comment" || *keyword == "obj_info") continue;
+    if (*keyword == "comment") continue;
+    if (*keyword == "obj_info") {
+      const std::optional<std::string_view> key = tokens.next();
+      const std::optional<std::string_view> value = tokens.next();
+      const std::optional<std::uint64_t> number = value ? detail::parse_unsigned(*value) : std::nullopt;
+      if (key == std::optional<std::string_view>("num_cols")) header.columns = number;
+      if (key == std::optional<std::string_view>("num_rows")) header.rows = number;
+      continue;
+    }
     if (*keyword == "end_header") {
       if (tokens.next()) return Unexpected(CloudIoError::malformed_header);
       break;
@@ -182,10 +211,18 @@ Expected<PointCloud, CloudIoError> decode_ply(std::string_view file_bytes) {
       continue;
     }
     if (element.has_list) return Unexpected(CloudIoError::unsupported_layout);
-    if (header->encoding == PlyEncoding::ascii) {
-      return detail::read_ascii_records(body, element.properties, element.count);
+    Expected<PointCloud, CloudIoError> cloud =
+        header->encoding == PlyEncoding::ascii ? detail::read_ascii_records(body, element.properties, element.count)
+                                               : detail::read_binary_records(body, element.properties, element.count);
+    // An organised size that does not match the count is ignored, as PCL does with a grid of one
+    // row: the points are still all there.
+    if (cloud && header->columns && header->rows && *header->rows > 1 &&
+        *header->columns <= std::numeric_limits<std::uint32_t>::max() &&
+        *header->rows <= std::numeric_limits<std::uint32_t>::max()) {
+      (void)cloud->set_organised(OrganisedSize{static_cast<std::uint32_t>(*header->columns),
+                                               static_cast<std::uint32_t>(*header->rows)});
     }
-    return detail::read_binary_records(body, element.properties, element.count);
+    return cloud;
   }
   return Unexpected(CloudIoError::missing_field);
 }

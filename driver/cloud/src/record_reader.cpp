@@ -1,10 +1,14 @@
 #include "record_reader.hpp"
 
 #include <algorithm>
+#include <array>
+#include <string_view>
 #include <optional>
 
 namespace ldoem::cloud::detail {
 namespace {
+
+constexpr std::array<std::string_view, 4> kBeamFields{"t", "range", "azimuth", "tilt"};
 
 // Where the channels ldoem knows sit in a record: index into the flat value list.
 struct ChannelSlots {
@@ -13,6 +17,8 @@ struct ChannelSlots {
   std::size_t z = 0;
   std::optional<std::size_t> intensity;
   std::optional<std::size_t> ring;
+  // t, range, azimuth, tilt: the beam channel, only when all four are there.
+  std::array<std::optional<std::size_t>, 4> beam;
   std::size_t values_per_record = 0;
 };
 
@@ -29,6 +35,9 @@ std::optional<ChannelSlots> locate_channels(const std::vector<FieldSpec>& fields
       if (field.name == "z") z = slot;
       if (field.name == "intensity") slots.intensity = slot;
       if (field.name == "ring") slots.ring = slot;
+      if (const std::optional<std::size_t> beam_field = find_name(kBeamFields, field.name)) {
+        slots.beam[*beam_field] = slot;
+      }
     }
     slots.values_per_record += field.count;
   }
@@ -39,10 +48,15 @@ std::optional<ChannelSlots> locate_channels(const std::vector<FieldSpec>& fields
   return slots;
 }
 
+bool has_beam(const ChannelSlots& slots) {
+  return std::all_of(slots.beam.begin(), slots.beam.end(), [](const auto& slot) { return slot.has_value(); });
+}
+
 PointCloud make_cloud(const ChannelSlots& slots) {
   CloudChannels channels;
   channels.intensity = slots.intensity.has_value();
   channels.ring = slots.ring.has_value();
+  channels.beam = has_beam(slots);
   return PointCloud(channels);
 }
 
@@ -52,6 +66,12 @@ PointRecord record_from_values(const ChannelSlots& slots, const std::vector<doub
                             static_cast<float>(values[slots.z])};
   if (slots.intensity) record.intensity = static_cast<float>(values[*slots.intensity]);
   if (slots.ring) record.ring = to_ring(values[*slots.ring]);
+  if (has_beam(slots)) {
+    record.time_s = static_cast<float>(values[*slots.beam[0]]);
+    record.range_m = static_cast<float>(values[*slots.beam[1]]);
+    record.azimuth_rad = static_cast<float>(values[*slots.beam[2]]);
+    record.tilt_rad = static_cast<float>(values[*slots.beam[3]]);
+  }
   return record;
 }
 

@@ -1,4 +1,5 @@
 // ldoem-scan: parse, plan, open the device, acquire, write (docs/scan.md).
+#include <cstdio>
 #include <iostream>
 
 #include "ldoem/base/command_line.hpp"
@@ -42,6 +43,21 @@ std::vector<std::filesystem::path> output_paths(const scan::ScanOptions& options
   return paths;
 }
 
+// The render's title line: what the user named it (the scene), the scanner, the settings.
+std::string render_title(const scan::ScanOptions& options) {
+  char settings[160];
+  std::snprintf(settings, sizeof settings, "%.4g x %.4g deg at %.4g x %.4g deg, %u Hz", options.horizontal_apex_deg,
+                options.vertical_apex_deg, options.horizontal_resolution_deg, options.vertical_resolution_deg,
+                static_cast<unsigned>(options.speed_hz));
+  std::string title = options.title.empty() ? std::string() : options.title + "  |  ";
+  // The transport, not the whole endpoint: a TCP port is often ephemeral, and the same scan must
+  // give the same picture.
+  const std::string endpoint = options.device ? driver::format_endpoint(*options.device) : std::string();
+  title += options.device ? "LD-OEM over " + endpoint.substr(0, endpoint.find(':'))
+                          : "LD-OEM " + options.hub_device + " via hub";
+  return title + "  |  " + settings;
+}
+
 // Encodes every output in memory first, so that a cloud that cannot be drawn writes nothing.
 base::Expected<std::vector<scan::OutputFile>, std::string> encode_outputs(const scan::ScanOptions& options,
                                                                          const scan::Scan& result) {
@@ -61,6 +77,7 @@ base::Expected<std::vector<scan::OutputFile>, std::string> encode_outputs(const 
   if (options.render_path) {
     cloud::RenderOptions render;
     render.colour = options.render_colour;
+    render.title = render_title(options);
     auto picture = cloud::encode_render_png(result.cloud, render);
     if (!picture) {
       return base::Unexpected(*options.render_path + ": " + std::string(cloud::to_string(picture.error())));

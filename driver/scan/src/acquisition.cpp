@@ -43,6 +43,7 @@ class Run {
     if (auto home = go_home(); !home) {
       return Unexpected<AcquisitionError>({AcquisitionFailure::device_error, "MOVEMOTOR home", home.error(), {}});
     }
+    scan_.cloud = grid_.build();
     return std::move(scan_);
   }
 
@@ -191,15 +192,7 @@ class Run {
 
   // The tilt is the commanded position of the layer (the stepper has no encoder, D8).
   void add_layer(const protocol::Profile& profile, std::uint32_t layer) {
-    const double tilt_deg = plan_.layers.layer_tilt_deg(layer);
-    for (const BeamPoint& point : profile_to_points(profile, tilt_deg, plan_.optical_offset_m)) {
-      cloud::PointRecord record;
-      record.position = point.position;
-      record.intensity = point.echo;
-      record.ring = static_cast<std::uint16_t>(layer);
-      record.image_position = {layer, point.beam};
-      scan_.cloud.push_back(record);
-    }
+    grid_.add_layer(layer, plan_.layers.layer_tilt_deg(layer), profile, plan_.optical_offset_m);
   }
 
   base::Expected<driver::TiltPosition, driver::DriverError> move_to(std::int64_t target_half_steps) {
@@ -235,6 +228,7 @@ class Run {
   const AcquisitionPlan& plan_;
   const AcquisitionHooks& hooks_;
   Scan scan_;
+  ScanGrid grid_;
   std::int64_t position_half_steps_ = 0;  // commanded, relative to where the scan started (level)
 };
 

@@ -134,6 +134,12 @@ const std::map<std::string_view, Setter>& setters() {
          o.render_path = std::string(v);
          return std::nullopt;
        }},
+      {"--title",
+       [](ScanOptions& o, std::string_view v) -> std::optional<std::string> {
+         if (v.find_first_of("\r\n") != std::string_view::npos) return "must be one line";
+         o.title = std::string(v);
+         return std::nullopt;
+       }},
       {"--render-colour",
        [](ScanOptions& o, std::string_view v) -> std::optional<std::string> {
          if (v != "height" && v != "intensity") {
@@ -344,10 +350,11 @@ Geometry:
 Output:
   --out FILE                   .ply or .pcd (required)
   --format ascii|binary        (default binary)
-  --preview FILE.png           range image, one row per layer
+  --preview FILE.png           range image as seen from the scanner (top row = highest layer)
   --render FILE.png            perspective view of the cloud, 1600x1000, from behind and above
                                the scanner
   --render-colour height|intensity   what the render's colours show (default height)
+  --title TEXT                 the render's title (e.g. the scene); scanner and settings follow
   --fit                        fit the wall plane and a cylinder; print diameter, length and
                                wall distance
   --timeout SECONDS            wait for each profile (default 5)

@@ -1,5 +1,8 @@
 // A picture of a point cloud a person can read: a perspective view, points coloured by height
-// (z) or by intensity, nearer points drawn over farther ones, on a dark background. The default
+// (z, metres) or by intensity (ECHO on a log scale stretched over the central 98 % of the
+// echoes; echoes at the 65535 ceiling in a colour of their own), nearer points drawn over
+// farther ones, on a dark background, with a title, the axes in metres, a scale bar and a
+// legend. The default
 // viewpoint stands behind and above the scanner's origin, looking at the middle of the cloud, far
 // enough back that the central 98 % of the points fit. Deterministic: the same cloud gives the
 // same pixels.
@@ -34,6 +37,12 @@ struct RenderOptions {
   std::uint32_t height = 1000;
   RenderColour colour = RenderColour::height;
   double horizontal_fov_deg = 70.0;
+  // The line across the top (scene, scanner, settings); one line, drawn with the render's own
+  // 5x7 font (ASCII; other characters show as '?').
+  std::string title;
+  // Title, the scanner frame's axes ticked in metres, a scale bar, the colour legend with its
+  // unit. Pictures under 480 x 300 get none of them whatever this says.
+  bool annotate = true;
 };
 
 [[nodiscard]] base::Expected<image::RgbImage, RenderError> render_cloud(const PointCloud& cloud,

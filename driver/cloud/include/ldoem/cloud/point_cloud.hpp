@@ -31,6 +31,10 @@ struct CloudChannels {
   bool intensity = false;       // float, the ECHO value (D6) or any reflectance measure
   bool ring = false;            // uint16, the layer a point belongs to (PLY/PCD field "ring")
   bool image_position = false;  // row/column in the range image (not written to PLY/PCD)
+  // float t, range, azimuth, tilt: when the beam was measured (s since the scan's first beam),
+  // its measured range (m, NaN without an echo) and its direction (rad, D5's head angle and
+  // tilt). PLY/PCD fields "t", "range", "azimuth", "tilt".
+  bool beam = false;
   friend bool operator==(const CloudChannels&, const CloudChannels&) = default;
 };
 
@@ -41,7 +45,14 @@ struct PointRecord {
   float intensity = 0.0F;
   std::uint16_t ring = 0;
   ImagePosition image_position;
-  friend bool operator==(const PointRecord&, const PointRecord&) = default;
+  // The beam channel (NaN range without an echo).
+  float time_s = 0.0F;
+  float range_m = 0.0F;
+  float azimuth_rad = 0.0F;
+  float tilt_rad = 0.0F;
+  // Not defaulted: NaN fields (a point without an echo) compare equal to NaN here, as a round
+  // trip through a file must keep them.
+  friend bool operator==(const PointRecord& a, const PointRecord& b);
 };
 
 // Organised layout in the PCD sense: height rows of width points, row-major. Points without an
@@ -68,6 +79,11 @@ class PointCloud {
   // Each of these is empty when the cloud does not carry that channel, else size() long.
   [[nodiscard]] std::span<const float> intensities() const { return intensities_; }
   [[nodiscard]] std::span<const std::uint16_t> rings() const { return rings_; }
+  // Empty without the beam channel; else size() long each.
+  [[nodiscard]] std::span<const float> times() const { return times_; }
+  [[nodiscard]] std::span<const float> ranges() const { return ranges_; }
+  [[nodiscard]] std::span<const float> azimuths() const { return azimuths_; }
+  [[nodiscard]] std::span<const float> tilts() const { return tilts_; }
   [[nodiscard]] std::span<const ImagePosition> image_positions() const { return image_positions_; }
 
   // Precondition: index < size().
@@ -85,6 +101,10 @@ class PointCloud {
   std::vector<Point3f> positions_;
   std::vector<float> intensities_;
   std::vector<std::uint16_t> rings_;
+  std::vector<float> times_;
+  std::vector<float> ranges_;
+  std::vector<float> azimuths_;
+  std::vector<float> tilts_;
   std::vector<ImagePosition> image_positions_;
   std::optional<OrganisedSize> organised_;
 };

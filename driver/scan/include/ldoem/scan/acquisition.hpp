@@ -20,6 +20,7 @@
 
 #include "ldoem/cloud/point_cloud.hpp"
 #include "ldoem/driver/device.hpp"
+#include "ldoem/scan/scan_grid.hpp"
 #include "ldoem/scan/profile_points.hpp"
 #include "ldoem/scan/scan_plan.hpp"
 
@@ -50,7 +51,8 @@ struct AcquisitionHooks {
 };
 
 struct Scan {
-  cloud::PointCloud cloud{cloud::CloudChannels{true, true, true}};  // echo, ring = layer, image position
+  // Organised as ScanGrid lays it out (scan_grid.hpp): NaN points where a beam had no echo.
+  cloud::PointCloud cloud{kScanChannels};
   driver::DeviceInfo device;
   std::uint32_t layers_done = 0;
   std::uint32_t retries_used = 0;  // over the whole scan

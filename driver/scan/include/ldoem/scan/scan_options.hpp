@@ -41,7 +41,8 @@ struct ScanOptions {
   std::string out_path;
   CloudEncoding encoding = CloudEncoding::binary;
   std::optional<std::string> preview_path;
-  std::optional<std::string> render_path;  // perspective picture of the cloud (cloud_render.hpp)
+  std::optional<std::string> render_path;
+  std::string title;  // --title: first part of the render's title line  // perspective picture of the cloud (cloud_render.hpp)
   cloud::RenderColour render_colour = cloud::RenderColour::height;
   bool fit = false;
   std::chrono::milliseconds timeout{5000};
