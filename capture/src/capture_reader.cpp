@@ -51,7 +51,7 @@ base::Expected<CapturePackets, std::string> read_with_libpcap(const std::filesys
     return base::Unexpected(path.string() + ": link type " + (name ? name : std::to_string(dlt)) +
                       " carries no LD-OEM transport (want Ethernet, IPv4, Linux cooked, loopback or SocketCAN)");
   }
-  CapturePackets result{CaptureFormat::pcap, {}};
+  CapturePackets result{CaptureFormat::pcap, {}, {}};
   pcap_pkthdr* header = nullptr;
   const u_char* data = nullptr;
   int status = 0;
@@ -88,12 +88,21 @@ base::Expected<CapturePackets, std::string> read_capture_packets(const std::file
   const protocol::Bytes bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (protocol::looks_like_pcapng(bytes)) {
     auto packets = protocol::decode_pcapng(bytes);
+    std::string warning;
+    if (!packets && packets.error().error == protocol::CaptureFormatError::truncated && packets.error().offset > 0) {
+      // Issue 27 D9: a recording cut off (a full disk, a crash) keeps its whole blocks; like
+      // tshark, read those and say where the file was cut.
+      const std::size_t whole = packets.error().offset;
+      packets = protocol::decode_pcapng(protocol::ByteView(bytes.data(), whole));
+      warning = path.string() + ": the file ends inside a block at byte " + std::to_string(whole) + " (of " +
+                std::to_string(bytes.size()) + "): it was cut short; read its whole blocks only";
+    }
     if (!packets) {
       // One link type only (tcpdump, dumpcap): libpcap reads that too; ours said why it failed.
       return base::Unexpected(path.string() + ": block at byte " + std::to_string(packets.error().offset) + ": " +
                         std::string(protocol::describe(packets.error().error)));
     }
-    CapturePackets result{CaptureFormat::pcapng, {}};
+    CapturePackets result{CaptureFormat::pcapng, {}, std::move(warning)};
     result.packets.reserve(packets->size());
     for (const auto& packet : *packets) {
       result.packets.push_back({base::SimTime(static_cast<std::int64_t>(packet.time_ns)),
@@ -108,7 +117,7 @@ base::Expected<CapturePackets, std::string> read_capture_packets(const std::file
       return base::Unexpected(path.string() + ":" + std::to_string(entries.error().line) + ": " +
                         std::string(protocol::describe(entries.error().error)));
     }
-    CapturePackets result{CaptureFormat::candump, {}};
+    CapturePackets result{CaptureFormat::candump, {}, {}};
     for (const auto& entry : *entries) {
       protocol::LinkPayload payload = std::monostate{};
       if (!entry.extended_id && !entry.remote) payload = entry.frame;
@@ -123,7 +132,8 @@ base::Expected<CaptureConversation, std::string> read_capture_conversation(const
                                                                      protocol::ConversationConfig config) {
   auto packets = read_capture_packets(path);
   if (!packets) return base::Unexpected(packets.error());
-  return CaptureConversation{packets->format, protocol::extract_conversation(packets->packets, config)};
+  return CaptureConversation{packets->format, protocol::extract_conversation(packets->packets, config),
+                             std::move(packets->warning)};
 }
 
 }  // namespace ldoem::capture

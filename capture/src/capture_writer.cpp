@@ -8,6 +8,7 @@
 #include <cstring>
 #include <functional>
 #include <system_error>
+#include <utility>
 
 #include "ldoem/base/device_constants.hpp"
 #include "ldoem/protocol/pcapng.hpp"
@@ -39,6 +40,7 @@ CaptureWriter::CaptureWriter(CaptureWriterOptions options) : options_(std::move(
 
 CaptureWriter::~CaptureWriter() {
   if (fd_ >= 0) ::close(fd_);
+  (void)finish_shifting();
 }
 
 base::Expected<std::unique_ptr<CaptureWriter>, std::string> CaptureWriter::open(CaptureWriterOptions options) {
@@ -64,23 +66,42 @@ std::string CaptureWriter::start_file() {
   return write_all(header);
 }
 
+// Issue 27 D4: the caller's thread (the daemon's event loop) does O(1) work per rotation: it
+// moves FILE aside (FILE.rotating) and starts a new FILE. A worker thread shifts the older files
+// (FILE.K-2 -> FILE.K-1, ..., FILE.rotating -> FILE.1), up to max_files - 1 renames. The next
+// rotation first waits for the previous worker, so the files never get out of order.
 std::string CaptureWriter::rotate() {
   ::close(fd_);
   fd_ = -1;
+  std::string shift_error = finish_shifting();
   std::error_code ignored;
   if (options_.max_files == 1) {
     std::filesystem::remove(options_.path, ignored);
   } else {
-    std::filesystem::remove(numbered(options_.path, options_.max_files - 1), ignored);
-    for (unsigned index = options_.max_files - 1; index > 1; --index) {
-      std::filesystem::rename(numbered(options_.path, index - 1), numbered(options_.path, index), ignored);
-    }
+    const std::filesystem::path aside = options_.path.string() + ".rotating";
     std::error_code error;
-    std::filesystem::rename(options_.path, numbered(options_.path, 1), error);
+    std::filesystem::rename(options_.path, aside, error);
     if (error) return "rename " + options_.path.string() + ": " + error.message();
+    shifter_ = std::thread([this, aside] {
+      std::error_code shift_ignored;
+      std::filesystem::remove(numbered(options_.path, options_.max_files - 1), shift_ignored);
+      for (unsigned index = options_.max_files - 1; index > 1; --index) {
+        std::filesystem::rename(numbered(options_.path, index - 1), numbered(options_.path, index), shift_ignored);
+      }
+      std::error_code last;
+      std::filesystem::rename(aside, numbered(options_.path, 1), last);
+      if (last) shift_error_ = "rename " + aside.string() + ": " + last.message();
+    });
   }
   ++counters_.rotations;
-  return start_file();
+  std::string error = start_file();
+  return error.empty() ? shift_error : error;
+}
+
+std::string CaptureWriter::finish_shifting() {
+  if (!shifter_.joinable()) return {};
+  shifter_.join();
+  return std::exchange(shift_error_, std::string());
 }
 
 std::string CaptureWriter::commit(const std::function<Bytes()>& build) {
@@ -95,6 +116,9 @@ std::string CaptureWriter::commit(const std::function<Bytes()>& build) {
   return write_all(blocks);
 }
 
+// Issue 27 D9: a record is written whole or not at all. On a write error (a full disk) the
+// file is cut back to where the record began, so that it ends at a block boundary and stays
+// readable; the error is counted and returned (the recording tap reports it once and stops).
 std::string CaptureWriter::write_all(const Bytes& blocks) {
   if (fd_ < 0) return "write " + options_.path.string() + ": capture file is not open";
   std::size_t done = 0;
@@ -102,7 +126,13 @@ std::string CaptureWriter::write_all(const Bytes& blocks) {
     const ssize_t written = ::write(fd_, blocks.data() + done, blocks.size() - done);
     if (written < 0) {
       if (errno == EINTR) continue;
-      return errno_text("write", options_.path);
+      std::string error = errno_text("write", options_.path);
+      ++counters_.write_errors;
+      if (done > 0 && ::ftruncate(fd_, static_cast<off_t>(counters_.bytes)) != 0) {
+        error += "; cutting it back to its last whole block: " + std::string(std::strerror(errno));
+      }
+      ::lseek(fd_, static_cast<off_t>(counters_.bytes), SEEK_SET);
+      return error;
     }
     done += static_cast<std::size_t>(written);
   }

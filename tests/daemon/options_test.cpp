@@ -149,6 +149,9 @@ TEST(Options, BadCommandLines_AreUsageErrorsNamingTheOption) {
       {{"--scene", "s", "--time-scale", "1e-300"}, "--time-scale: must be a number from 1e-6 to 1e6"},
       {{"--scene", "s", "--time-scale", "2e6"}, "--time-scale: must be a number from 1e-6 to 1e6"},
       {{"--scene", "s", "--record-max-mb", "1e300"}, "--record-max-mb: must be a number > 0 and at most 1048576"},
+      // Issue 27 D4: 10 million files made every rotation rename 10 million slots.
+      {{"--scene", "s", "--record-files", "1001"}, "--record-files: must be an integer in [1, 1000]"},
+      {{"--scene", "s", "--record-files", "4294967295"}, "--record-files: must be an integer in [1, 1000]"},
       {{"--scene", "s", "--no-flash=1"}, "--no-flash: takes no value"},
       {{"--scene", "s", "--inter-byte-timeout", "-1"}, "--inter-byte-timeout: must be a number of milliseconds"},
       {{"--scene", "s", "--tcp-idle-timeout", "1e300"}, "--tcp-idle-timeout: must be a number of seconds"},

@@ -128,6 +128,23 @@ TEST(SceneErrorMessage, SyntaxError_HasPosition) {
   EXPECT_EQ(result.error().message().rfind("s.yaml:", 0), 0u);
 }
 
+// Issue 27 D14: an identification text longer than 5814 bytes would make a reply over the
+// 5816-byte payload limit; 5814 itself fits exactly.
+TEST(SceneErrorMessage, IdentificationTextOverTheTelegramLimit_IsOutOfRange) {
+  const std::string objects = "objects:\n  - box: {size_m: [1, 1, 1]}\n";
+  const auto too_long = load_scene_from_string(
+      "scanner:\n  identification:\n    firmware_name: " + std::string(5815, 'F') + "\n" + objects, "s.yaml");
+  ASSERT_FALSE(too_long);
+  EXPECT_EQ(too_long.error().kind, SceneErrorKind::out_of_range);
+  EXPECT_NE(too_long.error().message().find("scanner.identification.firmware_name: is 5815 bytes long; at most 5814"),
+            std::string::npos)
+      << too_long.error().message();
+  const auto longest = load_scene_from_string(
+      "scanner:\n  identification:\n    firmware_name: " + std::string(5814, 'F') + "\n" + objects, "s.yaml");
+  ASSERT_TRUE(longest) << longest.error().message();
+  EXPECT_EQ(longest->scanner.identification.firmware_name.size(), 5814u);
+}
+
 TEST(SceneErrorKinds, EveryKind_HasAName) {
   for (int k = 0; k <= static_cast<int>(SceneErrorKind::internal); ++k) {
     EXPECT_FALSE(to_string(static_cast<SceneErrorKind>(k)).empty());

@@ -27,6 +27,7 @@ FaultWiring::FaultWiring(DeviceInstance& device, endpoints::Scheduler& scheduler
 
 FaultWiring::~FaultWiring() {
   if (deadline_) scheduler_.cancel(*deadline_);
+  while (!delayed_.empty()) forget_delayed(delayed_.begin()->first);
   device_.set_fault_hook(nullptr);
   device_.set_connection_observer(nullptr);
   if (device_.wire_tap() == this) device_.set_wire_tap(nullptr);
@@ -41,8 +42,7 @@ base::Expected<std::unique_ptr<FaultWiring>, std::string> FaultWiring::create(
   wiring->several_ = devices.size() > 1;
   if (!scene.scanners.empty()) wiring->name_ = scene.scanners.front().name;
   if (setup.event_log_path) {
-    wiring->event_log_.open(*setup.event_log_path, std::ios::out | std::ios::trunc);
-    if (!wiring->event_log_) return base::Unexpected("--event-log " + *setup.event_log_path + ": cannot open");
+    if (auto error = wiring->event_log_.open(*setup.event_log_path)) return base::Unexpected(*error);
   }
   FaultWiring* self = wiring.get();
   if (setup.control_path) {
@@ -51,6 +51,7 @@ base::Expected<std::unique_ptr<FaultWiring>, std::string> FaultWiring::create(
         [self](std::string_view line) { return control_socket::handle_line(line, *self); });
     if (!server) return base::Unexpected("--control: " + server.error().message());
     wiring->server_ = std::move(*server);
+    wiring->server_->set_warning_sink([&logger](const std::string& line) { logger.log(LogLevel::warn, line); });
   }
   wiring->attach(scene.faults, scene.seed, scene.effects.has(scene::Effect::head_dynamics));
   // Scanner k draws with the seed + k, as its noise does (docs/scenes.md).
@@ -83,6 +84,12 @@ std::uint64_t FaultWiring::injections() const {
   return all;
 }
 
+std::uint64_t FaultWiring::delayed_replies_dropped() const {
+  std::uint64_t all = delayed_dropped_;
+  for (const auto& other : others_) all += other->delayed_replies_dropped();
+  return all;
+}
+
 control_socket::ControlTarget* FaultWiring::scanner(std::string_view name) {
   if (name == name_) return this;
   for (const auto& other : others_) {
@@ -110,9 +117,9 @@ void FaultWiring::publish_for(const std::string& scanner, fault_injection::Injec
     if (event.data.is_object() && event.data.contains("peer")) {
       nlohmann::json data = event.data;
       data.erase("peer");
-      event_log_ << control_socket::event_line(event.name, data, event.at) << '\n' << std::flush;
+      event_log_.write(control_socket::event_line(event.name, data, event.at), logger_);
     } else {
-      event_log_ << line << '\n' << std::flush;
+      event_log_.write(line, logger_);
     }
   }
   if (server_) server_->broadcast(line);
@@ -190,14 +197,9 @@ WireVerdict FaultWiring::to_host(endpoints::WireTelegram& telegram) {
   switch (fault->spec.kind) {
     case FaultKind::drop_reply:
       return WireVerdict::drop;
-    case FaultKind::delay_reply: {
-      const control::ConnectionId to = telegram.connection;
-      scheduler_.add(telegram.at + fault->spec.delay,
-                     [this, to, payload = telegram.payload, profile = telegram.is_profile](SimTime) {
-                       device_.send_to_host(to, payload, profile);
-                     });
+    case FaultKind::delay_reply:
+      delay(telegram, fault->spec.delay);
       return WireVerdict::drop;
-    }
     case FaultKind::duplicate_reply:
       device_.send_to_host(telegram.connection, telegram.payload, telegram.is_profile);
       return WireVerdict::pass;
@@ -210,6 +212,47 @@ WireVerdict FaultWiring::to_host(endpoints::WireTelegram& telegram) {
     default:
       return WireVerdict::pass;
   }
+}
+
+// Issue 27 D1: the replies held back per connection are bounded (kMaxDelayedTelegrams,
+// kMaxDelayedBytes). A reply beyond the bound is lost, as in a device whose send buffer is full:
+// counted (delayed_replies_dropped) and warned about at most every 10 s.
+void FaultWiring::delay(const endpoints::WireTelegram& telegram, SimTime by) {
+  const control::ConnectionId to = telegram.connection;
+  DelayedReplies& held = delayed_[to];
+  if (held.pending.size() >= kMaxDelayedTelegrams || held.bytes + telegram.payload.size() > kMaxDelayedBytes) {
+    ++delayed_dropped_;
+    if (auto line = delayed_warning_.admit("delay_reply: " + control::to_string(to) + " already holds " +
+                                           std::to_string(held.pending.size()) + " delayed replies (" +
+                                           std::to_string(held.bytes) + " bytes); dropping this one")) {
+      logger_.log(LogLevel::warn, *line);
+    }
+    return;
+  }
+  const std::size_t size = telegram.payload.size();
+  auto key = std::make_shared<endpoints::Scheduler::Key>();
+  *key = scheduler_.add(telegram.at + by, [this, to, key, size, payload = telegram.payload,
+                                           profile = telegram.is_profile](SimTime) {
+    release(to, *key, size);
+    device_.send_to_host(to, payload, profile);
+  });
+  held.pending.insert(*key);
+  held.bytes += size;
+}
+
+void FaultWiring::release(control::ConnectionId connection, const endpoints::Scheduler::Key& key, std::size_t size) {
+  const auto held = delayed_.find(connection);
+  if (held == delayed_.end() || held->second.pending.erase(key) == 0) return;
+  held->second.bytes -= size;
+  if (held->second.pending.empty()) delayed_.erase(held);
+}
+
+// A closed connection's delayed replies have nobody to go to: their deadlines go with it.
+void FaultWiring::forget_delayed(control::ConnectionId connection) {
+  const auto held = delayed_.find(connection);
+  if (held == delayed_.end()) return;
+  for (const auto& key : held->second.pending) scheduler_.cancel(key);
+  delayed_.erase(held);
 }
 
 control_socket::CommandResult FaultWiring::inject_fault(const faults::FaultSpec& spec) {
@@ -245,6 +288,8 @@ nlohmann::json FaultWiring::query_status() {
         {"profiles_sent", counters.profiles_sent},
         {"skipped_profiles", counters.skipped_profiles},
         {"tcp_connections", counters.tcp_connections},
+        {"delayed_replies_dropped", delayed_dropped_},
+        {"event_log_write_errors", event_log_.write_errors()},
         {"fault_injections", injector_->injections()}}}};
 }
 

@@ -217,7 +217,9 @@ const std::map<std::string_view, ValueHandler>& value_options() {
        }},
       {"--record-files", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
          const auto files = parse_integer<unsigned>(v);
-         if (!files || *files == 0) return error_of(usage_error("--record-files", "must be an integer > 0"));
+         if (!files || *files == 0 || *files > kMaxRecordFiles) {
+           return error_of(usage_error("--record-files", "must be an integer in [1, 1000]"));
+         }
          o.record_files = *files;
          return std::nullopt;
        }},
@@ -428,7 +430,7 @@ std::string usage_text(std::string_view program_name) {
          "  --record FILE         write every telegram on every transport, with device time, to\n"
          "                        FILE (pcapng for Wireshark/tshark, docs/capture.md) [off]\n"
          "  --record-max-mb N     rotate FILE at N MiB (at most 1048576): FILE.1, FILE.2, ... [no cap]\n"
-         "  --record-files K      files kept when rotating, FILE included [10]\n"
+         "  --record-files K      files kept when rotating, FILE included (at most 1000) [10]\n"
          "  --control PATH        control socket (JSON lines, QMP-shaped, mode 0600) for\n"
          "                        faults and status; docs/faults.md, ldoem-ctl [off]\n"
          "  --event-log FILE      write the fault and state events, one JSON line each [off]\n"

@@ -186,20 +186,32 @@ void read_flash(const std::string& file, const YAML::Node& node, const std::stri
   map.finish();
 }
 
+// Issue 27 D14: a GET_IDENTIFICATION reply is `81 01` and the text, and no telegram's payload
+// may exceed 5816 bytes (D3; some hosts crash beyond it, and TCP drops the connection): each
+// text is bounded here, before the device can serve it.
+void read_identification_text(MapReader& map, std::string_view key, std::string& out) {
+  read_field(map, key, out);
+  if (out.size() > kMaxIdentificationTextBytes) {
+    fail(map.file(), SceneErrorKind::out_of_range, map.get(key).value_or(map.node()), map.child_path(key),
+         "is " + std::to_string(out.size()) + " bytes long; at most " + std::to_string(kMaxIdentificationTextBytes) +
+             " (the reply's payload may not exceed 5816 bytes, D3)");
+  }
+}
+
 void read_identification(const std::string& file, const YAML::Node& node, const std::string& path,
                          Identification& id) {
   MapReader map(file, node, path);
-  read_field(map, "sensor_part_number", id.sensor_part_number);
-  read_field(map, "sensor_name", id.sensor_name);
-  read_field(map, "sensor_version", id.sensor_version);
-  read_field(map, "sensor_serial_number", id.sensor_serial_number);
-  read_field(map, "edm_serial_number", id.edm_serial_number);
-  read_field(map, "firmware_part_number", id.firmware_part_number);
-  read_field(map, "firmware_name", id.firmware_name);
-  read_field(map, "firmware_version", id.firmware_version);
-  read_field(map, "application_part_number", id.application_part_number);
-  read_field(map, "application_name", id.application_name);
-  read_field(map, "application_version", id.application_version);
+  read_identification_text(map, "sensor_part_number", id.sensor_part_number);
+  read_identification_text(map, "sensor_name", id.sensor_name);
+  read_identification_text(map, "sensor_version", id.sensor_version);
+  read_identification_text(map, "sensor_serial_number", id.sensor_serial_number);
+  read_identification_text(map, "edm_serial_number", id.edm_serial_number);
+  read_identification_text(map, "firmware_part_number", id.firmware_part_number);
+  read_identification_text(map, "firmware_name", id.firmware_name);
+  read_identification_text(map, "firmware_version", id.firmware_version);
+  read_identification_text(map, "application_part_number", id.application_part_number);
+  read_identification_text(map, "application_name", id.application_name);
+  read_identification_text(map, "application_version", id.application_version);
   map.finish();
 }
 

@@ -8,8 +8,10 @@
 //   2 "serial" LINKTYPE_USER0          direction byte + the bytes of the line
 //   3 "lpt"    LINKTYPE_USER1          direction byte 0 + data-register values (D8)
 // Timestamps are device time (D7) in nanoseconds. Each call writes its blocks with one write(2),
-// so a crash loses at most the telegram being written. With a size cap the file rotates:
-// FILE is always the newest, older ones are FILE.1, FILE.2, ... up to max_files in all.
+// so a crash loses at most the telegram being written; a failed write is cut back, so the file
+// always ends at a block boundary. With a size cap the file rotates: FILE is always the newest,
+// older ones are FILE.1, FILE.2, ... up to max_files in all (the renames run on a worker thread;
+// FILE.rotating exists while they do).
 #pragma once
 
 #include <cstdint>
@@ -18,6 +20,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <thread>
 
 #include "ldoem/protocol/bytes.hpp"
 #include "ldoem/protocol/can_frame.hpp"
@@ -51,6 +54,7 @@ struct CaptureWriterCounters {
   std::uint64_t records = 0;  // calls that wrote something
   std::uint64_t bytes = 0;    // bytes written to the current file
   std::uint64_t rotations = 0;
+  std::uint64_t write_errors = 0;  // records not written (the file was cut back to the one before)
 };
 
 class CaptureWriter {
@@ -69,6 +73,9 @@ class CaptureWriter {
   [[nodiscard]] std::string write_serial(base::SimTime time, WireDirection direction, ByteView bytes);
   [[nodiscard]] std::string write_lpt(base::SimTime time, ByteView values);
 
+  // Waits until the last rotation's renames are done (FILE.1 ... in place); their error, if any.
+  [[nodiscard]] std::string wait_for_rotation() { return finish_shifting(); }
+
   const CaptureWriterCounters& counters() const { return counters_; }
   const std::filesystem::path& path() const { return options_.path; }
 
@@ -81,6 +88,7 @@ class CaptureWriter {
   explicit CaptureWriter(CaptureWriterOptions options);
   std::string start_file();
   std::string rotate();
+  std::string finish_shifting();  // waits for the previous rotation's renames; their error
   std::string commit(const std::function<protocol::Bytes()>& build);
   std::string write_all(const protocol::Bytes& blocks);
   protocol::TcpSegment segment(std::uint32_t connection, WireDirection direction, std::uint8_t flags,
@@ -92,6 +100,8 @@ class CaptureWriter {
   int fd_ = -1;
   CaptureWriterCounters counters_;
   std::map<std::uint32_t, TcpConnection> connections_;
+  std::thread shifter_;      // the last rotation's renames (issue 27 D4)
+  std::string shift_error_;  // written by shifter_, read after joining it
 };
 
 }  // namespace ldoem::capture

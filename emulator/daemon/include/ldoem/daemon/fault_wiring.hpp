@@ -7,7 +7,6 @@
 #pragma once
 
 #include <cstdint>
-#include <fstream>
 #include <map>
 #include <memory>
 #include <optional>
@@ -20,11 +19,18 @@
 #include "ldoem/control_socket/control_server.hpp"
 #include "ldoem/daemon/device_instance.hpp"
 #include "ldoem/daemon/endpoint_faults.hpp"
+#include "ldoem/daemon/event_log.hpp"
 #include "ldoem/endpoints/scheduler.hpp"
+#include "ldoem/endpoints/warning_throttle.hpp"
 #include "ldoem/endpoints/wire_tap.hpp"
 #include "ldoem/fault_injection/fault_injector.hpp"
 
 namespace ldoem::daemon {
+
+// delay_reply (issue 27 D1): replies held back at once per connection, at most this many and
+// this many bytes (64 full-size profiles, as a TCP connection's output queue). Beyond: dropped.
+inline constexpr std::size_t kMaxDelayedTelegrams = 64;
+inline constexpr std::size_t kMaxDelayedBytes = 64 * 5825;
 
 class FaultWiring final : public endpoints::WireTap, public control_socket::ControlTarget {
  public:
@@ -61,6 +67,14 @@ class FaultWiring final : public endpoints::WireTap, public control_socket::Cont
 
   // Every scanner's together.
   std::uint64_t injections() const;
+  std::uint64_t delayed_replies_dropped() const;
+  // The fault machinery's counters, every scanner's: injections, delayed replies dropped, event
+  // log write errors.
+  void fill_counters(endpoints::Counters& counters) const {
+    counters.fault_injections = injections();
+    counters.delayed_replies_dropped = delayed_replies_dropped();
+    counters.event_log_write_errors = event_log_.write_errors();
+  }
 
  private:
   FaultWiring(DeviceInstance& device, endpoints::Scheduler& scheduler, const endpoints::Logger& logger,
@@ -73,6 +87,9 @@ class FaultWiring final : public endpoints::WireTap, public control_socket::Cont
   void on_connection(bool opened, control::ConnectionId connection, std::string_view peer);
   void arm_deadline();
   endpoints::WireVerdict to_host(endpoints::WireTelegram& telegram);
+  void delay(const endpoints::WireTelegram& telegram, base::SimTime by);
+  void release(control::ConnectionId connection, const endpoints::Scheduler::Key& key, std::size_t size);
+  void forget_delayed(control::ConnectionId connection);
 
   DeviceInstance& device_;
   endpoints::Scheduler& scheduler_;
@@ -81,11 +98,18 @@ class FaultWiring final : public endpoints::WireTap, public control_socket::Cont
   std::unique_ptr<fault_injection::FaultInjector> injector_;
   std::unique_ptr<EndpointFaults> endpoint_faults_;  // the endpoints' fault hook
   std::unique_ptr<control_socket::ControlServer> server_;
-  std::ofstream event_log_;
+  EventLog event_log_;
   std::optional<endpoints::Scheduler::Key> deadline_;
   std::optional<base::SimTime> deadline_at_;
   std::set<control::ConnectionId> connections_;  // seen from hosts; a power cycle drops them
   std::map<control::ConnectionId, std::string> peers_;  // open TCP connections' addresses
+  struct DelayedReplies {
+    std::set<endpoints::Scheduler::Key> pending;  // deadlines of the held replies
+    std::size_t bytes = 0;
+  };
+  std::map<control::ConnectionId, DelayedReplies> delayed_;  // delay_reply's held replies
+  std::uint64_t delayed_dropped_ = 0;
+  endpoints::WarningThrottle delayed_warning_{std::chrono::seconds(10)};
   plant::SceneWorld* world_ = nullptr;
   std::string name_;                 // the scanner's name in the scene (empty: a scanner: section)
   FaultWiring* first_ = nullptr;     // the first scanner's wiring, which publishes for all; null in it

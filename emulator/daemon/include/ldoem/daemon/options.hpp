@@ -36,6 +36,8 @@ inline constexpr double kMaxTimeoutSeconds = 1e9;         // about 31 years (int
 inline constexpr double kMinTimeScale = 1e-6;             // a simulated second per 11.6 wall days
 inline constexpr double kMaxTimeScale = 1e6;              // 11.6 simulated days per wall second
 inline constexpr double kMaxRecordMegabytes = 1024.0 * 1024.0;  // 1 TiB per capture file
+// Rotation renames up to this many files (on a worker thread, issue 27 D4).
+inline constexpr unsigned kMaxRecordFiles = 1000;
 inline constexpr double kMaxHostTimeoutSeconds = 1e6;     // the host timeouts: 11.6 days
 inline constexpr std::size_t kMaxTcpClients = 100'000;    // --max-clients (descriptors bound it sooner)
 

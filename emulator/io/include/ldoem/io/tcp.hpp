@@ -2,6 +2,8 @@
 // the hub. IPv4, non-blocking; loopback unless the caller names another address.
 #pragma once
 
+#include <sys/socket.h>
+
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -41,10 +43,12 @@ class TcpConnection {
 
 class TcpListener {
  public:
-  // socket + SO_REUSEADDR + bind + listen. Port 0 picks a free port (see port()).
+  // socket + SO_REUSEADDR + bind + listen. Port 0 picks a free port (see port()). The backlog
+  // defaults to the system's largest (SOMAXCONN; the kernel caps it at net.core.somaxconn):
+  // with 16, a connect flood overflowed it and new hosts waited 1 s for a SYN retry (issue 27).
   static IoResult<TcpListener> listen(std::uint16_t port,
                                       std::string_view address = kLoopbackAddress,
-                                      int backlog = 16);
+                                      int backlog = SOMAXCONN);
 
   // The next pending connection, or nothing when none is waiting.
   IoResult<std::optional<TcpConnection>> accept();
