@@ -12,16 +12,19 @@
 // so a crash loses at most the telegram being written; a failed write is cut back, so the file
 // always ends at a block boundary. With a size cap the file rotates: FILE is always the newest,
 // older ones are FILE.1, FILE.2, ... up to max_files in all (the renames run on a worker thread;
-// FILE.rotating exists while they do).
+// FILE.rotating.N exist while they wait for it).
 #pragma once
 
+#include <condition_variable>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "ldoem/protocol/bytes.hpp"
 #include "ldoem/protocol/can_frame.hpp"
@@ -91,7 +94,9 @@ class CaptureWriter {
   explicit CaptureWriter(CaptureWriterOptions options);
   std::string start_file();
   std::string rotate();
-  std::string finish_shifting();  // waits for the previous rotation's renames; their error
+  std::string finish_shifting();  // waits until no rotation's renames are pending; their error
+  std::filesystem::path aside_name(std::uint64_t sequence) const;  // FILE.rotating.N
+  void shift_files();             // the worker thread
   std::string commit(const std::function<protocol::Bytes()>& build);
   std::string write_all(const protocol::Bytes& blocks);
   protocol::TcpSegment segment(std::uint32_t connection, WireDirection direction, std::uint8_t flags,
@@ -103,8 +108,17 @@ class CaptureWriter {
   int fd_ = -1;
   CaptureWriterCounters counters_;
   std::map<std::uint32_t, TcpConnection> connections_;
-  std::thread shifter_;      // the last rotation's renames (issue 27 D4)
-  std::string shift_error_;  // written by shifter_, read after joining it
+  // Rotation's renames on a worker thread (issue 27 D4); everything below shift_mutex_ is
+  // guarded by it, except shifter_ and next_rotation_ (the caller's thread only).
+  std::thread shifter_;
+  std::uint64_t next_rotation_ = 0;
+  std::mutex shift_mutex_;
+  std::condition_variable shift_wake_;  // work pending, or stopping
+  std::condition_variable shift_done_;  // a batch finished
+  std::vector<std::uint64_t> pending_;  // FILE.rotating.N waiting to become FILE.1, oldest first
+  bool shifting_ = false;
+  bool stopping_ = false;
+  std::string shift_error_;
 };
 
 }  // namespace ldoem::capture
