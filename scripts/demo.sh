@@ -48,8 +48,10 @@ if ip link show vcan0 >/dev/null 2>&1; then
   "${scan_command[@]}" 2>&1 | tee "$log" || status=$?
 else
   echo "demo: no vcan0 on this kernel; running the scan inside User-Mode Linux (scripts/uml/run.sh)"
-  # The guest prints the host clock (UML reads it) as its first line: the boot's share.
+  # The guest prints the host clock (UML reads it) as its first line: the boot's share. The
+  # single quotes are meant: the guest's shell expands them.
   before_ns=$(date +%s%N)
+  # shellcheck disable=SC2016
   scripts/uml/run.sh --timeout 900 -- bash -c 'echo "demo: guest up at $(date +%s%N)"; exec "$@"' demo \
     "${scan_command[@]}" 2>&1 | tee "$log" || status=$?
   guest_ns=$(sed -n 's/^demo: guest up at \([0-9]*\)$/\1/p' "$log" | head -n 1)
@@ -65,7 +67,8 @@ echo
 echo "demo: the corridor scan (scenes/corridor.yaml), fitted against the scene's true values"
 grep -E '^( +fitted|cylinder diameter|cylinder length|wall distance) {2,}' "$log" || true
 printf '%-19s %10s\n' "points" "${points:-?}"
-printf '%-19s %8d s  (%s)\n' "time" $((SECONDS - started)) "$(IFS=,; echo "${timings[*]}" | sed 's/,/, /g')"
+steps=$(printf '%s, ' "${timings[@]}")
+printf '%-19s %8d s  (%s)\n' "time" $((SECONDS - started)) "${steps%, }"
 echo
 echo "demo: files written"
 for file in out/corridor.ply out/corridor.png out/corridor-render.png; do
