@@ -1,14 +1,19 @@
 #!/usr/bin/env bash
 # Installs every Debian package ldoem needs to build, test, run and benchmark. Idempotent and
 # non-interactive; run as root (or with sudo available). Debian 12 (bookworm).
-# Usage: scripts/install-deps.sh [--screenshot]
+# Usage: scripts/install-deps.sh [--demo | --screenshot]
+#   --demo        only what scripts/demo.sh needs: the compiler and the libraries of ldoem-emud
+#                 and ldoem-scan (the `demo` preset), and User-Mode Linux with its tools for a
+#                 kernel without CAN; not the tests', benchmarks', Python's or packaging's tools
 #   --screenshot  also the GUI packages that only scripts/wireshark-screenshot.sh needs (Qt
 #                 Wireshark, X tools); CI and the demo do not install them.
 set -euo pipefail
 screenshot=false
+demo=false
 case "${1:-}" in
   --screenshot) screenshot=true ;;
-  -h|--help) sed -n '2,6p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+  --demo) demo=true ;;
+  -h|--help) sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
   "") ;;
   *) echo "install-deps.sh: unknown argument '$1' (try --help)" >&2; exit 2 ;;
 esac
@@ -43,6 +48,16 @@ packages=(
   # for the gpio-sim UML kernel (scripts/uml/build-gpio-kernel.sh)
   linux-source-6.1 build-essential bc flex bison libelf-dev xz-utils
 )
+# The demo's list: a subset of the one above (CMake's top level asks for GTest even when only
+# the programs are built; libgtest-dev is small). scripts/demo.sh installs this and nothing else.
+demo_packages=(
+  cmake ninja-build ccache g++ pkg-config
+  libode-dev libyaml-cpp-dev libembree-dev libassimp-dev libeigen3-dev
+  libsocketcan-dev libgpiod-dev libpng-dev libpcap-dev libcli11-dev libgtest-dev
+  nlohmann-json3-dev libsystemd-dev
+  user-mode-linux kmod iproute2 procps
+)
+if $demo; then packages=("${demo_packages[@]}"); fi
 if $screenshot; then packages+=(wireshark-qt xvfb xdotool x11-apps netpbm); fi
 sudo_cmd=()
 if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi

@@ -266,7 +266,7 @@ std::string CaptureWriter::write_tcp(base::SimTime time, std::uint32_t connectio
   return error;
 }
 
-std::string CaptureWriter::close_tcp(base::SimTime time, std::uint32_t connection) {
+std::string CaptureWriter::close_tcp(base::SimTime time, std::uint32_t connection, bool reset) {
   const auto found = connections_.find(connection);
   if (found == connections_.end()) return {};
   TcpConnection state = found->second;
@@ -276,6 +276,13 @@ std::string CaptureWriter::close_tcp(base::SimTime time, std::uint32_t connectio
   ++counters_.records;
   return commit([&] {
     Bytes blocks;
+    if (reset) {
+      append_packet(blocks, kCaptureTcpInterface, time,
+                    protocol::encode_ipv4_tcp_packet(segment(connection, WireDirection::device_to_host,
+                                                             protocol::kTcpRst | protocol::kTcpAck, state)),
+                    WireDirection::device_to_host);
+      return blocks;
+    }
     append_packet(blocks, kCaptureTcpInterface, time,
                   protocol::encode_ipv4_tcp_packet(segment(connection, WireDirection::host_to_device, fin, state)),
                   WireDirection::host_to_device);

@@ -20,8 +20,9 @@ std::string TelegramRecorder::record(base::SimTime time, protocol::WireTransport
   return "record: unknown transport";
 }
 
-std::string TelegramRecorder::connection_closed(base::SimTime time, protocol::WireTransport transport, std::uint32_t connection) {
-  return transport == protocol::WireTransport::tcp ? writer_.close_tcp(time, connection) : std::string{};
+std::string TelegramRecorder::connection_closed(base::SimTime time, protocol::WireTransport transport, std::uint32_t connection,
+                                                bool reset) {
+  return transport == protocol::WireTransport::tcp ? writer_.close_tcp(time, connection, reset) : std::string{};
 }
 
 std::string TelegramRecorder::record_isotp(base::SimTime time, WireDirection direction, ByteView payload) {

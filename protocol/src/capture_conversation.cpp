@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <map>
 #include <optional>
+#include <set>
+#include <tuple>
+#include <utility>
 #include <type_traits>
 
 namespace ldoem::protocol {
@@ -37,7 +40,9 @@ IsoTpReceiverConfig receiver_config(std::uint32_t flow_control_id, const Convers
 ConversationExtractor::ConversationExtractor(ConversationConfig config)
     : config_(config),
       can_requests_(receiver_config(config.response_can_id, config)),
-      can_replies_(receiver_config(config.request_can_id, config)) {}
+      can_replies_(receiver_config(config.request_can_id, config)) {
+  config_.tcp_port = config_.tcp_port.value_or(base::kHostTcpPort);
+}
 
 ConversationExtractor::~ConversationExtractor() = default;
 
@@ -70,9 +75,9 @@ std::vector<CapturedTelegram> ConversationExtractor::take() {
 
 void ConversationExtractor::add_tcp(base::SimTime time, const TcpSegment& segment) {
   WireDirection direction;
-  if (segment.destination_port == config_.tcp_port) {
+  if (segment.destination_port == *config_.tcp_port) {
     direction = WireDirection::host_to_device;
-  } else if (segment.source_port == config_.tcp_port) {
+  } else if (segment.source_port == *config_.tcp_port) {
     direction = WireDirection::device_to_host;
   } else {
     ++counters_.ignored_packets;
@@ -157,9 +162,47 @@ void ConversationExtractor::deliver(base::SimTime time, WireTransport transport,
   }
 }
 
+std::optional<std::uint16_t> detect_device_tcp_port(const std::vector<DecodedPacket>& packets) {
+  struct Candidate {
+    std::set<std::pair<std::uint32_t, std::uint16_t>> peers;  // the other ends it exchanged frames with
+    bool first_receiver = false;
+  };
+  std::map<std::uint16_t, Candidate> candidates;
+  std::set<std::uint16_t> syn_targets;
+  bool first = true;
+  for (const auto& packet : packets) {
+    const auto* segment = std::get_if<TcpSegment>(&packet.payload);
+    if (segment == nullptr) continue;
+    if ((segment->flags & (kTcpSyn | kTcpAck)) == kTcpSyn) syn_targets.insert(segment->destination_port);
+    const ByteView data(segment->payload);
+    if (data.size() < kTcpMagic.size() || !std::equal(kTcpMagic.begin(), kTcpMagic.end(), data.begin())) {
+      continue;
+    }
+    candidates[segment->destination_port].peers.emplace(segment->source_ip, segment->source_port);
+    candidates[segment->source_port].peers.emplace(segment->destination_ip, segment->destination_port);
+    if (first) candidates[segment->destination_port].first_receiver = true;
+    first = false;
+  }
+  std::optional<std::uint16_t> best;
+  auto rank = [&](std::uint16_t port) {
+    const Candidate& candidate = candidates.at(port);
+    return std::tuple{candidate.peers.size(), syn_targets.count(port) > 0, candidate.first_receiver};
+  };
+  for (const auto& [port, candidate] : candidates) {
+    if (!best || rank(port) > rank(*best)) best = port;
+  }
+  return best;
+}
+
 Conversation extract_conversation(const std::vector<DecodedPacket>& packets, ConversationConfig config) {
-  ConversationExtractor extractor(config);
   Conversation conversation;
+  if (!config.tcp_port) {
+    const auto detected = detect_device_tcp_port(packets);
+    conversation.tcp_port_detected = detected.has_value();
+    config.tcp_port = detected.value_or(base::kHostTcpPort);
+  }
+  conversation.tcp_port = *config.tcp_port;
+  ConversationExtractor extractor(config);
   for (const auto& packet : packets) {
     extractor.add(packet.time, packet.payload);
     for (auto& telegram : extractor.take()) conversation.telegrams.push_back(std::move(telegram));

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <vector>
 
 #include "ldoem/capture/capture_reader.hpp"
 #include "ldoem/protocol/candump_log.hpp"
@@ -62,6 +63,56 @@ TEST(CaptureReader, ClassicPcapFromTcpdump_IsReadThroughLibpcap) {
   EXPECT_EQ(telegrams[0].time, std::chrono::seconds(100) + std::chrono::microseconds(250));
   EXPECT_EQ(telegrams[1].payload, (Bytes{0x81, 0x02, 0, 0, 0, 3}));
   EXPECT_EQ(telegrams[1].direction, protocol::WireDirection::device_to_host);
+}
+
+// A tcpdump capture of a device configured to TCP port 4000: one connection, so both of its
+// ports carry frames; the host's SYN and its first request name the device's port.
+fs::path write_port_4000_pcap(const std::string& name, bool with_syn) {
+  const fs::path path = temp_file(name);
+  pcap_t* dead = pcap_open_dead_with_tstamp_precision(DLT_EN10MB, 65535, PCAP_TSTAMP_PRECISION_MICRO);
+  pcap_dumper_t* dumper = pcap_dump_open(dead, path.c_str());
+  std::vector<protocol::TcpSegment> segments;
+  if (with_syn) segments.push_back({0xC0A8010B, 0xC0A8010A, 51000, 4000, 999, 0, protocol::kTcpSyn, {}});
+  segments.push_back({0xC0A8010B, 0xC0A8010A, 51000, 4000, 1000, 1, 0x18, protocol::encode_tcp_frame(Bytes{0x01, 0x02})});
+  segments.push_back({0xC0A8010A, 0xC0A8010B, 4000, 51000, 1, 1011, 0x18,
+                      protocol::encode_tcp_frame(Bytes{0x81, 0x02, 0, 0, 0, 3})});
+  int second = 100;
+  for (const auto& segment : segments) {
+    const Bytes frame = ethernet_frame(segment);
+    pcap_pkthdr header{};
+    header.ts.tv_sec = second++;
+    header.caplen = header.len = static_cast<bpf_u_int32>(frame.size());
+    pcap_dump(reinterpret_cast<u_char*>(dumper), &header, frame.data());
+  }
+  pcap_dump_close(dumper);
+  pcap_close(dead);
+  return path;
+}
+
+TEST(CaptureReader, AnotherTcpPort_IsDetectedFromTheFrameHeaders) {
+  for (const bool with_syn : {true, false}) {
+    const fs::path path = write_port_4000_pcap("port4000.pcap", with_syn);
+    const auto conversation = read_capture_conversation(path);
+    fs::remove(path);
+    ASSERT_TRUE(conversation.has_value()) << conversation.error();
+    EXPECT_EQ(conversation->conversation.tcp_port, 4000) << "with SYN " << with_syn;
+    EXPECT_TRUE(conversation->conversation.tcp_port_detected);
+    const auto& telegrams = conversation->conversation.telegrams;
+    ASSERT_EQ(telegrams.size(), 2u);
+    EXPECT_EQ(telegrams[0].direction, protocol::WireDirection::host_to_device);
+    EXPECT_EQ(telegrams[1].payload, (Bytes{0x81, 0x02, 0, 0, 0, 3}));
+  }
+}
+
+TEST(CaptureReader, AGivenTcpPort_OverridesTheDetection) {
+  const fs::path path = write_port_4000_pcap("port4000-given.pcap", true);
+  const auto given = read_capture_conversation(path, protocol::ConversationConfig{.tcp_port = 49152});
+  const auto right = read_capture_conversation(path, protocol::ConversationConfig{.tcp_port = 4000});
+  fs::remove(path);
+  ASSERT_TRUE(given.has_value() && right.has_value());
+  EXPECT_FALSE(given->conversation.tcp_port_detected);
+  EXPECT_TRUE(given->conversation.telegrams.empty());
+  EXPECT_EQ(right->conversation.telegrams.size(), 2u);
 }
 
 TEST(CaptureReader, CandumpLog_GivesTheIsoTpTelegrams) {

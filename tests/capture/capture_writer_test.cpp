@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <utility>
+#include <vector>
 
 #include "ldoem/capture/capture_reader.hpp"
 #include "ldoem/capture/capture_writer.hpp"
@@ -80,6 +82,29 @@ TEST(CaptureWriter, TcpTelegrams_AreSynthesizedSegmentsThatReassembleToTheSamePa
   EXPECT_EQ(telegrams[2].stream, 1u);
   EXPECT_EQ(conversation->conversation.counters.framing_errors, 0u);
   EXPECT_EQ(conversation->conversation.counters.tcp_gaps, 0u);
+}
+
+TEST(CaptureWriter, CloseAndReset_EndAConnectionWithFinBothWaysOrOneRstFromTheDevice) {
+  TempDir dir;
+  auto writer = CaptureWriter::open({dir.folder() / "c.pcapng"});
+  ASSERT_TRUE(writer.has_value());
+  const Bytes frame = protocol::encode_tcp_frame(Bytes{0x01, 0x02});
+  for (std::uint32_t connection : {0u, 1u}) {
+    ASSERT_EQ((*writer)->write_tcp(milliseconds(1), connection, WireDirection::host_to_device, frame), "");
+  }
+  ASSERT_EQ((*writer)->close_tcp(milliseconds(2), 0), "");
+  ASSERT_EQ((*writer)->close_tcp(milliseconds(3), 1, true), "");
+  const auto packets = read_capture_packets(dir.folder() / "c.pcapng");
+  ASSERT_TRUE(packets.has_value()) << packets.error();
+  std::vector<std::pair<std::uint16_t, std::uint8_t>> ends;  // (source port, flags) of FIN and RST
+  for (const auto& packet : packets->packets) {
+    const auto& segment = std::get<protocol::TcpSegment>(packet.payload);
+    if ((segment.flags & (protocol::kTcpFin | protocol::kTcpRst)) != 0) ends.emplace_back(segment.source_port, segment.flags);
+  }
+  const std::uint8_t fin = protocol::kTcpFin | protocol::kTcpAck;
+  const std::uint8_t rst = protocol::kTcpRst | protocol::kTcpAck;
+  const std::uint16_t host0 = kSynthesizedHostPortBase;
+  EXPECT_EQ(ends, (std::vector<std::pair<std::uint16_t, std::uint8_t>>{{host0, fin}, {49152, fin}, {49152, rst}}));
 }
 
 TEST(CaptureWriter, SizeCap_RotatesAndKeepsAtMostMaxFiles) {

@@ -3,7 +3,9 @@
 #   1. the suite's vector and conversation cases against ldoem-emud, recorded (--record);
 #   2. ldoem-replay of that capture on TCP: --against the capture finds 0 differences;
 #   3. a fresh ldoem-replay of it on a serial pty: the same, through the serial framing;
-#   4. a request the recording never saw gets SERVICE_FAILURE reason 3 and a diagnostic.
+#   4. a request the recording never saw gets SERVICE_FAILURE reason 3 and a diagnostic;
+#   5. the capture moved to TCP port 4000 (tests/wireshark/rewrite_port.py, a device configured
+#      to another port): ldoem-replay finds the port itself, --against takes it with --port 4000.
 # Usage: replay-against.sh --daemon EMUD --replay REPLAY --suite SUITE --scene FILE --run-against SH
 set -uo pipefail
 daemon="" replay="" suite="" scene="" run_against=""
@@ -29,9 +31,10 @@ trap cleanup EXIT
   -- --filter 'tcp/vectors/*' --filter 'tcp/conversation/*' --record "$work/recorded.pcapng" >"$work/record.out" 2>&1 \
   || { cat "$work/record.out"; echo "FAIL: recording run"; exit 1; }
 
-# Starts ldoem-replay with the given endpoint options and waits for `ready`.
+# Starts ldoem-replay of $capture with the given endpoint options and waits for `ready`.
+capture="$work/recorded.pcapng"
 start_replay() {
-  "$replay" "$work/recorded.pcapng" "$@" --speed 10 --timeout 200 >"$work/replay.out" 2>"$work/replay.err" &
+  "$replay" "$capture" "$@" --speed 10 --timeout 200 >"$work/replay.out" 2>"$work/replay.err" &
   replay_pid=$!
   for _ in $(seq 100); do
     grep -qx ready "$work/replay.out" 2>/dev/null && return 0
@@ -45,7 +48,7 @@ start_replay() {
 stop_replay() { kill "$replay_pid" 2>/dev/null; wait "$replay_pid" 2>/dev/null; replay_pid=""; }
 check_against() {  # $1: label, then the suite's endpoint options
   local label=$1; shift
-  timeout 240 "$suite" "$@" --time-scale 10 --against "$work/recorded.pcapng" --mask-times --mask-counters \
+  timeout 240 "$suite" "$@" --time-scale 10 --against "$capture" --mask-times --mask-counters \
     >"$work/$label.out" 2>&1
   local status=$?
   tail -n 2 "$work/$label.out"
@@ -88,4 +91,17 @@ grep -q 'SET_TIME_REL 0007 is not in the recording' "$work/replay.err" \
 start_replay --serial "pty:$work/serial"
 check_against serial --serial "$work/serial"
 stop_replay
-echo "replay-against: ldoem-replay answers like the recorded emulator over TCP and serial; $(grep -c '^PASS' "$work/serial.out") exchanges each"
+
+# A device on TCP port 4000: the same capture with the port changed.
+python3 "$(dirname "$0")/../wireshark/rewrite_port.py" "$work/recorded.pcapng" "$work/port4000.pcapng" 4000 \
+  || { echo "FAIL: rewrite_port.py"; exit 1; }
+capture="$work/port4000.pcapng"
+start_replay --tcp 127.0.0.1:0
+grep -q 'exchanges (tcp, device port 4000 (detected))' "$work/replay.err" \
+  || { head -n 5 "$work/replay.err"; echo "FAIL: ldoem-replay did not find port 4000 in the capture"; exit 1; }
+address=$(sed -n 's/^tcp \(.*\)$/\1/p' "$work/replay.out" | head -n 1)
+check_against port4000 --tcp "$address" --port 4000
+stop_replay
+grep -q '^against .*device port 4000): ' "$work/port4000.out" \
+  || { head -n 3 "$work/port4000.out"; echo "FAIL: --against --port 4000 did not take port 4000"; exit 1; }
+echo "replay-against: ldoem-replay answers like the recorded emulator over TCP, serial, and from a port-4000 capture; $(grep -c '^PASS' "$work/serial.out") exchanges each"

@@ -108,11 +108,11 @@ def find_telegrams(node, found):
             find_telegrams(item, found)
 
 
-def run_tshark(args, capture):
+def run_tshark(args, capture, extra=()):
     command = [args.tshark, "-n", "-r", capture, "-T", "json", "--no-duplicate-keys",
                "-X", "lua_script:" + os.path.join(args.lua_dir, "ldoem.lua"),
                "-X", "lua_script:" + os.path.join(args.lua_dir, "ldoem_serial.lua"),
-               "-o", "iso15765.can.ids:1728-1729", "-d", "iso15765.subdissector,ldoem_isotp"]
+               "-o", "iso15765.can.ids:1728-1729", "-d", "iso15765.subdissector,ldoem_isotp", *extra]
     result = subprocess.run(command, capture_output=True, text=True, timeout=240)
     if result.returncode != 0:
         sys.exit(f"tshark failed ({result.returncode}): {result.stderr}")
@@ -172,6 +172,25 @@ def check_vectors(args, problems):
             want_experts = [SERIAL_EXPERTS[name]] if transport == "serial" and name in SERIAL_EXPERTS else []
             expect_equal(problems, where, "expert info", want_experts, sorted(set(experts) - {"ldoem.expert.bad_status"}))
     return sum(len(v) for v in decoded.values())
+
+
+def check_other_port(args, problems, port=4000):
+    """The vectors' capture moved to another TCP port (rewrite_port.py): not decoded as ldoem by
+    default, decoded in full with the port preference or with Decode As (docs/wireshark.md)."""
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import rewrite_port
+    original = os.path.join(args.workdir, "vectors.pcapng")
+    moved = os.path.join(args.workdir, f"vectors-port{port}.pcapng")
+    subprocess.run([sys.executable, rewrite_port.__file__, original, moved, str(port)], check=True, timeout=60)
+    want = len(run_tshark(args, original)[0]["tcp"])
+    cases = (("no option", [], 0), ("the preference", ["-o", f"ldoem.tcp_port:{port}"], want),
+             ("Decode As", ["-d", f"tcp.port=={port},ldoem"], want))
+    for label, extra, expected in cases:
+        decoded, found = run_tshark(args, moved, extra)
+        problems += found
+        got = len(decoded["tcp"])
+        if got != expected or want == 0:
+            problems.append(f"port {port} with {label}: {expected} TCP telegrams expected, tshark decoded {got}")
 
 
 def check_profiles(problems, decoded, expected, label):
@@ -240,6 +259,7 @@ def main():
         subprocess.run([args.fixtures, args.vectors, args.workdir], check=True, timeout=120)
         counted += check_vectors(args, problems)
         counted += check_generated_profiles(args, problems)
+        check_other_port(args, problems)
     for capture, expectation in zip(args.capture, args.expect):
         counted += check_recorded(args, problems, capture, expectation)
     for problem in problems:

@@ -1,6 +1,6 @@
 -- Wireshark dissector for the SICK LD-OEM host protocol as ldoem speaks it (docs/host-protocol.md).
 -- Protocol and display-filter name: ldoem. Where it applies:
---   * TCP port 49152: "02 55 53 50" header, 32-bit length, payload, XOR checksum, reassembled
+--   * TCP port 49152 (preference ldoem.tcp_port): "02 55 53 50" header, 32-bit length, payload, XOR checksum, reassembled
 --     across segments (host-protocol.md section 4);
 --   * ISO-TP payloads on CAN ids 0x6C0/0x6C1 (D1), as a subdissector of Wireshark's ISO 15765
 --     dissector: tshark -o iso15765.can.ids:1728-1729 -d iso15765.subdissector,ldoem_isotp
@@ -485,7 +485,19 @@ function ldoem.dissector(tvb, pinfo, tree)
   return n
 end
 
-DissectorTable.get("tcp.port"):add(49152, ldoem)
+-- The device's TCP port: 49152 (spec 4.1) unless the preference says otherwise, for a capture
+-- of a device configured to another port (Edit > Preferences > Protocols > LDOEM, or
+-- `tshark -o ldoem.tcp_port:4000`); `-d tcp.port==4000,ldoem` (Decode As) works too.
+ldoem.prefs.tcp_port = Pref.uint("TCP port", 49152, "The LD-OEM's TCP port (49152 unless configured otherwise)")
+local registered_port = ldoem.prefs.tcp_port
+DissectorTable.get("tcp.port"):add(registered_port, ldoem)
+function ldoem.prefs_changed()
+  if ldoem.prefs.tcp_port == registered_port then return end
+  local tcp = DissectorTable.get("tcp.port")
+  tcp:remove(registered_port, ldoem)
+  registered_port = ldoem.prefs.tcp_port
+  if registered_port ~= 0 then tcp:add(registered_port, ldoem) end
+end
 
 -- ISO-TP (D1): the reassembled message is a bare payload.
 local ldoem_isotp = Proto("ldoem_isotp", "SICK LD-OEM over ISO-TP (D1)")

@@ -115,15 +115,21 @@ void DeviceInstance::on_connection_opened(ConnectionId connection, std::string_v
 
 void DeviceInstance::on_connection_closed(ConnectionId connection) {
   if (connection_observer_) connection_observer_(false, connection, {});
-  accept_input([this, connection] {
+  // An endpoint reports the close of a connection disconnect() dropped from within that call.
+  const bool reset = resetting_ == connection;
+  accept_input([this, connection, reset] {
     const SimTime at = scheduler_.now();
+    if (tap_ != nullptr) tap_->on_connection_closed(connection, at, reset);
     perform(at, unit_->on_connection_closed(at, connection));
   });
 }
 
 void DeviceInstance::disconnect(ConnectionId connection) {
   const auto route = route_.find(connection.kind);
-  if (route != route_.end()) route->second->disconnect(connection);
+  if (route == route_.end()) return;
+  resetting_ = connection;
+  route->second->disconnect(connection);
+  resetting_.reset();
 }
 
 void DeviceInstance::on_register_write(SimTime at, std::uint8_t register_value) {

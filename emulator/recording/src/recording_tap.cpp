@@ -14,6 +14,17 @@ protocol::WireTransport wire_transport(control::TransportKind kind) {
 
 }  // namespace
 
+void RecordingTap::on_connection_closed(control::ConnectionId connection, base::SimTime at, bool reset) {
+  if (!failed_) {
+    if (const std::string error = recorder_.connection_closed(at, wire_transport(connection.kind), connection.index, reset);
+        !error.empty()) {
+      failed_ = true;
+      logger_.log(endpoints::LogLevel::error, "--record: " + error + "; recording stopped, the device goes on");
+    }
+  }
+  if (next_) next_->on_connection_closed(connection, at, reset);
+}
+
 void RecordingTap::record(const endpoints::WireTelegram& telegram) {
   if (failed_) return;
   const auto direction = telegram.direction == endpoints::WireDirection::from_host ? protocol::WireDirection::host_to_device

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   protocol::ConversationConfig config;
+  config.tcp_port = options->capture_tcp_port;  // unset: detected from the frames (docs/replay.md)
   if (!options->endpoints.can_id_pairs.empty()) {
     config.request_can_id = options->endpoints.can_id_pairs.front().request_id;
     config.response_can_id = options->endpoints.can_id_pairs.front().response_id;
@@ -53,7 +54,12 @@ int main(int argc, char** argv) {
   }
   const auto& capture_counters = loaded->conversation.counters;
   std::cerr << "ldoem-replay: " << options->capture.string() << ": " << exchanges.size() << " exchanges ("
-            << protocol::transport_name(*transport) << "); " << capture_counters.packets << " packets, "
+            << protocol::transport_name(*transport);
+  if (*transport == protocol::WireTransport::tcp) {
+    std::cerr << ", device port " << loaded->conversation.tcp_port
+              << (loaded->conversation.tcp_port_detected ? " (detected)" : "");
+  }
+  std::cerr << "); " << capture_counters.packets << " packets, "
             << capture_counters.framing_errors << " framing errors, " << capture_counters.tcp_gaps << " TCP gaps, "
             << capture_counters.ignored_packets << " ignored\n";
   auto host = replay::ReplayHost::create(*options, replay::ReplayDevice(std::move(exchanges), options->speed),

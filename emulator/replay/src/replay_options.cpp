@@ -57,6 +57,10 @@ struct Reader {
       else if (text == "serial") options.transport = protocol::WireTransport::serial;
       else if (text == "can") options.transport = protocol::WireTransport::can;
       else return "--transport: must be tcp, serial or can, got `" + text + "`";
+    } else if (name == "--port") {
+      const auto port = base::parse_integer<std::uint16_t>(text);
+      if (!port || *port == 0) return "--port: must be a TCP port from 1 to 65535, got `" + text + "`";
+      options.capture_tcp_port = *port;
     } else if (name == "--timeout") {
       const auto seconds = parse_positive(text);
       if (!seconds || *seconds > daemon::kMaxTimeoutSeconds) {
@@ -75,7 +79,7 @@ struct Reader {
 };
 
 constexpr std::string_view kValueOptions[] = {"--tcp",   "--serial",    "--can",     "--can-ids",  "--lpt",
-                                             "--speed", "--transport", "--timeout", "--log-level"};
+                                             "--speed", "--transport", "--port", "--timeout", "--log-level"};
 
 base::Unexpected<ReplayUsageError> usage(std::string message) {
   return base::Unexpected(ReplayUsageError{std::move(message)});
@@ -123,8 +127,8 @@ std::string replay_usage_text() {
   return "Usage: ldoem-replay CAPTURE (--tcp HOST[:PORT] | --serial pty:PATH | --can IF)... [OPTIONS]\n"
          "Acts as the LD-OEM recorded in CAPTURE (docs/replay.md): each request is answered with the\n"
          "recorded replies to the same request, profiles at their recorded delays. CAPTURE: a pcapng\n"
-         "from ldoem-emud --record or ldoem-conformance --record, a pcap of TCP port 49152 (tcpdump,\n"
-         "Wireshark), or a can-utils `candump -l` log of the D1 identifiers.\n"
+         "from ldoem-emud --record or ldoem-conformance --record, a pcap of the device's TCP port\n"
+         "(tcpdump, Wireshark; any port), or a can-utils `candump -l` log of the D1 identifiers.\n"
          "\n"
          "Endpoints (the daemon's syntax, docs/emulator.md; at least one):\n"
          "  --tcp HOST[:PORT]     TCP server; port 49152 if omitted, 0 = any free port\n"
@@ -135,6 +139,7 @@ std::string replay_usage_text() {
          "Options (default in brackets):\n"
          "  --speed X             recorded seconds per replayed second, 1e-6..1e6 [1]\n"
          "  --transport T         replay the recorded tcp, serial or can telegrams [the most]\n"
+         "  --port N              the device's TCP port in CAPTURE [the port of the STX \"USP\" frames]\n"
          "  --timeout S           stop (exit 0) after S wall seconds, at most 1e9 [none]\n"
          "  --log-level L         error|warn|info|debug; info logs every request and answer [warn]\n"
          "  --help, -h            this text\n"

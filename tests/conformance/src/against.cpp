@@ -59,7 +59,9 @@ bool compare(const std::string& label, p::ByteView recorded, p::ByteView live, c
 }  // namespace
 
 int run_against(const Options& options, std::ostream& out, std::ostream& err) {
-  auto loaded = capture::read_capture_conversation(*options.against);
+  p::ConversationConfig config;
+  config.tcp_port = options.against_tcp_port;  // unset: detected from the STX "USP" frames
+  auto loaded = capture::read_capture_conversation(*options.against, config);
   if (!loaded) {
     err << "ldoem-conformance: --against " << loaded.error() << '\n';
     return kExitUsageError;
@@ -72,7 +74,11 @@ int run_against(const Options& options, std::ostream& out, std::ostream& err) {
   }
   const std::vector<p::Exchange> exchanges = p::exchanges_of(telegrams, *transport_kind);
   out << "against " << *options.against << " (" << capture::format_name(loaded->format) << ", "
-      << p::transport_name(*transport_kind) << "): " << exchanges.size() << " requests\n";
+      << p::transport_name(*transport_kind);
+  if (*transport_kind == p::WireTransport::tcp) {
+    out << ", device port " << loaded->conversation.tcp_port << (loaded->conversation.tcp_port_detected ? " (detected)" : "");
+  }
+  out << "): " << exchanges.size() << " requests\n";
   auto transport = open_suite_transport(options);
   if (!transport) {
     err << "ldoem-conformance: " << transport.error() << '\n';

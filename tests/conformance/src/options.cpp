@@ -78,6 +78,10 @@ struct Parser {
       options.vectors_file = std::string(value);
     } else if (name == "--against") {
       options.against = std::string(value);
+    } else if (name == "--port") {
+      const auto port = base::parse_integer<std::uint16_t>(value);
+      if (!port || *port == 0) return usage("--port: must be a TCP port from 1 to 65535, got `" + std::string(value) + "`");
+      options.against_tcp_port = *port;
     } else if (name == "--mask") {
       if (value.empty()) return usage("--mask: empty pattern");
       options.masks.emplace_back(value);
@@ -119,7 +123,7 @@ struct Parser {
 
 constexpr std::string_view kValueOptions[] = {"--can",     "--ids",    "--tcp",     "--serial", "--target", "--time-scale",
                                              "--timeout", "--filter", "--exclude", "--vectors", "--against", "--mask",
-                                             "--record"};
+                                             "--record",    "--port"};
 
 }  // namespace
 
@@ -158,6 +162,7 @@ Expected<Options, UsageError> parse_options(std::span<const std::string_view> ar
   if (!parser.options.masks.empty() && !parser.options.against) {
     return usage("--mask, --mask-times and --mask-counters need --against");
   }
+  if (parser.options.against_tcp_port && !parser.options.against) return usage("--port: only with --against");
   auto finished = parser.finish();
   if (!finished) return Unexpected<UsageError>(finished.error());
   return parser.options;
@@ -213,6 +218,7 @@ std::string usage_text(std::string_view program_name) {
          "  --against CAPTURE     send the requests of CAPTURE (pcapng, pcap or candump log; the\n"
          "                        transport with most telegrams) in order and compare each reply\n"
          "                        with the recorded one field by field; prints the differing fields\n"
+         "  --port N              the device's TCP port in CAPTURE [the port of the STX \"USP\" frames]\n"
          "  --mask GLOB           leave fields matching GLOB out (e.g. 'profile.sector*.point*.echo');\n"
          "                        repeatable\n"
          "  --mask-times          = --mask '*clock_ms' --mask 'profile.sector*.tstart' --mask 'profile.sector*.tend'\n"

@@ -41,6 +41,7 @@ struct Options {
   // --against CAPTURE: replay the capture's requests and compare the replies field by field
   // (docs/conformance.md, "Against a capture") instead of running the cases.
   std::optional<std::string> against;
+  std::optional<std::uint16_t> against_tcp_port;  // --port: the device's port in the capture; unset: detected
   std::vector<std::string> masks;  // field-name globs left out of the comparison
   std::optional<std::string> record;  // write the run's telegrams to this capture file
   std::optional<std::string> completion_script;  // --completion bash: print it and exit 0

@@ -4,7 +4,8 @@
 //   1 "tcp"    LINKTYPE_IPV4           synthesized IPv4/TCP: device 127.0.0.2:49152, host
 //                                      127.0.0.1:(40000 + connection), a SYN handshake when a
 //                                      connection first appears in a file, sequence numbers
-//                                      counting the real bytes, segments of at most 1460 bytes
+//                                      counting the real bytes, segments of at most 1460 bytes,
+//                                      FIN both ways at a close, RST from the device at a reset
 //   2 "serial" LINKTYPE_USER0          direction byte + the bytes of the line
 //   3 "lpt"    LINKTYPE_USER1          direction byte 0 + data-register values (D8)
 // Timestamps are device time (D7) in nanoseconds. Each call writes its blocks with one write(2),
@@ -71,8 +72,10 @@ class CaptureWriter {
   // Each returns an error text ("write FILE: No space left on device") or an empty string.
   [[nodiscard]] std::string write_can(base::SimTime time, const protocol::CanFrame& frame, WireDirection direction);
   [[nodiscard]] std::string write_tcp(base::SimTime time, std::uint32_t connection, WireDirection direction, ByteView bytes);
-  // FIN both ways: the connection ended. A later write on the same index starts a new one.
-  [[nodiscard]] std::string close_tcp(base::SimTime time, std::uint32_t connection);
+  // The connection ended: an orderly close is a FIN both ways; a reset (the device dropped it:
+  // a tcp_reset fault, a power cycle) is one RST from the device. A later write on the same
+  // index starts a new connection with its own handshake.
+  [[nodiscard]] std::string close_tcp(base::SimTime time, std::uint32_t connection, bool reset = false);
   [[nodiscard]] std::string write_serial(base::SimTime time, WireDirection direction, ByteView bytes);
   [[nodiscard]] std::string write_lpt(base::SimTime time, ByteView values);
 

@@ -30,7 +30,10 @@ class TelegramRecorder {
   // Returns an error text, or an empty string.
   [[nodiscard]] std::string record(base::SimTime time, protocol::WireTransport transport, std::uint32_t connection,
                                    WireDirection direction, ByteView payload);
-  [[nodiscard]] std::string connection_closed(base::SimTime time, protocol::WireTransport transport, std::uint32_t connection);
+  // TCP: FIN both ways, or RST from the device when `reset` (CaptureWriter::close_tcp); the
+  // other transports have no connections to close.
+  [[nodiscard]] std::string connection_closed(base::SimTime time, protocol::WireTransport transport, std::uint32_t connection,
+                                              bool reset = false);
   void set_can_ids(RecorderCanIds ids) { ids_ = ids; }
 
  private:

@@ -35,7 +35,9 @@ struct CapturedTelegram {
 };
 
 struct ConversationConfig {
-  std::uint16_t tcp_port = base::kHostTcpPort;  // the device's port (spec 4.1)
+  // The device's TCP port. Unset: extract_conversation detects it (detect_device_tcp_port), a
+  // ConversationExtractor on its own takes 49152 (spec 4.1).
+  std::optional<std::uint16_t> tcp_port;
   std::uint32_t request_can_id = kIsoTpHostToDeviceId;   // D1
   std::uint32_t response_can_id = kIsoTpDeviceToHostId;  // D1
   // ISO-TP reassembly bound. Profiles over CAN may exceed D3's 5816 bytes (D1 has no limit).
@@ -96,8 +98,16 @@ struct DecodedPacket {
 struct Conversation {
   std::vector<CapturedTelegram> telegrams;
   ConversationCounters counters;
+  std::uint16_t tcp_port = base::kHostTcpPort;  // the device port its TCP telegrams were taken from
+  bool tcp_port_detected = false;               // found by detect_device_tcp_port, not given
 };
 Conversation extract_conversation(const std::vector<DecodedPacket>& packets, ConversationConfig config = {});
+
+// The LD-OEM's TCP port in a capture of any port: the port of the TCP segments that begin with
+// the frame header STX "USP" (spec 4.1). Of two candidates (one connection: both its ports carry
+// frames), the one more connections reach, then the one a SYN was sent to, then the receiver of
+// the first frame (the host speaks first). Nothing when no segment begins with the header.
+std::optional<std::uint16_t> detect_device_tcp_port(const std::vector<DecodedPacket>& packets);
 
 // A conversation cut into exchanges: one request from the host and every telegram the device
 // sent after it until the next request (its reply, and the profiles a GET_PROFILE streamed),

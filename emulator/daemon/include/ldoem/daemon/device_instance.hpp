@@ -121,6 +121,7 @@ class DeviceInstance final : public endpoints::EndpointSink,
   std::map<std::uint64_t, endpoints::Scheduler::Key> timer_keys_;  // the control unit's queued timers
   std::optional<endpoints::EndpointContext> context_;
   endpoints::WireTap* tap_ = nullptr;
+  std::optional<control::ConnectionId> resetting_;  // inside disconnect(): its close is a reset
   ConnectionObserver connection_observer_;
   int performing_ = 0;
   std::deque<std::function<void()>> deferred_input_;

@@ -35,6 +35,10 @@ class WireTap {
  public:
   virtual ~WireTap() = default;
   virtual WireVerdict on_telegram(WireTelegram& telegram) = 0;
+  // A host connection ended, in order with the telegrams around it: `reset` when the device
+  // dropped it (DeviceInstance::disconnect: a tcp_reset fault, a power cycle), else an orderly
+  // close (the host closed, a timeout). A recording writes FIN or RST (docs/capture.md).
+  virtual void on_connection_closed(control::ConnectionId /*connection*/, base::SimTime /*at*/, bool /*reset*/) {}
 };
 
 }  // namespace ldoem::endpoints

@@ -20,6 +20,7 @@ class RecordingTap final : public endpoints::WireTap {
       : recorder_(writer, can_ids), logger_(logger), next_(next) {}
 
   endpoints::WireVerdict on_telegram(endpoints::WireTelegram& telegram) override;
+  void on_connection_closed(control::ConnectionId connection, base::SimTime at, bool reset) override;
   std::uint64_t recorded() const { return recorded_; }
   bool failed() const { return failed_; }
 

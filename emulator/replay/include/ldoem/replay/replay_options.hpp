@@ -21,6 +21,7 @@ struct ReplayOptions {
   daemon::Options endpoints;  // only the endpoint fields, log level and timeout are used
   double speed = 1.0;         // recorded seconds per replayed second
   std::optional<protocol::WireTransport> transport;  // which recorded transport; default: busiest
+  std::optional<std::uint16_t> capture_tcp_port;     // --port: the device's port in the capture; default: detected
   bool help = false;
   bool version = false;  // --version: print base::version_line and exit 0
   std::optional<std::string> completion_script;  // --completion bash (base/command_line.hpp)
