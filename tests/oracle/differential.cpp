@@ -29,8 +29,8 @@ class StandStill final : public raycast::MotionSource {
   std::vector<scene::Pose> poses_;
 };
 
-// The oracle's parts, read from the same ODE geoms (primitives, planes) and the same double
-// world vertices (meshes) the casters are built from.
+}  // namespace
+
 std::vector<Part> parts_of(const raycast::OdeWorld& world) {
   std::vector<Part> parts;
   for (std::size_t i = 0; i < world.object_count(); ++i) {
@@ -80,6 +80,8 @@ std::vector<Part> parts_of(const raycast::OdeWorld& world) {
   }
   return parts;
 }
+
+namespace {
 
 double distance(const Vec& a, const Vec& b) { return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]); }
 

@@ -5,6 +5,8 @@
 #include "cases.hpp"
 #include "judge.hpp"
 
+#include "ldoem/raycast/ode_world.hpp"
+
 #include <array>
 #include <cstdint>
 #include <string>
@@ -43,6 +45,10 @@ struct Stats {
   // key=value lines, one per figure (scripts/numerics-report reads them back).
   std::string text() const;
 };
+
+// The oracle's parts of a world: primitives and planes as its ODE geoms hold them, meshes as the
+// static caster's double world vertices (one part per triangle).
+std::vector<Part> parts_of(const raycast::OdeWorld& world);
 
 // Builds the scene's casters (EmbreeRayCaster; MovingRayCaster over its non-plane objects at
 // fixed poses), casts every ray of the case with each and judges the answers. `describe` tags
