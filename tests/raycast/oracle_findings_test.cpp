@@ -69,7 +69,7 @@ class StandStill final : public MotionSource {
 };
 
 // A closed unit cube as 12 triangles about its centre.
-scene::Mesh cube_mesh() {
+scene::Mesh closed_cube_mesh() {
   scene::Mesh mesh;
   mesh.path = "inline";
   for (int i = 0; i < 8; ++i) mesh.vertices_m.emplace_back(i & 1 ? 0.5f : -0.5f, i & 2 ? 0.5f : -0.5f, i & 4 ? 0.5f : -0.5f);
@@ -82,7 +82,7 @@ scene::Mesh cube_mesh() {
 // on it. ODE's trimesh reported only its closest triangle, the face the ray starts on (range 0,
 // no hit), and the moving caster answered nothing instead of the face the ray leaves through.
 TEST(OracleFindings, MovingMesh_RayFromItsFaceFindsTheExit) {
-  std::vector<scene::SceneObject> objects{make_object(cube_mesh(), Eigen::Vector3d(0, 4, 0))};
+  std::vector<scene::SceneObject> objects{make_object(closed_cube_mesh(), Eigen::Vector3d(0, 4, 0))};
   const StandStill still({objects[0].pose});
   MovingRayCaster caster(objects, {0}, still);
   caster.prepare(0.0, 1.0);
