@@ -19,6 +19,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   can-utils user-mode-linux kmod iproute2 procps python3 time
   gnuplot-nox
+  # the exact oracle of the numerics tests (tests/oracle, docs/numerics.md): CGAL is header-only
+  libcgal-dev libgmp-dev libmpfr-dev
   # the Wireshark dissector's tests
   tshark
   # sd_notify for the systemd units, systemd-analyze to check them (scripts/check-units.sh)

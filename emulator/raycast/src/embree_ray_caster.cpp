@@ -61,6 +61,10 @@ struct CastContext {
   const detail::CheckedRay* ray = nullptr;
   std::optional<detail::Contact> best;
   unsigned ignored_primitive = RTC_INVALID_GEOMETRY_ID;  // the Embree primID of Ray::ignored_object
+  Eigen::Vector3d local_origin;  // the ray's origin in Embree's (re-centred) frame, in double
+  // Embree's float ray starts this far along the double one (near the geometry): its distances
+  // are ranges minus this.
+  double skip_m = 0.0;
 };
 
 struct PrimitiveSet {
@@ -100,9 +104,9 @@ void primitive_intersect(const RTCIntersectFunctionNArguments* args) {
   if (!hit || (context->best && !detail::nearer(*hit, *context->best))) return;
   auto* rayhit = reinterpret_cast<RTCRayHit*>(args->rayhit);
   // Meshes may already have shortened tfar; a primitive behind that triangle loses.
-  if (hit->range_m > static_cast<double>(rayhit->ray.tfar)) return;
+  if (hit->range_m > static_cast<double>(rayhit->ray.tfar) + context->skip_m) return;
   context->best = hit;
-  rayhit->ray.tfar = round_up(hit->range_m);
+  rayhit->ray.tfar = round_up(std::max(hit->range_m - context->skip_m, 0.0));
   rayhit->hit.geomID = args->geomID;
   rayhit->hit.primID = args->primID;
   rayhit->hit.Ng_x = static_cast<float>(hit->normal.x());
@@ -113,11 +117,30 @@ void primitive_intersect(const RTCIntersectFunctionNArguments* args) {
   rayhit->hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
 }
 
-// Called by Embree for each triangle the ray meets while it is still traversing: starts loading
-// that triangle's double-precision plane, which mesh_hit reads once traversal ends.
-void prefetch_triangle_plane(const RTCFilterFunctionNArguments* args) {
+// The range of a hit on a triangle: from the triangle's double-precision plane, unless the ray
+// grazes that plane (|n . d| <= 1e-6: zero for a degenerate triangle), then Embree's float
+// distance. Embree's float distance is exact only to ~1e-7 relative.
+double triangle_range(const TrianglePlane& plane, const Eigen::Vector3d& local_origin, const Eigen::Vector3d& direction,
+                      double embree_t) {
+  const double denominator = plane.normal.dot(direction);
+  if (std::abs(denominator) > 1e-6) {
+    const double exact_m = (plane.offset_m - plane.normal.dot(local_origin)) / denominator;
+    if (std::isfinite(exact_m)) return exact_m;
+  }
+  return embree_t;
+}
+
+// Called by Embree for each triangle the ray meets while it is still traversing. Embree accepts
+// float distances >= tnear = 0; a triangle whose range in double is not in (0, reach] (the ray
+// leaves its surface, issue 26) is refused here, so that it does not shorten the ray (a tfar of
+// 0 hid everything else) and Embree goes on to the next candidate.
+void accept_triangle_ahead(const RTCFilterFunctionNArguments* args) {
   const auto* planes = static_cast<const TrianglePlane*>(args->geometryUserPtr);
-  __builtin_prefetch(planes + RTCHitN_primID(args->hit, args->N, 0));
+  const auto* context = reinterpret_cast<const CastContext*>(args->context);
+  const TrianglePlane& plane = planes[RTCHitN_primID(args->hit, args->N, 0)];
+  const double range_m = triangle_range(plane, context->local_origin, context->ray->direction,
+                                        RTCRayN_tfar(args->ray, args->N, 0) + context->skip_m);
+  if (!(range_m > 0.0) || range_m > context->ray->max_range_m) args->valid[0] = 0;
 }
 
 void primitive_occluded(const RTCOccludedFunctionNArguments* args) {
@@ -145,6 +168,7 @@ struct EmbreeRayCaster::Impl {
   double embree_extent_m = 0.0;  // the largest |coordinate| of embree_bounds
   Eigen::Vector3d embree_centre_m = Eigen::Vector3d::Zero();     // of embree_bounds
   Eigen::Vector3d embree_half_size_m = Eigen::Vector3d::Zero();  // idem
+  double embree_radius_m = 0.0;  // of the sphere about embree_centre_m holding embree_bounds
 
   explicit Impl(const OdeWorld& w) : world(w) {}
   ~Impl() {
@@ -156,7 +180,7 @@ struct EmbreeRayCaster::Impl {
   Bounds collect_geometry();
   void attach_primitives(const std::vector<Bounds>& world_bounds, double padding_m);
   void attach_mesh(MeshRecord& mesh);
-  std::optional<Hit> mesh_hit(const detail::CheckedRay& ray, const RTCRayHit& rayhit) const;
+  std::optional<Hit> mesh_hit(const detail::CheckedRay& ray, const RTCRayHit& rayhit, double skip_m) const;
   bool may_meet_embree_geometry(const Eigen::Vector3d& local_origin, const Eigen::Vector3d& direction,
                                 double reach_m) const;
 };
@@ -244,10 +268,8 @@ void EmbreeRayCaster::Impl::attach_mesh(MeshRecord& mesh) {
   }
   mesh.world_vertices_m = {};
   mesh.triangles = {};
-  // The plane records of a large mesh do not stay in cache between casts (a 100k-triangle
-  // mesh has 3.2 MB of them): loading one only after traversal was ~6 % of a cast.
   rtcSetGeometryUserData(geometry, mesh.planes.data());
-  rtcSetGeometryIntersectFilterFunction(geometry, prefetch_triangle_plane);
+  rtcSetGeometryIntersectFilterFunction(geometry, accept_triangle_ahead);
   rtcCommitGeometry(geometry);
   const unsigned geom_id = rtcAttachGeometry(scene, geometry);
   rtcReleaseGeometry(geometry);
@@ -285,23 +307,17 @@ void EmbreeRayCaster::Impl::build() {
     embree_extent_m = embree_bounds.lower.cwiseAbs().cwiseMax(embree_bounds.upper.cwiseAbs()).maxCoeff();
     embree_centre_m = 0.5 * (embree_bounds.lower + embree_bounds.upper);
     embree_half_size_m = 0.5 * (embree_bounds.upper - embree_bounds.lower);
+    embree_radius_m = embree_half_size_m.norm();
   }
   rtcCommitScene(scene);
   if (!device_error.empty()) throw std::runtime_error(device_error);
 }
 
-std::optional<Hit> EmbreeRayCaster::Impl::mesh_hit(const detail::CheckedRay& ray, const RTCRayHit& rayhit) const {
+std::optional<Hit> EmbreeRayCaster::Impl::mesh_hit(const detail::CheckedRay& ray, const RTCRayHit& rayhit, double skip_m) const {
   const MeshRecord& mesh = meshes[static_cast<std::size_t>(mesh_by_geom_id[rayhit.hit.geomID])];
   const TrianglePlane& plane = mesh.planes[rayhit.hit.primID];
   const Eigen::Vector3d& normal = plane.normal;
-  // Embree's float distance is exact only to ~1e-7 relative; the plane of the triangle it found
-  // gives the double-precision distance unless the ray grazes that plane.
-  double range_m = rayhit.ray.tfar;
-  const double denominator = normal.dot(ray.direction);
-  if (std::abs(denominator) > 1e-6) {  // zero for a degenerate triangle: Embree's distance stays
-    const double exact_m = (plane.offset_m - normal.dot(ray.origin_m - frame_origin_m)) / denominator;
-    if (std::isfinite(exact_m) && exact_m > 0.0) range_m = exact_m;
-  }
+  const double range_m = triangle_range(plane, ray.origin_m - frame_origin_m, ray.direction, rayhit.ray.tfar + skip_m);
   if (!(range_m > 0.0) || range_m > ray.max_range_m) return std::nullopt;
   return Hit{range_m, detail::facing_normal(normal, ray.direction),
              scene::optical_reflectance(world.object(mesh.object_index)), static_cast<std::uint32_t>(mesh.object_index)};
@@ -353,6 +369,7 @@ std::optional<Hit> EmbreeRayCaster::cast(const Ray& ray) const {
   CastContext context;  // not value-initialised: zeroing Embree's part first cost ~10 % of a cast
   rtcInitIntersectContext(&context.embree);
   context.ray = &*checked;
+  context.local_origin = checked->origin_m - impl_->frame_origin_m;
   if (checked->ignored_object < impl_->primitive_by_object.size()) {
     context.ignored_primitive = impl_->primitive_by_object[checked->ignored_object];
   }
@@ -367,30 +384,40 @@ std::optional<Hit> EmbreeRayCaster::cast(const Ray& ray) const {
   };
   if (impl_->primitives.object_indices.empty() && impl_->meshes.empty()) return best_hit();
 
-  const Eigen::Vector3d local_origin = checked->origin_m - impl_->frame_origin_m;
+  const Eigen::Vector3d& local_origin = context.local_origin;
+  const double reach_m = context.best ? context.best->range_m : checked->max_range_m;
+  if (!impl_->may_meet_embree_geometry(local_origin, checked->direction, round_up(reach_m))) return best_hit();
+  // Embree's float copy of the ray deviates by ~2^-24 of its origin's distance from the frame
+  // centre; from far away (a small scene seen from 800 m) that exceeded the boxes' padding and
+  // Embree dropped objects the ray hits (issue 26). Its float ray therefore starts at most two
+  // radii of the geometry before the point of the ray closest to the geometry's centre; the
+  // exact tests still use the double ray from its true origin.
+  const double along_m = (impl_->embree_centre_m - local_origin).dot(checked->direction);
+  context.skip_m = std::max(0.0, along_m - 2.0 * impl_->embree_radius_m);
+  if (context.skip_m >= reach_m) return best_hit();
+  const Eigen::Vector3d start = local_origin + context.skip_m * checked->direction;
   RTCRayHit rayhit{};
-  rayhit.ray.org_x = to_float(local_origin.x());
-  rayhit.ray.org_y = to_float(local_origin.y());
-  rayhit.ray.org_z = to_float(local_origin.z());
+  rayhit.ray.org_x = to_float(start.x());
+  rayhit.ray.org_y = to_float(start.y());
+  rayhit.ray.org_z = to_float(start.z());
   rayhit.ray.dir_x = static_cast<float>(checked->direction.x());
   rayhit.ray.dir_y = static_cast<float>(checked->direction.y());
   rayhit.ray.dir_z = static_cast<float>(checked->direction.z());
   rayhit.ray.tnear = 0.0f;
-  rayhit.ray.tfar = round_up(context.best ? context.best->range_m : checked->max_range_m);
+  rayhit.ray.tfar = round_up(reach_m - context.skip_m);
   rayhit.ray.mask = 0xFFFFFFFFu;
   rayhit.ray.time = 0.0f;
   rayhit.ray.flags = 0;
   rayhit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rayhit.hit.primID = RTC_INVALID_GEOMETRY_ID;
   rayhit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  if (!impl_->may_meet_embree_geometry(local_origin, checked->direction, rayhit.ray.tfar)) return best_hit();
   rtcIntersect1(impl_->scene, &context.embree, &rayhit);
 
   const unsigned geom_id = rayhit.hit.geomID;
   if (geom_id == RTC_INVALID_GEOMETRY_ID || geom_id == impl_->primitive_geom_id) return best_hit();
   // A triangle was nearest (within float precision); keep a plane or primitive that is nearer
   // in double precision.
-  auto triangle = impl_->mesh_hit(*checked, rayhit);
+  auto triangle = impl_->mesh_hit(*checked, rayhit, context.skip_m);
   if (triangle && context.best &&
       !detail::nearer(detail::Contact{triangle->range_m, triangle->normal, triangle->object_index}, *context.best)) {
     return best_hit();

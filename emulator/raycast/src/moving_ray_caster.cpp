@@ -27,6 +27,7 @@ struct MovingCastContext {
   double time_s = 0.0;
   const MovingRayCaster* caster = nullptr;
   std::optional<detail::Contact> best;  // object_index = moving index, normal in the world frame
+  double skip_m = 0.0;  // Embree's float ray starts this far along the double one
 };
 
 void slice_bounds(const RTCBoundsFunctionArguments* args) {
@@ -61,6 +62,9 @@ struct MovingRayCaster::Impl {
   std::vector<std::vector<RTCBounds>> boxes;  // [slice or time step][moving index]
   std::vector<TimeSpan> presence;             // empty: every object always exists
   bool prepared = false;
+  // A sphere holding every box of the prepared window (frame_origin_m-relative).
+  Eigen::Vector3d boxes_centre_m = Eigen::Vector3d::Zero();
+  double boxes_radius_m = 0.0;
   double t0_s = 0.0;
   double t1_s = 0.0;
   unsigned windows = 0;
@@ -115,7 +119,7 @@ void MovingRayCaster::Impl::build_embree() {
         return;
       }
       context->best = contact;
-      rayhit->ray.tfar = detail::round_up_to_float(contact->range_m);
+      rayhit->ray.tfar = detail::round_up_to_float(std::max(contact->range_m - context->skip_m, 0.0));
       rayhit->hit.geomID = args->geomID;
       rayhit->hit.primID = args->primID;
     });
@@ -165,7 +169,7 @@ std::optional<detail::Contact> MovingRayCaster::Impl::test(std::size_t k, const 
   const Eigen::Quaterniond inverse = pose.orientation.conjugate();
   const detail::CheckedRay local{inverse * (ray.origin_m - pose.position_m), inverse * ray.direction, max_range_m};
   auto contact = primitives[k] ? detail::intersect(*primitives[k], local)
-                               : detail::collide(detail::aim_thread_probe(local), local, *local_world, k);
+                               : detail::collide(detail::aim_thread_probe(local), local, *local_world, k, true);
   if (contact) contact->normal = pose.orientation * contact->normal;
   return contact;
 }
@@ -237,6 +241,15 @@ void MovingRayCaster::prepare(double t0_s, double t1_s) {
       impl.fill_boxes(impl.boxes[s], edge(s == 0 ? 0 : s - 1) - overlap_s, edge(s == n ? n : s + 1) + overlap_s);
     }
   }
+  Eigen::Vector3d lower = Eigen::Vector3d::Constant(INFINITY), upper = -lower;
+  for (const auto& step : impl.boxes) {
+    for (const RTCBounds& b : step) {
+      lower = lower.cwiseMin(Eigen::Vector3d(b.lower_x, b.lower_y, b.lower_z));
+      upper = upper.cwiseMax(Eigen::Vector3d(b.upper_x, b.upper_y, b.upper_z));
+    }
+  }
+  impl.boxes_centre_m = lower.allFinite() ? Eigen::Vector3d(0.5 * (lower + upper)) : Eigen::Vector3d::Zero();
+  impl.boxes_radius_m = lower.allFinite() ? 0.5 * (upper - lower).norm() : INFINITY;
   const bool full_build = !impl.options.refit || impl.windows % kWindowsPerFullBuild == 0;
   for (std::size_t s = 0; s < impl.scenes.size(); ++s) {
     rtcSetGeometryBuildQuality(impl.geometries[s], full_build ? RTC_BUILD_QUALITY_LOW : RTC_BUILD_QUALITY_REFIT);
@@ -266,7 +279,12 @@ std::optional<Hit> MovingRayCaster::cast(const Ray& ray) const {
     const std::size_t slice =
         blur ? 0 : std::min<std::size_t>(static_cast<std::size_t>(fraction * impl.options.slices), impl.options.slices - 1);
     RTCRayHit rayhit{};
-    const Eigen::Vector3d origin = checked->origin_m - impl.frame_origin_m;
+    // As in EmbreeRayCaster: the float ray starts near the boxes, so that its rounding stays
+    // within their padding however far away the ray's origin is (issue 26).
+    const Eigen::Vector3d local = checked->origin_m - impl.frame_origin_m;
+    const double along_m = (impl.boxes_centre_m - local).dot(checked->direction);
+    context.skip_m = std::isfinite(impl.boxes_radius_m) ? std::max(0.0, along_m - 2.0 * impl.boxes_radius_m) : 0.0;
+    const Eigen::Vector3d origin = local + context.skip_m * checked->direction;
     rayhit.ray.org_x = detail::to_float(origin.x());
     rayhit.ray.org_y = detail::to_float(origin.y());
     rayhit.ray.org_z = detail::to_float(origin.z());
@@ -274,7 +292,7 @@ std::optional<Hit> MovingRayCaster::cast(const Ray& ray) const {
     rayhit.ray.dir_y = static_cast<float>(checked->direction.y());
     rayhit.ray.dir_z = static_cast<float>(checked->direction.z());
     rayhit.ray.tnear = 0.0f;
-    rayhit.ray.tfar = detail::round_up_to_float(checked->max_range_m);
+    rayhit.ray.tfar = detail::round_up_to_float(std::max(checked->max_range_m - context.skip_m, 0.0));
     rayhit.ray.time = blur ? static_cast<float>(std::clamp(fraction, 0.0, 1.0)) : 0.0f;
     rayhit.ray.mask = 0xFFFFFFFFu;
     rayhit.hit.geomID = RTC_INVALID_GEOMETRY_ID;

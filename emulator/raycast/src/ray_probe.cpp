@@ -1,6 +1,7 @@
 #include "ray_probe.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace ldoem::raycast::detail {
@@ -100,7 +101,7 @@ std::optional<double> near_start_skip(const CheckedRay& ray, const OdeWorld& wor
 }  // namespace
 
 std::optional<Contact> collide(dGeomID probe, const CheckedRay& ray, const OdeWorld& world,
-                               std::size_t object_index) {
+                               std::size_t object_index, bool every_contact) {
   const auto skip_m = near_start_skip(ray, world, object_index);
   if (!skip_m) return std::nullopt;
   if (*skip_m > 0.0) {
@@ -108,16 +109,24 @@ std::optional<Contact> collide(dGeomID probe, const CheckedRay& ray, const OdeWo
     dGeomRaySetLength(probe, ray.max_range_m - *skip_m);
     place_probe(probe, start, ray.direction);
   }
-  dContactGeom contact;  // filled by ODE when it reports a contact; read only then
-  const int count = dCollide(probe, world.geom(object_index), 1, &contact, sizeof(dContactGeom));
+  // Filled by ODE up to the count it returns; read only that far.
+  std::array<dContactGeom, kMeshContacts> contacts;
+  if (every_contact) dGeomRaySetClosestHit(probe, 0);
+  const int count = dCollide(probe, world.geom(object_index), every_contact ? kMeshContacts : 1, contacts.data(), sizeof(dContactGeom));
+  if (every_contact) dGeomRaySetClosestHit(probe, 1);
   if (*skip_m > 0.0) {  // the probe serves the other geoms of this cast from the true origin
     dGeomRaySetLength(probe, ray.max_range_m);
     place_probe(probe, ray.origin_m, ray.direction);
   }
-  if (count < 1) return std::nullopt;
-  const double range_m = contact.depth + *skip_m;
-  if (!std::isfinite(range_m) || !(range_m > 0.0) || range_m > ray.max_range_m) return std::nullopt;
-  return Contact{range_m, Eigen::Vector3d(contact.normal[0], contact.normal[1], contact.normal[2]), object_index};
+  std::optional<Contact> best;
+  for (int i = 0; i < count; ++i) {
+    const dContactGeom& contact = contacts[static_cast<std::size_t>(i)];
+    const double range_m = contact.depth + *skip_m;
+    if (!std::isfinite(range_m) || !(range_m > 0.0) || range_m > ray.max_range_m) continue;
+    if (best && !(range_m < best->range_m)) continue;
+    best = Contact{range_m, Eigen::Vector3d(contact.normal[0], contact.normal[1], contact.normal[2]), object_index};
+  }
+  return best;
 }
 
 Hit to_hit(const Contact& contact, const CheckedRay& ray, const OdeWorld& world) {

@@ -77,8 +77,12 @@ inline bool nearer(const Contact& candidate, const Contact& best) {
 
 // dCollide(probe, geom) along `ray` (the probe must be aimed at it). Nothing for no contact, a
 // non-finite range or one outside (0, max_range].
+// every_contact (trimeshes): ODE's closest hit is one triangle, also one at range 0 (a ray
+// leaving a face it starts on), which is no hit and hid the rest of the mesh (issue 26); with
+// it, up to kMeshContacts contacts are asked for and the nearest in (0, max_range] is kept.
+inline constexpr int kMeshContacts = 64;
 std::optional<Contact> collide(dGeomID probe, const CheckedRay& ray, const OdeWorld& world,
-                               std::size_t object_index);
+                               std::size_t object_index, bool every_contact = false);
 
 // The Hit of a contact: unit normal turned to face the ray (only the nearest contact of a cast
 // needs it, so it is computed once, at the end).

@@ -1,0 +1,121 @@
+// Disagreements the exact oracle's differential fuzzer found (docs/numerics.md "Findings"),
+// each reduced to the smallest scene that shows it, with the answer the oracle gives.
+#include "caster_fixture.hpp"
+
+#include "ldoem/raycast/moving_ray_caster.hpp"
+
+namespace ldoem::raycast {
+namespace {
+
+using namespace ldoem::raycast::testing;
+
+scene::Mesh triangle_mesh(std::vector<Eigen::Vector3f> vertices) {
+  scene::Mesh mesh;
+  mesh.path = "inline";
+  mesh.vertices_m = std::move(vertices);
+  for (std::uint32_t i = 0; i + 2 < mesh.vertices_m.size(); i += 3) mesh.triangles.push_back({i, i + 1, i + 2});
+  return mesh;
+}
+
+// Found: a ray leaving a mesh triangle's surface (range 0, which is no hit) made Embree accept
+// the triangle at t = 0; its tfar of 0 then hid everything else, and the caster answered
+// nothing (or a farther plane) instead of the sphere the origin is inside.
+TEST(OracleFindings, OriginOnATriangle_DoesNotHideTheSphereAround) {
+  auto rig = rig_of<EmbreeRayCaster>({
+      make_object(triangle_mesh({{0, -0.5f, -0.5f}, {0, 0.5f, -0.5f}, {0, 0, 0.5f}}), Eigen::Vector3d::Zero()),
+      make_object(scene::Sphere{1.0}, Eigen::Vector3d::Zero()),
+      make_object(scene::Plane{Eigen::Vector3d::UnitX(), 5.0}, Eigen::Vector3d::Zero()),
+  });
+  for (const Eigen::Vector3d& direction : {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(-1, 0.2, 0.1), Eigen::Vector3d(1, -0.3, 0.3)}) {
+    const Ray ray = make_ray(Eigen::Vector3d::Zero(), direction, 10);
+    const auto hit = rig->caster.cast(ray);
+    expect_sane(hit, ray);
+    ASSERT_TRUE(hit.has_value()) << direction.transpose();
+    EXPECT_EQ(hit->object_index, 1u) << direction.transpose();
+    EXPECT_NEAR(hit->range_m, 1.0, 1e-15) << direction.transpose();
+  }
+}
+
+// Found: spheres of 1e-6 m seen from 800 m. Embree traversed a float copy of the ray whose
+// rounding (~6e-8 of 800 m, 5e-5 m sideways) exceeded the padding of the boxes (1e-5 of the
+// scene's size, a scene of 1e-6 m), so the sphere was never tested and the caster missed it.
+TEST(OracleFindings, TinySphereFromFarAway_IsHit) {
+  const Eigen::Vector3d centre(-1.7446140151343865, -2.160481332999503, -22.075968050757773);
+  // Two of them 1e-11 m apart (with one, Embree's tree is a single leaf and tests no box).
+  auto rig = rig_of<EmbreeRayCaster>({make_object(scene::Sphere{1.07e-6}, centre),
+                                      make_object(scene::Sphere{1.07e-6}, centre + Eigen::Vector3d(-4e-12, 1.6e-11, -9e-12))});
+  for (int i = 0; i < 64; ++i) {  // directions all round
+    const double phi = 0.1 + 0.37 * i, z = -0.9 + 1.8 * i / 63.0;
+    const Eigen::Vector3d unit(std::sqrt(1 - z * z) * std::cos(phi), std::sqrt(1 - z * z) * std::sin(phi), z);
+    const Eigen::Vector3d beside = 1e-7 * unit.unitOrthogonal();  // 1e-7 m off the centre
+    const Ray ray = make_ray(centre + beside - 800.0 * unit, unit, 5000.0);
+    const auto hit = rig->caster.cast(ray);
+    expect_sane(hit, ray);
+    ASSERT_TRUE(hit.has_value()) << unit.transpose();
+    EXPECT_NEAR(hit->range_m, 800.0 - std::sqrt(1.07e-6 * 1.07e-6 - 1e-14), 1e-10) << unit.transpose();
+  }
+}
+
+// Every object where the scene put it, for ever.
+class StandStill final : public MotionSource {
+ public:
+  explicit StandStill(std::vector<scene::Pose> poses) : poses_(std::move(poses)) {}
+  scene::Pose pose_at(std::size_t k, double) const override { return poses_[k]; }
+  scene::PathBounds origin_bounds(std::size_t k, double, double) const override { return {poses_[k].position_m, poses_[k].position_m}; }
+  bool keeps_orientation(std::size_t) const override { return true; }
+
+ private:
+  std::vector<scene::Pose> poses_;
+};
+
+// A closed unit cube as 12 triangles about its centre.
+scene::Mesh closed_cube_mesh() {
+  scene::Mesh mesh;
+  mesh.path = "inline";
+  for (int i = 0; i < 8; ++i) mesh.vertices_m.emplace_back(i & 1 ? 0.5f : -0.5f, i & 2 ? 0.5f : -0.5f, i & 4 ? 0.5f : -0.5f);
+  mesh.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                    {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return mesh;
+}
+
+// Found (scenes/hard/mesh_edges.yaml's seed): a ray leaving a moving mesh's face from a point
+// on it. ODE's trimesh reported only its closest triangle, the face the ray starts on (range 0,
+// no hit), and the moving caster answered nothing instead of the face the ray leaves through.
+TEST(OracleFindings, MovingMesh_RayFromItsFaceFindsTheExit) {
+  std::vector<scene::SceneObject> objects{make_object(closed_cube_mesh(), Eigen::Vector3d(0, 4, 0))};
+  const StandStill still({objects[0].pose});
+  MovingRayCaster caster(objects, {0}, still);
+  caster.prepare(0.0, 1.0);
+  for (const Eigen::Vector3d& direction : {Eigen::Vector3d(0.3, 0.2, 1), Eigen::Vector3d(-0.1, 0.4, 1), Eigen::Vector3d(0, 0, 1)}) {
+    const Ray ray = make_ray(Eigen::Vector3d(0.1, 4.05, -0.5), direction, 10);
+    const auto hit = caster.cast(ray);
+    expect_sane(hit, ray);
+    ASSERT_TRUE(hit.has_value()) << direction.transpose();
+    EXPECT_EQ(hit->object_index, 0u);
+    // It leaves through the top face z = 0.5 (the side faces are farther for these directions).
+    EXPECT_NEAR(hit->range_m, 1.0 / ray.direction.z(), 1e-6) << direction.transpose();
+  }
+}
+
+// Found: the moving caster had the same fault as TinySphereFromFarAway_IsHit with its swept
+// boxes: a sphere of 1e-6 m 800 m away was never tested.
+TEST(OracleFindings, MovingTinySphereFromFarAway_IsHit) {
+  const Eigen::Vector3d centre(-1.7446140151343865, -2.160481332999503, -22.075968050757773);
+  std::vector<scene::SceneObject> objects{make_object(scene::Sphere{1.07e-6}, centre),
+                                         make_object(scene::Sphere{1.07e-6}, centre + Eigen::Vector3d(-4e-12, 1.6e-11, -9e-12))};
+  const StandStill still({objects[0].pose, objects[1].pose});
+  MovingRayCaster caster(objects, {0, 1}, still);
+  caster.prepare(0.0, 1.0);
+  for (int i = 0; i < 64; ++i) {
+    const double phi = 0.1 + 0.37 * i, z = -0.9 + 1.8 * i / 63.0;
+    const Eigen::Vector3d unit(std::sqrt(1 - z * z) * std::cos(phi), std::sqrt(1 - z * z) * std::sin(phi), z);
+    const Ray ray = make_ray(centre + 1e-7 * unit.unitOrthogonal() - 800.0 * unit, unit, 5000.0);
+    const auto hit = caster.cast(ray);
+    expect_sane(hit, ray);
+    ASSERT_TRUE(hit.has_value()) << unit.transpose();
+    EXPECT_NEAR(hit->range_m, 800.0 - std::sqrt(1.07e-6 * 1.07e-6 - 1e-14), 1e-10) << unit.transpose();
+  }
+}
+
+}  // namespace
+}  // namespace ldoem::raycast
