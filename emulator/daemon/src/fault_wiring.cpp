@@ -256,7 +256,8 @@ nlohmann::json FaultWiring::query_status() {
         {"profiles_sent", counters.profiles_sent},
         {"skipped_profiles", counters.skipped_profiles},
         {"tcp_connections", counters.tcp_connections},
-        {"fault_injections", injector_->injections()}}}};
+        {"fault_injections", injector_->injections()},
+        {"mesh_trees_built_on_loop", mesh_trees_on_loop_}}}};
 }
 
 void FaultWiring::quit() { stop_(); }
