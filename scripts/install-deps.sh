@@ -29,9 +29,15 @@ packages=(
   # the man pages from each program's --help; lintian checks the .deb, mmdebstrap makes the clean
   # Debian 12 root it is installed into and systemd-nspawn boots it (scripts/check-deb-root.sh)
   dpkg-dev help2man lintian mmdebstrap systemd-container zstd
+  # load for scripts/test-under-load.sh and scripts/bench-jitter.sh
+  stress-ng
   nlohmann-json3-dev libcli11-dev   # control socket (JSON lines), ldoem-ctl
   # the ldoem Python package (python/, docs/python.md): bindings, tests, examples
   pybind11-dev python3-dev python3-pytest python3-numpy python3-matplotlib
+  # the fleet's image and its test (scripts/build-image.sh, scripts/check-fleet.sh): runc, as
+  # crun fails on hybrid cgroups; catatonit, for the pods' local pause image (none is pulled);
+  # mmdebstrap is listed above
+  podman runc catatonit
   # for the gpio-sim UML kernel (scripts/uml/build-gpio-kernel.sh)
   linux-source-6.1 build-essential bc flex bison libelf-dev xz-utils
 )

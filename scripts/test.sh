@@ -8,7 +8,11 @@
 #      against the installed daemon, the .deb (scripts/check-install.sh); then the .deb through
 #      lintian and into a clean Debian 12 root (mmdebstrap, cached), booted with systemd-nspawn,
 #      where the installed units take a 3D scan through the hub (scripts/check-deb-root.sh);
-#   3. the `plain` tests on the plain build;
+#   2b. the fleet (scripts/check-fleet.sh): the OCI image from the .deb (mmdebstrap, cached in
+#      ${LDOEM_CACHE}), 3 scanners and the hub under podman kube play, a scan through the hub from
+#      each, one killed and recovered, all removed;
+#   3. the `plain` tests on the plain build, then scripts/hostile.sh (the hostile inputs of
+#      issue 27 against the plain build's programs, docs/robustness.md);
 #   4. the vcan-labelled tests inside one User-Mode Linux boot with a real vcan0 (daemon on CAN,
 #      conformance, can-utils interop, robustness floods, the paper's scan end to end), then a
 #      60 s soak test (scripts/soak.sh) in the same boot, so CAN is in it;
@@ -68,8 +72,14 @@ scripts/check-install.sh build/default
 step "the .deb in a clean Debian 12 root: lintian, dpkg -i, a 3D scan through its units"
 scripts/check-deb-root.sh build/default
 
+step "the fleet: OCI image, 3 emulated scanners and the hub under podman (scripts/check-fleet.sh)"
+scripts/check-fleet.sh --build-dir build/default
+
 step "tests that assert wall time, on the plain build (label plain)"
 ctest --preset default -L plain -j2
+
+step "hostile inputs (issue 27) against the plain build's programs: scripts/hostile.sh"
+scripts/hostile.sh --build-dir build/default --budget-s 300
 
 step "vcan tests and a 60 s soak test inside User-Mode Linux"
 # One boot for both: the soak's third daemon then serves the hub over vcan0. Both always run.

@@ -65,7 +65,7 @@ base::Expected<CapturePackets, std::string> read_with_libpcap(const std::filesys
     return base::Unexpected(path.string() + ": link type " + (name ? name : std::to_string(dlt)) +
                       " carries no LD-OEM transport (want Ethernet, IPv4, Linux cooked, loopback or SocketCAN)");
   }
-  CapturePackets result{CaptureFormat::pcap, {}};
+  CapturePackets result{CaptureFormat::pcap, {}, {}};
   pcap_pkthdr* header = nullptr;
   const u_char* data = nullptr;
   int status = 0;
@@ -109,14 +109,23 @@ base::Expected<CapturePackets, std::string> read_pcapng_blocks(const std::filesy
     return base::Unexpected(path.string() + ": block at byte " + std::to_string(offset) + ": " +
                             std::string(protocol::describe(error)));
   };
-  CapturePackets result{CaptureFormat::pcapng, {}};
+  CapturePackets result{CaptureFormat::pcapng, {}, {}};
   protocol::Bytes section;                                   // this section's header and interface blocks
   std::vector<std::pair<std::size_t, std::uintmax_t>> where;  // their offsets: in `section`, in the file
   bool big_endian = false;
   protocol::Bytes head(kHeadBytes);
   protocol::Bytes block;
+  // Issue 27 D9: a recording cut off (a full disk, a crash) keeps its whole blocks; like tshark,
+  // read those and say where the file was cut.
+  const auto cut_short = [&](std::uintmax_t at) {
+    result.warning = path.string() + ": the file ends inside a block at byte " + std::to_string(at) + " (of " +
+                     std::to_string(size) + "): it was cut short; read its whole blocks only";
+    return result;
+  };
   for (std::uintmax_t at = 0; at < size;) {
-    if (size - at < kHeadBytes || !read_exactly(fd, at, head)) return failed(CaptureFormatError::truncated, at);
+    if (size - at < kHeadBytes) return at > 0 ? base::Expected<CapturePackets, std::string>(cut_short(at))
+                                              : failed(CaptureFormatError::truncated, at);
+    if (!read_exactly(fd, at, head)) return failed(CaptureFormatError::truncated, at);
     const bool header = protocol::looks_like_pcapng(head);
     if (header) {
       if (u32_at(head, 8, false) == protocol::kPcapngByteOrderMagic) {
@@ -132,7 +141,8 @@ base::Expected<CapturePackets, std::string> read_pcapng_blocks(const std::filesy
     if (length < kHeadBytes || length % 4 != 0 || length > protocol::kPcapngMaxBlockBytes) {
       return failed(CaptureFormatError::bad_block_length, at);
     }
-    if (length > size - at) return failed(CaptureFormatError::truncated, at);
+    if (length > size - at) return at > 0 ? base::Expected<CapturePackets, std::string>(cut_short(at))
+                                          : failed(CaptureFormatError::truncated, at);
     block.resize(length);
     if (!read_exactly(fd, at, block)) return failed(CaptureFormatError::truncated, at);
     if (header) {
@@ -198,7 +208,7 @@ base::Expected<CapturePackets, std::string> read_capture_packets(const std::file
       return base::Unexpected(path.string() + ":" + std::to_string(entries.error().line) + ": " +
                         std::string(protocol::describe(entries.error().error)));
     }
-    CapturePackets result{CaptureFormat::candump, {}};
+    CapturePackets result{CaptureFormat::candump, {}, {}};
     for (const auto& entry : *entries) {
       protocol::LinkPayload payload = std::monostate{};
       if (!entry.extended_id && !entry.remote) payload = entry.frame;
@@ -213,7 +223,8 @@ base::Expected<CaptureConversation, std::string> read_capture_conversation(const
                                                                      protocol::ConversationConfig config) {
   auto packets = read_capture_packets(path);
   if (!packets) return base::Unexpected(packets.error());
-  return CaptureConversation{packets->format, protocol::extract_conversation(packets->packets, config)};
+  return CaptureConversation{packets->format, protocol::extract_conversation(packets->packets, config),
+                             std::move(packets->warning)};
 }
 
 }  // namespace ldoem::capture

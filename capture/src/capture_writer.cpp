@@ -10,6 +10,7 @@
 #include <cstring>
 #include <functional>
 #include <system_error>
+#include <utility>
 
 #include "ldoem/base/device_constants.hpp"
 #include "ldoem/protocol/pcapng.hpp"
@@ -41,6 +42,14 @@ CaptureWriter::CaptureWriter(CaptureWriterOptions options) : options_(std::move(
 
 CaptureWriter::~CaptureWriter() {
   if (fd_ >= 0) ::close(fd_);
+  if (shifter_.joinable()) {
+    {
+      std::lock_guard lock(shift_mutex_);
+      stopping_ = true;  // the worker finishes what is pending first
+      shift_wake_.notify_all();
+    }
+    shifter_.join();
+  }
 }
 
 base::Expected<std::unique_ptr<CaptureWriter>, std::string> CaptureWriter::open(CaptureWriterOptions options) {
@@ -68,6 +77,12 @@ std::string CaptureWriter::start_file() {
   return write_all(header);
 }
 
+// Issue 27 D4: the caller's thread (the daemon's event loop) does O(1) work per rotation and
+// never waits: it moves FILE aside as FILE.rotating.N and starts a new FILE. A worker thread
+// then shifts the older files. It takes every rotation pending at once (M of them) and moves
+// FILE.i to FILE.i+M (dropping those beyond max_files - 1), then puts the M pending files in
+// FILE.1 ... FILE.M, newest first: at most max_files - 1 renames per batch however fast the
+// rotations come, and the files never get out of order.
 std::string CaptureWriter::rotate() {
   ::close(fd_);
   fd_ = -1;
@@ -75,16 +90,66 @@ std::string CaptureWriter::rotate() {
   if (options_.max_files == 1) {
     std::filesystem::remove(options_.path, ignored);
   } else {
-    std::filesystem::remove(numbered(options_.path, options_.max_files - 1), ignored);
-    for (unsigned index = options_.max_files - 1; index > 1; --index) {
-      std::filesystem::rename(numbered(options_.path, index - 1), numbered(options_.path, index), ignored);
-    }
+    const std::uint64_t sequence = next_rotation_++;
     std::error_code error;
-    std::filesystem::rename(options_.path, numbered(options_.path, 1), error);
+    std::filesystem::rename(options_.path, aside_name(sequence), error);
     if (error) return "rename " + options_.path.string() + ": " + error.message();
+    std::lock_guard lock(shift_mutex_);
+    pending_.push_back(sequence);
+    if (!shifter_.joinable()) shifter_ = std::thread([this] { shift_files(); });
+    shift_wake_.notify_all();
   }
   ++counters_.rotations;
-  return start_file();
+  std::string error = start_file();
+  if (!error.empty()) return error;
+  std::lock_guard lock(shift_mutex_);
+  return std::exchange(shift_error_, std::string());
+}
+
+std::filesystem::path CaptureWriter::aside_name(std::uint64_t sequence) const {
+  return options_.path.string() + ".rotating." + std::to_string(sequence);
+}
+
+void CaptureWriter::shift_files() {
+  std::unique_lock lock(shift_mutex_);
+  for (;;) {
+    shift_wake_.wait(lock, [this] { return !pending_.empty() || stopping_; });
+    if (pending_.empty()) return;  // stopping, nothing left
+    const std::vector<std::uint64_t> batch = std::exchange(pending_, {});
+    shifting_ = true;
+    lock.unlock();
+    const std::size_t kept = options_.max_files - 1;  // numbered files FILE.1 .. FILE.kept
+    const std::size_t moved = batch.size();
+    std::error_code ignored;
+    std::string error;
+    for (std::size_t index = kept; index >= 1 && index + moved > kept; --index) {
+      std::filesystem::remove(numbered(options_.path, static_cast<unsigned>(index)), ignored);
+    }
+    for (std::size_t index = kept > moved ? kept - moved : 0; index >= 1; --index) {
+      std::filesystem::rename(numbered(options_.path, static_cast<unsigned>(index)),
+                              numbered(options_.path, static_cast<unsigned>(index + moved)), ignored);
+    }
+    for (std::size_t newest = 0; newest < moved; ++newest) {
+      const std::filesystem::path aside = aside_name(batch[moved - 1 - newest]);
+      if (newest + 1 > kept) {
+        std::filesystem::remove(aside, ignored);
+        continue;
+      }
+      std::error_code failed;
+      std::filesystem::rename(aside, numbered(options_.path, static_cast<unsigned>(newest + 1)), failed);
+      if (failed) error = "rename " + aside.string() + ": " + failed.message();
+    }
+    lock.lock();
+    shifting_ = false;
+    if (!error.empty()) shift_error_ = error;
+    shift_done_.notify_all();
+  }
+}
+
+std::string CaptureWriter::finish_shifting() {
+  std::unique_lock lock(shift_mutex_);
+  shift_done_.wait(lock, [this] { return pending_.empty() && !shifting_; });
+  return std::exchange(shift_error_, std::string());
 }
 
 std::string CaptureWriter::commit(const std::function<Bytes()>& build) {
@@ -99,6 +164,9 @@ std::string CaptureWriter::commit(const std::function<Bytes()>& build) {
   return write_all(blocks);
 }
 
+// Issue 27 D9: a record is written whole or not at all. On a write error (a full disk) the
+// file is cut back to where the record began, so that it ends at a block boundary and stays
+// readable; the error is counted and returned (the recording tap reports it once and stops).
 std::string CaptureWriter::write_all(const Bytes& blocks) {
   if (fd_ < 0) return "write " + options_.path.string() + ": capture file is not open";
   std::size_t done = 0;
@@ -106,7 +174,13 @@ std::string CaptureWriter::write_all(const Bytes& blocks) {
     const ssize_t written = ::write(fd_, blocks.data() + done, blocks.size() - done);
     if (written < 0) {
       if (errno == EINTR) continue;
-      return errno_text("write", options_.path);
+      std::string error = errno_text("write", options_.path);
+      ++counters_.write_errors;
+      if (done > 0 && ::ftruncate(fd_, static_cast<off_t>(counters_.bytes)) != 0) {
+        error += "; cutting it back to its last whole block: " + std::string(std::strerror(errno));
+      }
+      ::lseek(fd_, static_cast<off_t>(counters_.bytes), SEEK_SET);
+      return error;
     }
     done += static_cast<std::size_t>(written);
   }

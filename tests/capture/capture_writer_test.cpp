@@ -1,8 +1,10 @@
 // CaptureWriter: the four interfaces, TCP synthesis with a handshake and split segments, one
 // flush per record, the size cap and rotation, and clear errors.
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -89,6 +91,10 @@ TEST(CaptureWriter, SizeCap_RotatesAndKeepsAtMostMaxFiles) {
     ASSERT_EQ((*writer)->write_tcp(milliseconds(i), 0, WireDirection::device_to_host, frame), "");
   }
   EXPECT_GT((*writer)->counters().rotations, 2u);
+  ASSERT_EQ((*writer)->wait_for_rotation(), "");  // the older files are renamed by a worker
+  for (const auto& entry : fs::directory_iterator(dir.folder())) {
+    EXPECT_EQ(entry.path().filename().string().find(".rotating"), std::string::npos) << entry.path();
+  }
   EXPECT_TRUE(fs::exists(dir.folder() / "r.pcapng"));
   EXPECT_TRUE(fs::exists(dir.folder() / "r.pcapng.1"));
   EXPECT_TRUE(fs::exists(dir.folder() / "r.pcapng.2"));
@@ -104,6 +110,53 @@ TEST(CaptureWriter, SizeCap_RotatesAndKeepsAtMostMaxFiles) {
   // The newest file holds the newest record.
   const auto newest = read_capture_conversation(dir.folder() / "r.pcapng");
   EXPECT_EQ(newest->conversation.telegrams.back().time, milliseconds(19));
+}
+
+// Issue 27 D9: a disk that fills up (RLIMIT_FSIZE here: the write past it fails with EFBIG)
+// leaves a file of whole blocks, readable without a warning; the error is counted.
+TEST(CaptureWriter, WriteError_CutsTheFileBackToItsLastWholeBlock) {
+  TempDir dir;
+  auto writer = CaptureWriter::open({dir.folder() / "full.pcapng"});
+  ASSERT_TRUE(writer.has_value());
+  rlimit before{};
+  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &before), 0);
+  const auto previous_handler = std::signal(SIGXFSZ, SIG_IGN);
+  rlimit small = before;
+  small.rlim_cur = 10'001;  // not a block boundary
+  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
+  const Bytes frame = protocol::encode_tcp_frame(profile_like_payload(300));
+  std::string error;
+  for (int i = 0; i < 100 && error.empty(); ++i) {
+    error = (*writer)->write_tcp(milliseconds(i), 0, WireDirection::device_to_host, frame);
+  }
+  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &before), 0);
+  std::signal(SIGXFSZ, previous_handler);
+  EXPECT_NE(error.find("File too large"), std::string::npos) << error;
+  EXPECT_EQ((*writer)->counters().write_errors, 1u);
+  EXPECT_EQ(fs::file_size(dir.folder() / "full.pcapng"), (*writer)->counters().bytes);
+  const auto packets = read_capture_packets(dir.folder() / "full.pcapng");
+  ASSERT_TRUE(packets.has_value()) << packets.error();
+  EXPECT_EQ(packets->warning, "");
+  EXPECT_FALSE(packets->packets.empty());
+}
+
+// A file that ends inside a block (cut by another writer or a crash): its whole blocks are read
+// and a warning says where it was cut, as tshark does.
+TEST(CaptureReader, FileCutInsideABlock_GivesItsWholeBlocksAndAWarning) {
+  TempDir dir;
+  {
+    auto writer = CaptureWriter::open({dir.folder() / "cut.pcapng"});
+    ASSERT_TRUE(writer.has_value());
+    const Bytes frame = protocol::encode_tcp_frame(profile_like_payload(100));
+    for (int i = 0; i < 3; ++i) ASSERT_EQ((*writer)->write_tcp(milliseconds(i), 0, WireDirection::device_to_host, frame), "");
+  }
+  const auto whole = read_capture_packets(dir.folder() / "cut.pcapng");
+  ASSERT_TRUE(whole.has_value());
+  fs::resize_file(dir.folder() / "cut.pcapng", fs::file_size(dir.folder() / "cut.pcapng") - 5);
+  const auto cut = read_capture_packets(dir.folder() / "cut.pcapng");
+  ASSERT_TRUE(cut.has_value()) << cut.error();
+  EXPECT_EQ(cut->packets.size(), whole->packets.size() - 1);
+  EXPECT_NE(cut->warning.find("ends inside a block"), std::string::npos) << cut->warning;
 }
 
 TEST(CaptureWriter, SerialAndLpt_RoundTripWithDirection) {

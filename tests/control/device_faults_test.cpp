@@ -121,6 +121,38 @@ TEST(MotorFaults, HeldTransRotateIsAnsweredWithError) {
   EXPECT_EQ(bench.sent_to(kTcp1, TelegramKind::reply).size(), 1u) << "answered once";
 }
 
+// L-faults-6: between a motor fault and ERROR (one revolution) the head cannot measure: a
+// TRANS_MEASURE is refused with reason 3, as ERROR refuses it, from ROTATE and from MEASURE. A
+// TRANS_ROTATE then tries to spin the failed motor: ERROR at once, its reply says so.
+TEST(MotorFaults, TransMeasureWithinTheRevolutionAfterAStall_IsRefusedReasonThree) {
+  Bench bench;
+  bench.request(kTcp1, "TRANS_ROTATE 0000");
+  bench.advance_by(bench.head.duration);
+  ASSERT_EQ(bench.unit.state().mode, DeviceMode::rotate);
+  bench.deliver(bench.unit.inject_motor_fault(bench.now, MotorFault::stall, false));
+  EXPECT_EQ(bench.reply_text(kTcp1, "TRANS_MEASURE"), "SERVICE_FAILURE 0404 0003") << bench.unit.dump(bench.now);
+  EXPECT_EQ(bench.reply_text(kTcp1, "GET_STATUS"), "GET_STATUS reply 0000 00b2");
+  bench.advance_by(kRevolutionAt10Hz);
+  EXPECT_EQ(bench.reply_text(kTcp1, "TRANS_MEASURE"), "SERVICE_FAILURE 0404 0003");  // ERROR now
+  EXPECT_EQ(bench.reply_text(kTcp1, "GET_STATUS"), "GET_STATUS reply 0000 00b4");
+}
+
+TEST(MotorFaults, TransMeasureInMeasureAfterAnOverspeed_IsRefusedReasonThree) {
+  Bench bench;
+  stream(bench);
+  bench.deliver(bench.unit.inject_motor_fault(bench.now, MotorFault::overspeed, false));
+  EXPECT_EQ(bench.reply_text(kTcp1, "TRANS_MEASURE"), "SERVICE_FAILURE 0404 0003");
+  EXPECT_EQ(bench.reply_text(kTcp1, "GET_STATUS"), "GET_STATUS reply 0000 0093");
+}
+
+TEST(MotorFaults, TransRotateWithinTheRevolutionAfterAStall_EntersErrorAndSaysSo) {
+  Bench bench;
+  stream(bench);
+  bench.deliver(bench.unit.inject_motor_fault(bench.now, MotorFault::stall, false));
+  EXPECT_EQ(bench.reply_text(kTcp1, "TRANS_ROTATE 0000"), "TRANS_ROTATE reply 0000 00b4");
+  EXPECT_EQ(bench.unit.state().mode, DeviceMode::error);
+}
+
 struct ErrorRow {
   const char* request;
   const char* reply;

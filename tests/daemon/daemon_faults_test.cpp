@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "control_client.hpp"
 #include "daemon_process.hpp"
 #include "host_link.hpp"
 
@@ -20,77 +21,6 @@ namespace {
 
 using nlohmann::json;
 using namespace std::chrono_literals;
-
-// A control-socket client: JSON lines with bounded waits.
-class ControlClient {
- public:
-  static std::optional<ControlClient> connect(const std::string& path) {
-    const int fd = socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0);
-    sockaddr_un address{};
-    address.sun_family = AF_UNIX;
-    std::strncpy(address.sun_path, path.c_str(), sizeof(address.sun_path) - 1);
-    if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address)) != 0) {
-      close(fd);
-      return std::nullopt;
-    }
-    return ControlClient(fd);
-  }
-  ControlClient(ControlClient&& other) noexcept : fd_(std::exchange(other.fd_, -1)), buffer_(std::move(other.buffer_)) {}
-  ~ControlClient() {
-    if (fd_ >= 0) close(fd_);
-  }
-  std::optional<json> next(std::chrono::milliseconds limit = 5s) {
-    const auto deadline = std::chrono::steady_clock::now() + limit;
-    for (;;) {
-      if (const auto newline = buffer_.find('\n'); newline != std::string::npos) {
-        const std::string line = buffer_.substr(0, newline);
-        buffer_.erase(0, newline + 1);
-        return json::parse(line, nullptr, false);
-      }
-      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-      if (left.count() <= 0 || !wait_readable(fd_, left)) return std::nullopt;
-      char chunk[4096];
-      const ssize_t got = recv(fd_, chunk, sizeof(chunk), 0);
-      if (got <= 0) return std::nullopt;
-      buffer_.append(chunk, static_cast<std::size_t>(got));
-    }
-  }
-  // Sends a request and returns its reply, keeping the events seen meanwhile.
-  std::optional<json> execute(const json& request) {
-    const std::string line = request.dump() + "\n";
-    if (send(fd_, line.data(), line.size(), MSG_NOSIGNAL) != static_cast<ssize_t>(line.size())) return std::nullopt;
-    while (auto reply = next()) {
-      if (reply->contains("event")) {
-        events.push_back(*reply);
-        continue;
-      }
-      return reply;
-    }
-    return std::nullopt;
-  }
-  // Reads lines until an event named `name` whose data has `key` == `value` when given.
-  std::optional<json> wait_event(const std::string& name, std::chrono::milliseconds limit = 5s,
-                                 const std::string& key = "", const json& value = nullptr) {
-    auto matches = [&](const json& event) {
-      return event["event"] == name && (key.empty() || event["data"][key] == value);
-    };
-    for (const json& seen : events) {
-      if (matches(seen)) return seen;
-    }
-    while (auto line = next(limit)) {
-      if (!line->contains("event")) continue;
-      events.push_back(*line);
-      if (matches(*line)) return *line;
-    }
-    return std::nullopt;
-  }
-  std::vector<json> events;
-
- private:
-  explicit ControlClient(int fd) : fd_(fd) {}
-  int fd_ = -1;
-  std::string buffer_;
-};
 
 struct FaultDaemon {
   TempDir dir;
@@ -235,7 +165,7 @@ TEST(DaemonFaults, PowerCycleResetsTcpAndComesBackInPowerUpState) {
   EXPECT_EQ(reply_text(*host, "TRANS_ROTATE 0000"), "TRANS_ROTATE reply 0000 0002");
   ASSERT_TRUE(control->execute({{"execute", "power-cycle"}, {"arguments", {{"off_s", 0.5}}}}));
   EXPECT_TRUE(host->closed_by_peer(5s));
-  ASSERT_TRUE(control->wait_event("POWER_ON", 10s));
+  ASSERT_TRUE(control->wait_event("BOOTED", 10s));  // connections are refused until the boot ends
   auto again = TcpHost::connect(fd.daemon->tcp_port());
   ASSERT_TRUE(again);
   EXPECT_EQ(reply_text(*again, "GET_STATUS"), "GET_STATUS reply 0000 0001");

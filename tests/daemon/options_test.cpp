@@ -34,6 +34,11 @@ TEST(Options, ControlAndEventLog_OffByDefaultAndTakeAPath) {
   EXPECT_NE(bad.error().message.find("--control"), std::string::npos);
 }
 
+TEST(Options, Realtime_OffByDefaultAndAFlag) {
+  EXPECT_FALSE(run_options({"--scene", "s.yaml"}).realtime);
+  EXPECT_TRUE(run_options({"--scene", "s.yaml", "--realtime"}).realtime);
+}
+
 TEST(Options, SceneOnly_GivesEveryDefault) {
   const Options options = run_options({"--scene", "scenes/minimal.yaml"});
   EXPECT_EQ(options.scene_path, "scenes/minimal.yaml");
@@ -131,6 +136,7 @@ TEST(Options, BadCommandLines_AreUsageErrorsNamingTheOption) {
       {{"--scene", "s", "--no-can", "--can-ids", "6C0:6C1", "--tcp", "h"}, "--can-ids: needs CAN"},
       {{"--scene", "s", "--flash", "f", "--no-flash"}, "--no-flash: conflicts with --flash"},
       {{"--scene", "s", "--reset-flash", "--no-flash", "--tcp", "h"}, "--reset-flash: conflicts with --no-flash"},
+      {{"--scene", "s", "--realtime", "--virtual-time"}, "--realtime: conflicts with --virtual-time"},
       {{"--scene", "s", "--flash-dir", "d", "--flash", "f"}, "--flash-dir: conflicts with --flash"},
       {{"--scene", "s", "--no-flash", "--flash-dir", "d", "--tcp", "h"}, "--flash-dir: conflicts with --no-flash"},
       {{"--scene", "s", "--flash-dir", ""}, "--flash-dir: expects a folder"},
@@ -149,6 +155,9 @@ TEST(Options, BadCommandLines_AreUsageErrorsNamingTheOption) {
       {{"--scene", "s", "--time-scale", "1e-300"}, "--time-scale: must be a number from 1e-6 to 1e6"},
       {{"--scene", "s", "--time-scale", "2e6"}, "--time-scale: must be a number from 1e-6 to 1e6"},
       {{"--scene", "s", "--record-max-mb", "1e300"}, "--record-max-mb: must be a number > 0 and at most 1048576"},
+      // Issue 27 D4: 10 million files made every rotation rename 10 million slots.
+      {{"--scene", "s", "--record-files", "1001"}, "--record-files: must be an integer in [1, 1000]"},
+      {{"--scene", "s", "--record-files", "4294967295"}, "--record-files: must be an integer in [1, 1000]"},
       {{"--scene", "s", "--no-flash=1"}, "--no-flash: takes no value"},
       {{"--scene", "s", "--inter-byte-timeout", "-1"}, "--inter-byte-timeout: must be a number of milliseconds"},
       {{"--scene", "s", "--tcp-idle-timeout", "1e300"}, "--tcp-idle-timeout: must be a number of seconds"},

@@ -6,7 +6,7 @@
 set -u
 cd "$1" || exit 2
 # The patterns are split so that this file does not match itself.
-machine='/tmp/[a-z0-9-]*clone|/tmp/ldoem-old|/w''ork/'
+machine='/tmp/[a-z0-9-]*clo''ne|/tmp/ldoem''-old|/w''ork/'
 outside='\.\./sha''red|sha''red/spec|sha''red/DESIGN|sha''red/STYLE|(^|[^/a-z])(DES''IGN|STY''LE)\.md'
 found=$(git grep -n -I -E "$machine|$outside" -- . ':!*.png' ':!*.svg' 2>/dev/null)
 if [ -n "$found" ]; then

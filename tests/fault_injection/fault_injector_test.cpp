@@ -53,9 +53,11 @@ TEST(FaultInjector, SceneStallAtTimeStopsTheHeadAndClearsAfterItsDuration) {
   EXPECT_EQ(bench.reply_text(kTcp1, "TRANS_ROTATE 0000"), "");
 }
 
-TEST(FaultInjector, PowerCycleDropsConnectionsAndPowersUpAfterOff) {
+// L-faults-5: off (dark), then power back (booting: the old connections are reset, the device
+// in its D4 power-up state), then serving after the boot time.
+TEST(FaultInjector, PowerCycleGoesDarkThenBootsThenServes) {
   Bench bench;
-  FaultInjector injector({}, 1, false, bench.unit);
+  FaultInjector injector({}, 1, false, bench.unit, 3s);
   bench.enter_measure();
   std::vector<InjectorEvent> ignored;
   injector.note_state(bench.now, ignored);
@@ -63,15 +65,36 @@ TEST(FaultInjector, PowerCycleDropsConnectionsAndPowersUpAfterOff) {
   cycle.off = 2s;
   faults::FaultId id = 0;
   auto out = injector.inject(bench.now, cycle, id);
-  EXPECT_TRUE(out.drop_all_connections);
-  EXPECT_FALSE(injector.powered());
+  EXPECT_EQ(out.power_steps, std::vector<Power>{Power::off});
+  EXPECT_EQ(injector.power(), Power::off);
   EXPECT_EQ(names(out.events), (std::vector<std::string>{"FAULT_INJECTED", "POWER_OFF", "FAULT_CLEARED"}));
   const faults::SimTime off_at = bench.now;
   EXPECT_EQ(injector.next_deadline(), off_at + 2s);
   out = injector.advance(off_at + 2s);
-  EXPECT_TRUE(injector.powered());
+  EXPECT_EQ(out.power_steps, std::vector<Power>{Power::booting});
+  EXPECT_EQ(injector.power(), Power::booting);
   EXPECT_EQ(names(out.events), (std::vector<std::string>{"POWER_ON", "STATE_CHANGED"}));
+  EXPECT_EQ(out.events[0].data["boot_s"], 3.0);
   EXPECT_EQ(bench.unit.state(), control::power_up_state(off_at + 2s, bench.unit.state().flash));
+  EXPECT_EQ(injector.next_deadline(), off_at + 5s);
+  out = injector.advance(off_at + 5s);
+  EXPECT_EQ(out.power_steps, std::vector<Power>{Power::on});
+  EXPECT_EQ(injector.power(), Power::on);
+  EXPECT_EQ(names(out.events), (std::vector<std::string>{"BOOTED"}));
+  EXPECT_EQ(out.events[0].at, off_at + 5s);
+}
+
+// A clock that jumps over the whole boot (or a boot time of 0) gives every step, in order.
+TEST(FaultInjector, PowerCycleStepsInOrderWhenTimeJumpsOverTheBoot) {
+  Bench bench;
+  FaultInjector injector({}, 1, false, bench.unit, 0s);
+  auto cycle = spec(faults::FaultKind::power_cycle);
+  cycle.off = 1s;
+  faults::FaultId id = 0;
+  (void)injector.inject(bench.now, cycle, id);
+  const auto out = injector.advance(bench.now + 10s);
+  EXPECT_EQ(out.power_steps, (std::vector<Power>{Power::booting, Power::on}));
+  EXPECT_EQ(names(out.events), (std::vector<std::string>{"POWER_ON", "BOOTED"}));
 }
 
 TEST(FaultInjector, BlindAndDirtReachTheBeams) {

@@ -92,6 +92,14 @@ TEST(FaultEntry, EveryTriggerAndParameter) {
   EXPECT_EQ(good({{"kind", std::string("bandwidth")}, {"bytes_per_s", 300.0}}).bytes_per_s, 300u);
 }
 
+// The upper bounds themselves are accepted (docs/robustness.md).
+TEST(FaultEntry, BoundsAreInclusive) {
+  EXPECT_EQ(good({{"kind", std::string("garbage")}, {"bytes", 4096.0}}).garbage_bytes, kMaxGarbageBytes);
+  EXPECT_EQ(good({{"kind", std::string("bandwidth")}, {"bytes_per_s", 125e6}}).bytes_per_s, kMaxBytesPerSecond);
+  EXPECT_EQ(good({{"kind", std::string("delay_reply")}, {"delay_s", 60.0}}).delay, 60s);
+  EXPECT_EQ(good({{"kind", std::string("drop_reply")}, {"count", 1e12}}).count, 1'000'000'000'000u);
+}
+
 TEST(FaultEntry, BadEntriesNameTheirKey) {
   struct Case {
     const char* title;
@@ -131,6 +139,15 @@ TEST(FaultEntry, BadEntriesNameTheirKey) {
        FieldErrorKind::conflicting_keys, "duration_s"},
       {"unknown key", {{"kind", std::string("motor_stall")}, {"colour", 1.0}}, FieldErrorKind::unknown_key, "colour"},
       {"unknown trigger member", {{"kind", std::string("drop_reply")}, {"on.nht", 1.0}}, FieldErrorKind::unknown_key, "on.nht"},
+      // Issue 27 D1, D2: the values that size memory or time have upper bounds.
+      {"garbage of 4 GiB", {{"kind", std::string("garbage")}, {"bytes", 4294967295.0}}, FieldErrorKind::out_of_range, "bytes"},
+      {"garbage over 4096", {{"kind", std::string("garbage")}, {"bytes", 4097.0}}, FieldErrorKind::out_of_range, "bytes"},
+      {"bandwidth over 1 Gbit/s", {{"kind", std::string("bandwidth")}, {"bytes_per_s", 125000001.0}},
+       FieldErrorKind::out_of_range, "bytes_per_s"},
+      {"delay over 60 s", {{"kind", std::string("delay_reply")}, {"delay_s", 61.0}}, FieldErrorKind::out_of_range, "delay_s"},
+      {"delay of 1e6 s", {{"kind", std::string("delay_reply")}, {"delay_s", 1e6}}, FieldErrorKind::out_of_range, "delay_s"},
+      {"count over 1e12", {{"kind", std::string("drop_reply")}, {"count", 1e13}}, FieldErrorKind::out_of_range, "count"},
+      {"duration over 1e6 s", {{"kind", std::string("tcp_stall")}, {"duration_s", 2e6}}, FieldErrorKind::out_of_range, "duration_s"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.title);

@@ -134,6 +134,24 @@ TEST(HubLimits, IdleClientsAreClosed_SoTheyCannotHoldEverySlot) {
   EXPECT_EQ(running.hub->counters().closed_idle, 4u);
 }
 
+// Issue 27: a client that sends only blank lines is idle all the same (before: every byte reset
+// the idle clock, so a newline every 50 ms held a slot forever).
+TEST(HubLimits, BlankLinesAreNotActivity) {
+  HubSettings settings = small_settings();
+  settings.idle_timeout = milliseconds(300);
+  RunningHub running(1, settings);
+  RawClient client(running.hub->port());
+  ASSERT_NE(client.line(milliseconds(5000)).find("OK HELLO"), std::string::npos);
+  bool timed_out = false;
+  // Bounded: 200 rounds of at most 50 ms; the hub closes it after 300 ms of no request.
+  for (int round = 0; round < 200 && !timed_out && !client.closed(); ++round) {
+    (void)client.send_some(round % 2 == 0 ? "\n" : " \r\n");
+    timed_out = client.line(milliseconds(50)).find("* ERR timeout") != std::string::npos;
+  }
+  EXPECT_TRUE(timed_out);
+  EXPECT_EQ(running.hub->counters().closed_idle, 1u);
+}
+
 TEST(HubLimits, AClientWaitingForItsReplyIsNotIdle) {
   HubSettings settings = small_settings();
   settings.idle_timeout = milliseconds(200);

@@ -1,11 +1,16 @@
 // ldoem-latency: how fast ldoem-emud answers and streams, as a host sees it (scripts/bench-latency.sh).
 //
 //   ldoem-latency (--tcp HOST:PORT | --can IF) [--requests N] [--profiles SECONDS] [--format HEX]
+//                 [--cadence SECONDS]
 //
 // --requests N: N GET_STATUS round trips, one at a time; prints the median and p99 in us.
 // --profiles S: TRANS_ROTATE 0 (the flash speed), TRANS_MEASURE, GET_PROFILE 0000 FORMAT, then
 //   counts the profile telegrams that arrive in S wall seconds (D10: the daemon skips profiles
 //   the host is too slow for, so this is what the host gets, not what the LD measures).
+// --cadence S: the same stream for S wall seconds of a daemon at --time-scale 1; each profile's
+//   arrival lag behind its own TSTART (wall since the first arrival minus device time since
+//   the first TSTART), less the smallest lag: how late the host got each revolution beyond the
+//   best case (scripts/bench-jitter.sh). Prints p50, p99 and max in ms.
 // Output: key=value lines, one per measurement. Exit 0, 1 on a transport failure, 2 on usage.
 #include <memory>
 #include <algorithm>
@@ -23,6 +28,7 @@
 #include "ldoem/endpoints/isotp_channel.hpp"
 #include "ldoem/io/can_socket.hpp"
 #include "ldoem/io/tcp.hpp"
+#include "ldoem/protocol/profile.hpp"
 #include "ldoem/protocol/tcp_framing.hpp"
 #include "ldoem/protocol/text.hpp"
 
@@ -214,8 +220,58 @@ int measure_profiles(Link& link, double seconds, const std::string& format, cons
   return 0;
 }
 
+int measure_cadence(Link& link, double seconds, const std::string& transport) {
+  for (const char* step : {"TRANS_ROTATE 0000", "TRANS_MEASURE"}) {
+    if (!exchange(link, telegram(step), 30s)) {
+      std::fprintf(stderr, "ldoem-latency: %s: no reply\n", step);
+      return 1;
+    }
+  }
+  if (!link.send(telegram("GET_PROFILE 0000 39ff"))) return 1;
+  std::vector<double> lags;
+  std::optional<std::pair<Clock::time_point, std::uint16_t>> first;
+  std::uint16_t last_tstart = 0;
+  double device_ms = 0;  // TSTART since the first profile, unwrapped (16-bit ms, spec 2.3)
+  std::uint64_t skipped = 0;
+  std::uint16_t last_count = 0;
+  const auto end = Clock::now() + std::chrono::duration<double>(seconds) + 5s;
+  while (Clock::now() < end) {
+    auto payload = link.next(200ms);
+    if (!payload || service_of(*payload) != 0x8301) continue;
+    const auto at = Clock::now();
+    auto profile = ldoem::protocol::decode_profile(*payload);
+    if (!profile || profile->sectors.empty()) continue;
+    const std::uint16_t tstart = profile->sectors.front().t_start_ms;
+    if (!first) {
+      first = {at, tstart};
+    } else {
+      device_ms += static_cast<std::uint16_t>(tstart - last_tstart);
+      skipped += static_cast<std::uint16_t>(profile->profile_count - last_count) - 1u;
+    }
+    last_tstart = tstart;
+    last_count = profile->profile_count;
+    lags.push_back(std::chrono::duration<double, std::milli>(at - first->first).count() - device_ms);
+    if (at - first->first >= std::chrono::duration<double>(seconds)) break;
+  }
+  exchange(link, telegram("CANCEL_PROFILE"), 10s);
+  if (lags.size() < 2) {
+    std::fprintf(stderr, "ldoem-latency: no profiles\n");
+    return 1;
+  }
+  const double best = *std::min_element(lags.begin(), lags.end());
+  for (double& lag : lags) lag -= best;
+  std::sort(lags.begin(), lags.end());
+  const auto at = [&](double fraction) {
+    return lags[std::min(lags.size() - 1, static_cast<std::size_t>(fraction * lags.size()))];
+  };
+  std::printf("transport=%s measure=cadence profiles=%zu skipped=%llu lag_p50_ms=%.2f lag_p99_ms=%.2f lag_max_ms=%.2f\n",
+              transport.c_str(), lags.size(), static_cast<unsigned long long>(skipped), at(0.5), at(0.99), lags.back());
+  return 0;
+}
+
 int usage() {
-  std::fprintf(stderr, "usage: ldoem-latency (--tcp HOST:PORT | --can IF) [--requests N] [--profiles SECONDS] [--format HEX]\n");
+  std::fprintf(stderr, "usage: ldoem-latency (--tcp HOST:PORT | --can IF) [--requests N] [--profiles SECONDS] [--format HEX]"
+                       " [--cadence SECONDS]\n");
   return 2;
 }
 
@@ -225,6 +281,7 @@ int main(int argc, char** argv) {
   std::string tcp, can, format = "39ff";
   int requests = 0;
   double profile_seconds = 0;
+  double cadence_seconds = 0;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string_view option = argv[i];
     const std::string value = argv[i + 1];
@@ -233,6 +290,7 @@ int main(int argc, char** argv) {
     else if (option == "--requests") requests = std::atoi(value.c_str());
     else if (option == "--profiles") profile_seconds = std::atof(value.c_str());
     else if (option == "--format") format = value;
+    else if (option == "--cadence") cadence_seconds = std::atof(value.c_str());
     else return usage();
   }
   if (argc % 2 == 0 || tcp.empty() == can.empty()) return usage();
@@ -259,5 +317,6 @@ int main(int argc, char** argv) {
   const std::string transport = tcp.empty() ? "can" : "tcp";
   if (requests > 0 && measure_requests(*link, requests, transport) != 0) return 1;
   if (profile_seconds > 0 && measure_profiles(*link, profile_seconds, format, transport) != 0) return 1;
+  if (cadence_seconds > 0 && measure_cadence(*link, cadence_seconds, transport) != 0) return 1;
   return 0;
 }

@@ -61,6 +61,8 @@ const BadScene kBadScenes[] = {
      SceneErrorKind::conflicting_keys, "objects[0].pose", 1, 46},
     {"max range beyond protocol", "scanner: {max_range_m: 300}", SceneErrorKind::out_of_range, "scanner.max_range_m", 1, 24},
     {"min range above max", "scanner: {min_range_m: 40}", SceneErrorKind::out_of_range, "scanner.min_range_m", 1, 10},
+    {"boot time beyond 60 s", "scanner: {boot_s: 61}", SceneErrorKind::out_of_range, "scanner.boot_s", 1, 19},
+    {"negative boot time", "scanner: {boot_s: -1}", SceneErrorKind::out_of_range, "scanner.boot_s", 1, 19},
     {"subrays not hexagonal", "scanner: {mixed_pixel_subrays: 5}", SceneErrorKind::out_of_range,
      "scanner.mixed_pixel_subrays", 1, 32},
     {"negative sigma", "scanner: {noise: {sigma_m: -0.001}}", SceneErrorKind::out_of_range, "scanner.noise.sigma_m", 1, 28},
@@ -126,6 +128,23 @@ TEST(SceneErrorMessage, SyntaxError_HasPosition) {
   EXPECT_EQ(result.error().kind, SceneErrorKind::syntax);
   EXPECT_GT(result.error().line, 0);
   EXPECT_EQ(result.error().message().rfind("s.yaml:", 0), 0u);
+}
+
+// Issue 27 D14: an identification text longer than 5814 bytes would make a reply over the
+// 5816-byte payload limit; 5814 itself fits exactly.
+TEST(SceneErrorMessage, IdentificationTextOverTheTelegramLimit_IsOutOfRange) {
+  const std::string objects = "objects:\n  - box: {size_m: [1, 1, 1]}\n";
+  const auto too_long = load_scene_from_string(
+      "scanner:\n  identification:\n    firmware_name: " + std::string(5815, 'F') + "\n" + objects, "s.yaml");
+  ASSERT_FALSE(too_long);
+  EXPECT_EQ(too_long.error().kind, SceneErrorKind::out_of_range);
+  EXPECT_NE(too_long.error().message().find("scanner.identification.firmware_name: is 5815 bytes long; at most 5814"),
+            std::string::npos)
+      << too_long.error().message();
+  const auto longest = load_scene_from_string(
+      "scanner:\n  identification:\n    firmware_name: " + std::string(5814, 'F') + "\n" + objects, "s.yaml");
+  ASSERT_TRUE(longest) << longest.error().message();
+  EXPECT_EQ(longest->scanner.identification.firmware_name.size(), 5814u);
 }
 
 TEST(SceneErrorKinds, EveryKind_HasAName) {

@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <optional>
+#include <string>
 
 #include "ldoem/io/event_loop.hpp"
 
@@ -136,6 +137,48 @@ TEST(Tcp, ListenerOnAPortOfAClosedListener_RebindsAtOnce) {
   }  // the server side closed first: its connection sits in TIME_WAIT
   auto again = TcpListener::listen(port);
   EXPECT_TRUE(again) << again.error().message();
+}
+
+// D11 power_cycle (docs/decisions-local.md L-faults-5): a stopped listener refuses connects but
+// keeps its port, also a port the kernel picked, and listens again on it.
+TEST(Tcp, StoppedListener_RefusesConnectsKeepsItsPortAndListensAgain) {
+  auto listener = TcpListener::listen(0);
+  ASSERT_TRUE(listener) << listener.error().message();
+  const std::uint16_t port = listener->port();
+  ASSERT_TRUE(listener->stop_listening());
+  auto refused = TcpConnection::connect("127.0.0.1", port);
+  ASSERT_FALSE(refused);
+  EXPECT_EQ(refused.error().error_number, ECONNREFUSED);
+  auto other = TcpListener::listen(port);  // the port is still ours
+  ASSERT_FALSE(other);
+  EXPECT_EQ(other.error().error_number, EADDRINUSE);
+  ASSERT_TRUE(listener->listen_again());
+  auto client = TcpConnection::connect("127.0.0.1", port);
+  ASSERT_TRUE(client) << client.error().message();
+  EXPECT_TRUE(accept_one(*listener).has_value());
+}
+
+// D11 tcp_reset: the peer reads a reset, not an end of stream.
+TEST(Tcp, ResetOnClose_ThePeerReadsConnectionReset) {
+  auto listener = TcpListener::listen(0);
+  ASSERT_TRUE(listener) << listener.error().message();
+  auto client = TcpConnection::connect("127.0.0.1", listener->port());
+  ASSERT_TRUE(client) << client.error().message();
+  {
+    auto server = accept_one(*listener);
+    ASSERT_TRUE(server.has_value());
+    ASSERT_TRUE(server->reset_on_close());
+  }
+  auto loop = EventLoop::create();
+  ASSERT_TRUE(loop);
+  std::string read = "nothing";
+  ASSERT_TRUE((*loop)->watch(client->fd(), Interest::readable, [&](Readiness) {
+    auto received = client->receive();
+    read = received ? (received->peer_closed ? "end of stream" : "bytes") : received.error().message();
+    (*loop)->stop();
+  }));
+  EXPECT_TRUE((*loop)->run_for(2s));
+  EXPECT_EQ(read, "recv " + client->peer() + ": Connection reset by peer");
 }
 
 TEST(Tcp, BadAddress_IsReported) {

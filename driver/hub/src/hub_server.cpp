@@ -266,7 +266,10 @@ void Hub::Impl::read_client(std::uint64_t tag) {
       return;
     }
     budget -= static_cast<std::size_t>(got);
-    found->second.last_activity = Clock::now();
+    // Only bytes of a request count as activity: blank lines (newlines, spaces) would keep an idle
+    // client's descriptor forever (issue 27).
+    const std::string_view chunk(buffer, static_cast<std::size_t>(got));
+    if (chunk.find_first_not_of(" \t\r\n") != std::string_view::npos) found->second.last_activity = Clock::now();
     found->second.input.append(buffer, static_cast<std::size_t>(got));
     take_lines(tag);
   }

@@ -40,7 +40,8 @@ driver::Expected<ListeningSocket, driver::DriverError> open_listening_socket(con
   if (::bind(fd, found->ai_addr, found->ai_addrlen) != 0) {
     return failed("bind");
   }
-  if (::listen(fd, 64) != 0) {
+  // The system's largest backlog: a connect flood must not make new clients wait for a SYN retry.
+  if (::listen(fd, SOMAXCONN) != 0) {
     return failed("listen");
   }
   sockaddr_storage bound{};

@@ -105,7 +105,9 @@ void ControlUnit::serve(const Event& event, const protocol::TransRotate& request
 }
 
 void ControlUnit::serve(const Event& event, const protocol::TransMeasure&) {
-  if (state_.spin_up) {
+  // A head that stalls or races (D11: the revolution before ERROR) cannot measure: refused like
+  // every request ERROR refuses, which follows within that revolution (L-faults-6).
+  if (state_.spin_up || state_.motor_fault) {
     fail(event, Service::trans_measure, FailureReason::wrong_state);
     return;
   }

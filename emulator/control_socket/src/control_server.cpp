@@ -94,9 +94,10 @@ io::IoResult<std::unique_ptr<ControlServer>> ControlServer::open(io::EventLoop& 
 }
 
 ControlServer::~ControlServer() {
+  if (resting_) loop_.cancel_timer(resume_timer_);
   for (const auto& client : clients_) loop_.unwatch(client->fd.get());
   if (listen_fd_.get() >= 0) {
-    loop_.unwatch(listen_fd_.get());
+    if (!resting_) loop_.unwatch(listen_fd_.get());
     unlink(path_.c_str());
   }
 }
@@ -104,7 +105,11 @@ ControlServer::~ControlServer() {
 void ControlServer::accept_clients() {
   for (;;) {
     const int fd = accept4(listen_fd_.get(), nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC);
-    if (fd < 0) return;  // EAGAIN, or a client that vanished: nothing to do
+    if (fd < 0) {
+      const int error = errno;
+      if (error == EMFILE || error == ENFILE || error == ENOBUFS || error == ENOMEM) rest(error);
+      return;  // EAGAIN, or a client that vanished: nothing to do
+    }
     auto client = std::make_unique<Client>(Client{base::UniqueFd(fd), next_client_number_++,
                                                   LineAssembler(limits_.max_line_bytes), {}, false, false, false, {}});
     Client& added = *client;
@@ -124,6 +129,35 @@ void ControlServer::accept_clients() {
       drop(fd);
     }
   }
+}
+
+// Issue 27 D3: out of descriptors (or kernel memory), the pending connection stays pending and
+// the socket stays readable: a level-triggered loop would call accept4() again at once, forever.
+// The listener rests as the TCP listener does, and says so at most every 10 s.
+void ControlServer::rest(int error) {
+  ++listener_rests_;
+  const auto now = std::chrono::steady_clock::now();
+  if (!warned_once_ || now - last_warning_ >= kRestWarningPeriod) {
+    std::string line = "control: accept " + path_ + ": " + std::strerror(error) + "; not accepting for " +
+                       std::to_string(kListenerRest.count()) + " ms";
+    if (rests_unsaid_ > 0) line += " (" + std::to_string(rests_unsaid_) + " more since the last report)";
+    if (warn_) warn_(line);
+    warned_once_ = true;
+    last_warning_ = now;
+    rests_unsaid_ = 0;
+  } else {
+    ++rests_unsaid_;
+  }
+  if (resting_) return;
+  resting_ = true;
+  loop_.unwatch(listen_fd_.get());
+  resume_timer_ = loop_.add_timer_after(kListenerRest, [this] {
+    resting_ = false;
+    if (auto watched = loop_.watch(listen_fd_.get(), io::Interest::readable, [this](io::Readiness) { accept_clients(); });
+        !watched && warn_) {
+      warn_("control: " + watched.error().message());
+    }
+  });
 }
 
 void ControlServer::queue(Client& client, const std::string& line) {

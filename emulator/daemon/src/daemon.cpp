@@ -200,7 +200,7 @@ std::optional<StartFailure> Daemon::Impl::open_device(std::size_t index, const O
 endpoints::Counters Daemon::Impl::counters() const {
   endpoints::Counters all;
   for (const auto& device : devices) all += device->counters();
-  if (faults) all.fault_injections = faults->injections();
+  if (faults) faults->fill_counters(all);
   return all;
 }
 

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 
-#include "ldoem/base/regular_file.hpp"
 #include "ldoem/protocol/isotp.hpp"
 
 namespace ldoem::daemon {
@@ -31,6 +30,7 @@ FaultWiring::FaultWiring(DeviceInstance& device, endpoints::Scheduler& scheduler
 FaultWiring::~FaultWiring() {
   if (deadline_) scheduler_.cancel(*deadline_);
   abandon_import();
+  while (!delayed_.empty()) forget_delayed(delayed_.begin()->first);
   device_.set_fault_hook(nullptr);
   device_.set_connection_observer(nullptr);
   if (device_.wire_tap() == this) device_.set_wire_tap(nullptr);
@@ -47,13 +47,7 @@ base::Expected<std::unique_ptr<FaultWiring>, std::string> FaultWiring::create(
   wiring->several_ = devices.size() > 1;
   if (!scene.scanners.empty()) wiring->name_ = scene.scanners.front().name;
   if (setup.event_log_path) {
-    // Issue 27 (D11): a FIFO, device or folder is refused at once (O_NONBLOCK, then fstat): the
-    // stream's own open would wait for a FIFO's reader with the signals already blocked.
-    if (auto checked = base::open_regular_file(*setup.event_log_path, O_WRONLY | O_CREAT | O_TRUNC); !checked) {
-      return base::Unexpected("--event-log " + *setup.event_log_path + ": " + checked.error().text);
-    }
-    wiring->event_log_.open(*setup.event_log_path, std::ios::out | std::ios::trunc);
-    if (!wiring->event_log_) return base::Unexpected("--event-log " + *setup.event_log_path + ": cannot open");
+    if (auto error = wiring->event_log_.open(*setup.event_log_path)) return base::Unexpected(*error);
   }
   FaultWiring* self = wiring.get();
   if (setup.control_path) {
@@ -62,22 +56,26 @@ base::Expected<std::unique_ptr<FaultWiring>, std::string> FaultWiring::create(
         [self](std::string_view line) { return control_socket::handle_line(line, *self); });
     if (!server) return base::Unexpected("--control: " + server.error().message());
     wiring->server_ = std::move(*server);
+    wiring->server_->set_warning_sink([&logger](const std::string& line) { logger.log(LogLevel::warn, line); });
   }
-  wiring->attach(scene.faults, scene.seed, scene.effects.has(scene::Effect::head_dynamics));
+  wiring->attach(scene.faults, scene.seed, scene.effects.has(scene::Effect::head_dynamics), scene.scanner.boot_s);
   // Scanner k draws with the seed + k, as its noise does (docs/scenes.md).
   for (std::size_t k = 1; k < devices.size() && k < scene.scanners.size(); ++k) {
     std::unique_ptr<FaultWiring> other(new FaultWiring(*devices[k], scheduler, logger, stop));
     other->name_ = scene.scanners[k].name;
     other->first_ = self;
-    other->attach({}, scene.seed + k, scene.scanners[k].effects.has(scene::Effect::head_dynamics));
+    other->attach({}, scene.seed + k, scene.scanners[k].effects.has(scene::Effect::head_dynamics),
+                  scene.scanners[k].config.boot_s);
     wiring->others_.push_back(std::move(other));
   }
   return wiring;
 }
 
-void FaultWiring::attach(std::vector<faults::FaultSpec> scene_faults, std::uint64_t seed, bool head_dynamics) {
-  injector_ = std::make_unique<fault_injection::FaultInjector>(std::move(scene_faults), seed, head_dynamics,
-                                                               device_.unit_for_faults());
+void FaultWiring::attach(std::vector<faults::FaultSpec> scene_faults, std::uint64_t seed, bool head_dynamics,
+                         double boot_s) {
+  injector_ = std::make_unique<fault_injection::FaultInjector>(
+      std::move(scene_faults), seed, head_dynamics, device_.unit_for_faults(),
+      std::chrono::duration_cast<SimTime>(std::chrono::duration<double>(boot_s)));
   endpoint_faults_ = std::make_unique<EndpointFaults>(
       *injector_, [this](fault_injection::InjectorOutput output) { take(std::move(output)); });
   device_.set_fault_hook(endpoint_faults_.get());
@@ -91,6 +89,12 @@ void FaultWiring::attach(std::vector<faults::FaultSpec> scene_faults, std::uint6
 std::uint64_t FaultWiring::injections() const {
   std::uint64_t all = injector_->injections();
   for (const auto& other : others_) all += other->injections();
+  return all;
+}
+
+std::uint64_t FaultWiring::delayed_replies_dropped() const {
+  std::uint64_t all = delayed_dropped_;
+  for (const auto& other : others_) all += other->delayed_replies_dropped();
   return all;
 }
 
@@ -121,9 +125,9 @@ void FaultWiring::publish_for(const std::string& scanner, fault_injection::Injec
     if (event.data.is_object() && event.data.contains("peer")) {
       nlohmann::json data = event.data;
       data.erase("peer");
-      event_log_ << control_socket::event_line(event.name, data, event.at) << '\n' << std::flush;
+      event_log_.write(control_socket::event_line(event.name, data, event.at), logger_);
     } else {
-      event_log_ << line << '\n' << std::flush;
+      event_log_.write(line, logger_);
     }
   }
   if (server_) server_->broadcast(line);
@@ -133,10 +137,12 @@ void FaultWiring::take(fault_injection::InjectorOutput output) {
   if (!output.actions.telegrams.empty() || !output.actions.timers.empty() || output.actions.flash_image) {
     device_.perform_actions(scheduler_.now(), output.actions);
   }
-  if (output.drop_all_connections) {
-    const auto connections = std::move(connections_);
-    connections_.clear();
-    for (const control::ConnectionId connection : connections) device_.disconnect(connection);
+  for (const fault_injection::Power power : output.power_steps) {
+    switch (power) {
+      case fault_injection::Power::on: device_.set_power(endpoints::DevicePower::on); break;
+      case fault_injection::Power::off: device_.set_power(endpoints::DevicePower::off); break;
+      case fault_injection::Power::booting: device_.set_power(endpoints::DevicePower::booting); break;
+    }
   }
   for (const auto& event : output.events) publish(event);
   arm_deadline();
@@ -162,24 +168,20 @@ WireVerdict FaultWiring::on_telegram(endpoints::WireTelegram& telegram) {
     const faults::ActiveFault* silence = injector_->scheduler().find_active(FaultKind::can_silence);
     return silence && transport == faults::Transport::can;
   }();
+  // Off or booting, the device hears and says nothing (its endpoints are dark as well).
+  const bool dark = injector_->power() != fault_injection::Power::on;
   if (telegram.direction == WireDirection::to_host) {
-    if (!injector_->powered() || silenced) return WireVerdict::drop;
+    if (dark || silenced) return WireVerdict::drop;
     return to_host(telegram);
   }
-  if (!injector_->powered()) {
-    // The device is off: a TCP peer is refused at once, CAN and serial hear nothing.
-    if (transport == faults::Transport::tcp) device_.disconnect(telegram.connection);
-    return WireVerdict::drop;
-  }
-  if (silenced) return WireVerdict::drop;
-  connections_.insert(telegram.connection);
+  if (dark || silenced) return WireVerdict::drop;
   const std::uint16_t service =
       telegram.payload.size() >= 2 ? static_cast<std::uint16_t>((telegram.payload[0] << 8) | telegram.payload[1]) : 0;
   // A multi-frame ISO-TP request was seen at its first frame already (EndpointFaults).
   const bool came_in_frames = transport == faults::Transport::can && telegram.payload.size() > protocol::kIsoTpMaxSingleFrameBytes;
   take(injector_->on_request(telegram.at, service, transport,
                              came_in_frames ? faults::RequestSeen::rest_of_multi_frame : faults::RequestSeen::whole));
-  if (!injector_->powered()) return WireVerdict::drop;  // a power cycle this very request started
+  if (injector_->power() != fault_injection::Power::on) return WireVerdict::drop;  // a power cycle this very request started
   return WireVerdict::pass;
 }
 
@@ -201,14 +203,9 @@ WireVerdict FaultWiring::to_host(endpoints::WireTelegram& telegram) {
   switch (fault->spec.kind) {
     case FaultKind::drop_reply:
       return WireVerdict::drop;
-    case FaultKind::delay_reply: {
-      const control::ConnectionId to = telegram.connection;
-      scheduler_.add(telegram.at + fault->spec.delay,
-                     [this, to, payload = telegram.payload, profile = telegram.is_profile](SimTime) {
-                       device_.send_to_host(to, payload, profile);
-                     });
+    case FaultKind::delay_reply:
+      delay(telegram, fault->spec.delay);
       return WireVerdict::drop;
-    }
     case FaultKind::duplicate_reply:
       device_.send_to_host(telegram.connection, telegram.payload, telegram.is_profile);
       return WireVerdict::pass;
@@ -221,6 +218,47 @@ WireVerdict FaultWiring::to_host(endpoints::WireTelegram& telegram) {
     default:
       return WireVerdict::pass;
   }
+}
+
+// Issue 27 D1: the replies held back per connection are bounded (kMaxDelayedTelegrams,
+// kMaxDelayedBytes). A reply beyond the bound is lost, as in a device whose send buffer is full:
+// counted (delayed_replies_dropped) and warned about at most every 10 s.
+void FaultWiring::delay(const endpoints::WireTelegram& telegram, SimTime by) {
+  const control::ConnectionId to = telegram.connection;
+  DelayedReplies& held = delayed_[to];
+  if (held.pending.size() >= kMaxDelayedTelegrams || held.bytes + telegram.payload.size() > kMaxDelayedBytes) {
+    ++delayed_dropped_;
+    if (auto line = delayed_warning_.admit("delay_reply: " + control::to_string(to) + " already holds " +
+                                           std::to_string(held.pending.size()) + " delayed replies (" +
+                                           std::to_string(held.bytes) + " bytes); dropping this one")) {
+      logger_.log(LogLevel::warn, *line);
+    }
+    return;
+  }
+  const std::size_t size = telegram.payload.size();
+  auto key = std::make_shared<endpoints::Scheduler::Key>();
+  *key = scheduler_.add(telegram.at + by, [this, to, key, size, payload = telegram.payload,
+                                           profile = telegram.is_profile](SimTime) {
+    release(to, *key, size);
+    device_.send_to_host(to, payload, profile);
+  });
+  held.pending.insert(*key);
+  held.bytes += size;
+}
+
+void FaultWiring::release(control::ConnectionId connection, const endpoints::Scheduler::Key& key, std::size_t size) {
+  const auto held = delayed_.find(connection);
+  if (held == delayed_.end() || held->second.pending.erase(key) == 0) return;
+  held->second.bytes -= size;
+  if (held->second.pending.empty()) delayed_.erase(held);
+}
+
+// A closed connection's delayed replies have nobody to go to: their deadlines go with it.
+void FaultWiring::forget_delayed(control::ConnectionId connection) {
+  const auto held = delayed_.find(connection);
+  if (held == delayed_.end()) return;
+  for (const auto& key : held->second.pending) scheduler_.cancel(key);
+  delayed_.erase(held);
 }
 
 control_socket::CommandResult FaultWiring::inject_fault(const faults::FaultSpec& spec) {
@@ -242,12 +280,15 @@ nlohmann::json FaultWiring::query_status() {
   const control::ControlUnit& unit = device_.unit();
   const endpoints::Counters counters = device_.counters();
   const SimTime now = scheduler_.now();
-  return nlohmann::json{
+  const fault_injection::Power power = injector_->power();
+  const bool on = power == fault_injection::Power::on;
+  // Off or booting there is no device state a host could read: state OFF or BOOTING, the head
+  // stopped, no status byte (docs/faults.md, "The control socket").
+  nlohmann::json status{
       {"time_s", std::chrono::duration<double>(now).count()},
-      {"powered", injector_->powered()},
-      {"state", std::string(control::describe(unit.state().mode))},
-      {"status_byte", unit.status_byte().to_byte()},
-      {"head_hz", unit.state().head.speed_hz},
+      {"powered", power != fault_injection::Power::off},
+      {"state", on ? std::string(control::describe(unit.state().mode)) : std::string(fault_injection::describe(power))},
+      {"head_hz", on ? unit.state().head.speed_hz : 0},
       {"tilt_steps", device_.steps_seen()},
       {"faults_active", injector_->scheduler().active().size()},
       {"counters",
@@ -256,8 +297,12 @@ nlohmann::json FaultWiring::query_status() {
         {"profiles_sent", counters.profiles_sent},
         {"skipped_profiles", counters.skipped_profiles},
         {"tcp_connections", counters.tcp_connections},
+        {"delayed_replies_dropped", delayed_dropped_},
+        {"event_log_write_errors", event_log_.write_errors()},
         {"fault_injections", injector_->injections()},
         {"mesh_trees_built_on_loop", mesh_trees_on_loop_}}}};
+  if (on) status["status_byte"] = unit.status_byte().to_byte();
+  return status;
 }
 
 void FaultWiring::quit() { stop_(); }

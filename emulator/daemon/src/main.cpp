@@ -16,6 +16,7 @@
 #include "ldoem/daemon/device_instance.hpp"
 #include "ldoem/recording/recording_tap.hpp"
 #include "ldoem/daemon/options.hpp"
+#include "ldoem/daemon/realtime.hpp"
 #include "ldoem/scene/scene_loader.hpp"
 
 namespace {
@@ -80,6 +81,10 @@ int run_emud(int argc, char** argv) {
   if (!daemon) {
     std::cerr << "ldoem-emud: " << daemon.error().message << '\n';
     return daemon.error().exit_code;
+  }
+  if (options.realtime) {
+    // After the scene is loaded, so mlockall's MCL_CURRENT holds it; before the loop runs.
+    std::cerr << "ldoem-emud: " << request_realtime().message << '\n';
   }
   const ldoem::endpoints::Logger logger(std::cerr, options.log_level);
   std::optional<ldoem::recording::RecordingTap> tap;

@@ -211,9 +211,12 @@ void FaultWiring::on_connection(bool opened, control::ConnectionId connection, s
   if (opened) {
     peers_[connection] = std::string(peer);
     data["peer"] = std::string(peer);
-  } else if (const auto known = peers_.find(connection); known != peers_.end()) {
-    data["peer"] = known->second;
-    peers_.erase(known);
+  } else {
+    forget_delayed(connection);
+    if (const auto known = peers_.find(connection); known != peers_.end()) {
+      data["peer"] = known->second;
+      peers_.erase(known);
+    }
   }
   publish({opened ? "CONNECTION_OPENED" : "CONNECTION_CLOSED", data, scheduler_.now()});
 }

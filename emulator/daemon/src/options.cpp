@@ -217,7 +217,9 @@ const std::map<std::string_view, ValueHandler>& value_options() {
        }},
       {"--record-files", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
          const auto files = parse_integer<unsigned>(v);
-         if (!files || *files == 0) return error_of(usage_error("--record-files", "must be an integer > 0"));
+         if (!files || *files == 0 || *files > kMaxRecordFiles) {
+           return error_of(usage_error("--record-files", "must be an integer in [1, 1000]"));
+         }
          o.record_files = *files;
          return std::nullopt;
        }},
@@ -230,6 +232,7 @@ const std::map<std::string_view, FlagHandler>& flag_options() {
       {"--no-can", [](Options& o, Seen& s) { o.can_interface.reset(); s.no_can = true; }},
       {"--no-flash", [](Options& o, Seen& s) { o.flash_mode = FlashMode::memory; s.no_flash = true; }},
       {"--virtual-time", [](Options& o, Seen&) { o.virtual_time = true; }},
+      {"--realtime", [](Options& o, Seen&) { o.realtime = true; }},
       {"--reset-flash", [](Options& o, Seen&) { o.reset_flash = true; }},
   };
   return handlers;
@@ -250,6 +253,10 @@ std::optional<UsageError> check_combination(Options& options, const Seen& seen) 
   }
   if (options.flash_dir && (seen.flash || seen.no_flash)) {
     return UsageError{seen.flash ? "--flash-dir: conflicts with --flash" : "--flash-dir: conflicts with --no-flash"};
+  }
+  if (options.realtime && options.virtual_time) {
+    // Virtual time computes flat out: at a real-time priority it would take a core from the machine.
+    return UsageError{"--realtime: conflicts with --virtual-time"};
   }
   if (options.reset_flash && seen.no_flash) {
     return UsageError{"--reset-flash: conflicts with --no-flash"};
@@ -413,6 +420,8 @@ std::string usage_text(std::string_view program_name) {
          "  --time-scale X        simulated seconds per wall second, 1e-6..1e6 [1]\n"
          "  --virtual-time        run the simulated clock as fast as possible: when nothing is\n"
          "                        ready, jump to the next deadline (tests, benchmarks) [off]\n"
+         "  --realtime            SCHED_FIFO priority 10 and locked memory when permitted, so a\n"
+         "                        busy machine delays revolutions less; says so when not [off]\n"
          "  --seed N              noise seed, overrides the scene's [scene's seed]\n"
          "  --inter-byte-timeout MS  drop a TCP frame or serial package the host left incomplete\n"
          "                        this long (spec 6), 0 = never [500]\n"
@@ -428,7 +437,7 @@ std::string usage_text(std::string_view program_name) {
          "  --record FILE         write every telegram on every transport, with device time, to\n"
          "                        FILE (pcapng for Wireshark/tshark, docs/capture.md) [off]\n"
          "  --record-max-mb N     rotate FILE at N MiB (at most 1048576): FILE.1, FILE.2, ... [no cap]\n"
-         "  --record-files K      files kept when rotating, FILE included [10]\n"
+         "  --record-files K      files kept when rotating, FILE included (at most 1000) [10]\n"
          "  --control PATH        control socket (JSON lines, QMP-shaped, mode 0600) for\n"
          "                        faults and status; docs/faults.md, ldoem-ctl [off]\n"
          "  --event-log FILE      write the fault and state events, one JSON line each [off]\n"

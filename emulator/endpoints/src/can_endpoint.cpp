@@ -89,6 +89,7 @@ void CanEndpoint::on_ready(io::Readiness readiness) {
       return;
     }
     if (!frame->has_value()) return;
+    if (dark_) continue;  // D11 power_cycle: heard by nobody
     for (std::size_t channel = 0; channel < channels_.size(); ++channel) {
       if (channels_[channel].accepts(**frame)) {
         if (fault_hook_ != nullptr && first_frame_faulted(channel, **frame)) break;
@@ -108,7 +109,7 @@ void CanEndpoint::handle_input(std::size_t channel, IsoTpChannelOutput output) {
 
 void CanEndpoint::send(ConnectionId to, protocol::ByteView payload) {
   const std::size_t channel = to.index - 1;
-  if (to.index < 1 || channel >= channels_.size()) return;
+  if (to.index < 1 || channel >= channels_.size() || dark_) return;
   const SimTime now = context_->scheduler.now();
   IsoTpChannelOutput output = fault_hook_ == nullptr
                                   ? channels_[channel].send(now, payload)
@@ -211,17 +212,21 @@ void CanEndpoint::apply_can_config(const protocol::CanConfig& config) {
   for (std::size_t channel = 0; channel < channels_.size(); ++channel) {
     const CanIdPair ids = channel == 0 ? CanIdPair{config.request_id, config.response_id}
                                        : channels_[channel].config().ids;
-    const IsoTpChannelCounters& old = channels_[channel].counters();
-    retired_.receive_errors += old.receive_errors;
-    retired_.send_failures += old.send_failures;
-    retired_.queue_overflows += old.queue_overflows;
-    channels_[channel] = IsoTpChannel(channel_config(ids, config));
-    if (held_[channel]) release_held_first_frame(channel, false);
-    if (scheduled_polls_[channel]) context_->scheduler.cancel(*scheduled_polls_[channel]);
-    scheduled_polls_[channel].reset();
+    renew_channel(channel, channel_config(ids, config));
   }
   set_filters();
   context_->logger.log(LogLevel::info, "can pair 1 now " + hex_id(config.request_id) + ":" + hex_id(config.response_id));
+}
+
+void CanEndpoint::renew_channel(std::size_t channel, const IsoTpChannelConfig& config) {
+  const IsoTpChannelCounters& old = channels_[channel].counters();
+  retired_.receive_errors += old.receive_errors;
+  retired_.send_failures += old.send_failures;
+  retired_.queue_overflows += old.queue_overflows;
+  channels_[channel] = IsoTpChannel(config);
+  if (held_[channel]) release_held_first_frame(channel, false);
+  if (scheduled_polls_[channel]) context_->scheduler.cancel(*scheduled_polls_[channel]);
+  scheduled_polls_[channel].reset();
 }
 
 void CanEndpoint::set_filters() {

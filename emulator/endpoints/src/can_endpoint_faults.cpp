@@ -1,5 +1,6 @@
 // D11 isotp_fc_overflow and isotp_fc_wait inside the CAN endpoint (wire_fault_hook.hpp): the
-// answer to a host's first frame. Only reached when the daemon set a fault hook.
+// answer to a host's first frame. Only reached when the daemon set a fault hook. And
+// power_cycle (set_power, docs/decisions-local.md L-faults-5), called only by the fault machinery.
 #include "ldoem/endpoints/can_endpoint.hpp"
 
 namespace ldoem::endpoints {
@@ -70,6 +71,18 @@ void CanEndpoint::release_held_first_frame(std::size_t channel, bool deliver) {
   held_[channel].reset();
   if (held.next_wait) context_->scheduler.cancel(*held.next_wait);
   if (deliver) handle_input(channel, channels_[channel].on_frame(context_->scheduler.now(), held.frame));
+}
+
+void CanEndpoint::set_power(DevicePower power) {
+  const bool was_dark = dark_;
+  dark_ = power != DevicePower::on;
+  if (!dark_ || was_dark || context_ == nullptr) return;
+  for (std::size_t channel = 0; channel < channels_.size(); ++channel) {
+    renew_channel(channel, channels_[channel].config());
+  }
+  while (!backlog_.empty()) backlog_.pop_front();  // lost with the controller's memory
+  if (pacer_) (void)pacer_->take_due(SimTime::max());
+  (void)context_->loop.change_interest(socket_->fd(), io::Interest::readable);
 }
 
 }  // namespace ldoem::endpoints

@@ -21,6 +21,8 @@ Counters& Counters::operator+=(const Counters& o) {
   serial_overflows += o.serial_overflows;
   lpt_steps += o.lpt_steps;
   fault_injections += o.fault_injections;
+  delayed_replies_dropped += o.delayed_replies_dropped;
+  event_log_write_errors += o.event_log_write_errors;
   return *this;
 }
 
@@ -34,7 +36,8 @@ std::string format_counters(const Counters& c) {
       << " tcp_connections=" << c.tcp_connections << " tcp_dropped_slow=" << c.tcp_dropped_slow
       << " tcp_dropped_quiet=" << c.tcp_dropped_quiet << " tcp_refused=" << c.tcp_refused
       << " serial_overflows=" << c.serial_overflows << " lpt_steps=" << c.lpt_steps
-      << " fault_injections=" << c.fault_injections;
+      << " fault_injections=" << c.fault_injections << " delayed_replies_dropped=" << c.delayed_replies_dropped
+      << " event_log_write_errors=" << c.event_log_write_errors;
   return out.str();
 }
 

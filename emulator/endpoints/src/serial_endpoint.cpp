@@ -27,6 +27,7 @@ void SerialEndpoint::on_ready(io::Readiness readiness) {
     context_->logger.log(LogLevel::warn, received.error().message());
     return;
   }
+  if (dark_) return;  // D11 power_cycle: the bytes are lost
   const ConnectionId connection{TransportKind::serial, 1};
   const auto events = deframer_.feed(received->bytes);
   if (!received->bytes.empty()) {
@@ -56,7 +57,18 @@ void SerialEndpoint::on_inter_byte_timeout() {
                                   protocol::FramingError{protocol::DecodeError::timeout, 0});
 }
 
+void SerialEndpoint::set_power(DevicePower power) {
+  dark_ = power != DevicePower::on;
+  if (!dark_ || context_ == nullptr) return;
+  deframer_.reset();  // a package begun before the cut is not joined to one sent after it
+  output_.clear();
+  if (inter_byte_timer_) context_->loop.cancel_timer(*inter_byte_timer_);
+  inter_byte_timer_.reset();
+  if (pty_) (void)context_->loop.change_interest(pty_->fd(), io::Interest::readable);
+}
+
 void SerialEndpoint::send(ConnectionId to, protocol::ByteView payload) {
+  if (dark_) return;
   // All packages of the reply in one write (D10).
   const bool pushed = fault_hook_ == nullptr ? output_.push(protocol::encode_serial_reply(payload))
                                              : output_.push(faulty_reply(to, payload));

@@ -187,7 +187,7 @@ void TcpEndpoint::rest_listener(const std::string& why) {
 }
 
 void TcpEndpoint::resume_listener() {
-  if (!listener_resting_ || !listener_) return;
+  if (!listener_resting_ || !listener_ || dark_) return;
   listener_resting_ = false;
   context_->loop.cancel_timer(resume_timer_);
   if (auto watched = context_->loop.watch(listener_->fd(), io::Interest::readable, [this](io::Readiness) { on_listener_ready(); });
@@ -249,6 +249,7 @@ void TcpEndpoint::on_client_ready(std::uint32_t index, io::Readiness readiness) 
       return;
     }
     if (fault_hook_ != nullptr) {
+      if (dark_) return;  // D11 power_cycle started by a telegram just read: nothing more is read
       // D11 tcp_stall started by a telegram just read: nothing more is read from now on.
       const auto still = clients_.find(index);
       if (still != clients_.end() && stalled(index, still->second)) return;
@@ -258,8 +259,8 @@ void TcpEndpoint::on_client_ready(std::uint32_t index, io::Readiness readiness) 
 
 void TcpEndpoint::send(ConnectionId to, protocol::ByteView payload) {
   const auto client = clients_.find(to.index);
-  if (client == clients_.end()) {
-    return;  // the connection closed before its reply was ready
+  if (client == clients_.end() || dark_) {
+    return;  // the connection closed before its reply was ready, or the device is off (D11)
   }
   protocol::Bytes frame = protocol::encode_tcp_frame(payload);
   if (fault_hook_ != nullptr) {
@@ -282,7 +283,7 @@ void TcpEndpoint::send(ConnectionId to, protocol::ByteView payload) {
 
 void TcpEndpoint::flush(std::uint32_t index) {
   const auto client = clients_.find(index);
-  if (client == clients_.end()) return;
+  if (client == clients_.end() || dark_) return;
   OutputQueue& output = client->second.output;
   if (fault_hook_ != nullptr && (stalled(index, client->second) || paced(index, client->second))) return;
   while (!output.empty()) {
@@ -299,10 +300,15 @@ void TcpEndpoint::flush(std::uint32_t index) {
   (void)context_->loop.change_interest(client->second.connection.fd(), interest);
 }
 
-void TcpEndpoint::drop(std::uint32_t index, std::string_view why) {
+void TcpEndpoint::drop(std::uint32_t index, std::string_view why, bool reset) {
   const auto client = clients_.find(index);
   if (client == clients_.end()) return;
-  context_->logger.log(LogLevel::info, "tcp#" + std::to_string(index) + " closed: " + std::string(why));
+  context_->logger.log(LogLevel::info, "tcp#" + std::to_string(index) + (reset ? " reset: " : " closed: ") + std::string(why));
+  if (reset) {
+    if (auto abortive = client->second.connection.reset_on_close(); !abortive) {
+      context_->logger.log(LogLevel::warn, abortive.error().message() + "; closed with a FIN instead");
+    }
+  }
   context_->loop.unwatch(client->second.connection.fd());
   if (client->second.fault_resume) context_->scheduler.cancel(*client->second.fault_resume);
   // Its timers go with it: the index may be given to a new connection.
@@ -313,7 +319,7 @@ void TcpEndpoint::drop(std::uint32_t index, std::string_view why) {
   context_->sink.on_connection_closed(ConnectionId{TransportKind::tcp, index});
 }
 
-void TcpEndpoint::disconnect(ConnectionId connection) { drop(connection.index, "reset"); }
+void TcpEndpoint::disconnect(ConnectionId connection) { drop(connection.index, "by a fault (D11)", true); }
 
 void TcpEndpoint::close() {
   std::vector<std::uint32_t> indices;  // flush() may drop a client: not while iterating

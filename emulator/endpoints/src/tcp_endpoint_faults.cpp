@@ -1,5 +1,6 @@
 // D11 tcp_stall and bandwidth inside the TCP endpoint (wire_fault_hook.hpp). Only reached when
-// the daemon set a fault hook; otherwise tcp_endpoint.cpp never calls these.
+// the daemon set a fault hook; otherwise tcp_endpoint.cpp never calls these. And power_cycle
+// (set_power, docs/decisions-local.md L-faults-5), called only by the fault machinery.
 #include <algorithm>
 
 #include "ldoem/endpoints/tcp_endpoint.hpp"
@@ -75,6 +76,65 @@ void TcpEndpoint::resume_after_fault(std::uint32_t index) {
     }
   }
   flush(index);
+}
+
+void TcpEndpoint::set_power(DevicePower power) {
+  switch (power) {
+    case DevicePower::off: go_dark(); return;
+    case DevicePower::booting: reset_dark_connections(); return;
+    case DevicePower::on: wake(); return;
+  }
+}
+
+// Off: the listener stops (its port stays ours; a connect() is refused by the kernel), and each
+// connection is left exactly as it is on the wire: nothing read, nothing written, no timer of
+// ours ends it, what was queued for it is gone with the device's memory.
+void TcpEndpoint::go_dark() {
+  if (dark_) return;
+  dark_ = true;
+  if (listener_) {
+    if (listener_resting_) context_->loop.cancel_timer(resume_timer_);
+    listener_resting_ = false;
+    context_->loop.unwatch(listener_->fd());
+    if (auto stopped = listener_->stop_listening(); !stopped) {
+      context_->logger.log(LogLevel::warn, stopped.error().message() + ": new connections are still completed while off");
+    }
+  }
+  for (auto& [index, client] : clients_) {
+    context_->loop.unwatch(client.connection.fd());
+    if (client.fault_resume) context_->scheduler.cancel(*client.fault_resume);
+    if (client.inter_byte_timer) context_->loop.cancel_timer(*client.inter_byte_timer);
+    if (client.quiet_timer) context_->loop.cancel_timer(*client.quiet_timer);
+    client.fault_resume.reset();
+    client.inter_byte_timer.reset();
+    client.quiet_timer.reset();
+    client.stalled = false;
+    client.output.clear();
+    client.deframer.reset();
+  }
+}
+
+// Power back: the new firmware knows none of the old connections; each is reset (RST), as the
+// device's stack answers the host's next segment. The listener waits for the end of the boot.
+void TcpEndpoint::reset_dark_connections() {
+  std::vector<std::uint32_t> indices;
+  for (const auto& [index, client] : clients_) indices.push_back(index);
+  for (const std::uint32_t index : indices) drop(index, "the device was switched off (D11 power_cycle)", true);
+}
+
+void TcpEndpoint::wake() {
+  if (!dark_) return;
+  reset_dark_connections();  // booting skipped (boot_s 0): the same reset first
+  dark_ = false;
+  if (!listener_) return;
+  if (auto resumed = listener_->listen_again(); !resumed) {
+    context_->logger.log(LogLevel::error, resumed.error().message() + ": the TCP port stays closed after the power cycle");
+    return;
+  }
+  if (auto watched = context_->loop.watch(listener_->fd(), io::Interest::readable, [this](io::Readiness) { on_listener_ready(); });
+      !watched) {
+    context_->logger.log(LogLevel::error, watched.error().message() + ": the TCP port stays closed after the power cycle");
+  }
 }
 
 }  // namespace ldoem::endpoints

@@ -33,6 +33,15 @@ void append(control::Actions& into, control::Actions from) {
 
 }  // namespace
 
+std::string_view describe(Power power) {
+  switch (power) {
+    case Power::on: return "ON";
+    case Power::off: return "OFF";
+    case Power::booting: return "BOOTING";
+  }
+  return "ON";
+}
+
 nlohmann::json fault_json(const faults::ActiveFault& fault) {
   nlohmann::json item{{"id", fault.id},
                       {"kind", std::string(faults::fault_name(fault.spec.kind))},
@@ -45,11 +54,12 @@ nlohmann::json fault_json(const faults::ActiveFault& fault) {
 }
 
 FaultInjector::FaultInjector(std::vector<faults::FaultSpec> scene_faults, std::uint64_t seed, bool head_dynamics,
-                             control::ControlUnit& unit)
+                             control::ControlUnit& unit, SimTime boot_time)
     : scheduler_(std::move(scene_faults), seed),
       seed_(seed),
       head_dynamics_(head_dynamics),
       unit_(unit),
+      boot_time_(boot_time),
       last_mode_(unit.state().mode) {}
 
 void FaultInjector::events_from(const std::vector<faults::FaultEvent>& fault_events, InjectorOutput& out) {
@@ -75,9 +85,9 @@ void FaultInjector::react(const std::vector<faults::FaultEvent>& fault_events, I
     if (event.kind == FaultKind::blind || event.kind == FaultKind::window_dirt) beams_changed = true;
     if (event.what != FaultEventKind::injected) continue;
     if (const auto motor = motor_fault_of(event.kind)) {
-      if (powered()) append(out.actions, unit_.inject_motor_fault(now, *motor, head_dynamics_));
+      if (power() != Power::off) append(out.actions, unit_.inject_motor_fault(now, *motor, head_dynamics_));
     } else if (event.kind == FaultKind::reset_spontaneous) {
-      if (powered()) append(out.actions, unit_.spontaneous_reset(now));
+      if (power() == Power::on) append(out.actions, unit_.spontaneous_reset(now));
       std::vector<faults::FaultEvent> acted;
       scheduler_.acted(now, event.id, acted);
       events_from(acted, out);
@@ -87,11 +97,12 @@ void FaultInjector::react(const std::vector<faults::FaultEvent>& fault_events, I
         if (active.id == event.id) fault = &active;
       }
       const SimTime off = fault ? fault->spec.off : SimTime{std::chrono::seconds(1)};
-      if (powered()) {
-        out.drop_all_connections = true;
+      if (power() != Power::off) {
+        out.power_steps.push_back(Power::off);
         out.events.push_back({"POWER_OFF", {{"off_s", seconds(off)}}, now});
       }
-      power_on_at_ = now + off;  // a second cycle while off extends the dark time
+      booted_at_.reset();  // a cut while booting: the boot starts again after this off time
+      power_on_at_ = now + off;  // a second cycle while off: dark until off_s after it
       std::vector<faults::FaultEvent> acted;
       scheduler_.acted(now, event.id, acted);
       events_from(acted, out);
@@ -123,10 +134,20 @@ void FaultInjector::update_beam_faults() {
 InjectorOutput FaultInjector::advance(SimTime now) {
   InjectorOutput out;
   if (power_on_at_ && *power_on_at_ <= now) {
+    // Power back: the device's clock starts (D4 power-up state), its old connections are reset,
+    // and it serves once booted (L-faults-5).
     const SimTime on_at = *power_on_at_;
     power_on_at_.reset();
+    booted_at_ = on_at + boot_time_;
     append(out.actions, unit_.power_on(on_at));
-    out.events.push_back({"POWER_ON", nlohmann::json::object(), on_at});
+    out.power_steps.push_back(Power::booting);
+    out.events.push_back({"POWER_ON", {{"boot_s", seconds(boot_time_)}}, on_at});
+  }
+  if (booted_at_ && *booted_at_ <= now) {
+    const SimTime ready_at = *booted_at_;
+    booted_at_.reset();
+    out.power_steps.push_back(Power::on);
+    out.events.push_back({"BOOTED", nlohmann::json::object(), ready_at});
   }
   std::vector<faults::FaultEvent> fault_events;
   scheduler_.advance(now, fault_events);
@@ -179,7 +200,9 @@ void FaultInjector::note_state(SimTime now, std::vector<InjectorEvent>& events) 
 
 std::optional<SimTime> FaultInjector::next_deadline() const {
   std::optional<SimTime> deadline = scheduler_.next_deadline();
-  if (power_on_at_ && (!deadline || *power_on_at_ < *deadline)) deadline = power_on_at_;
+  for (const auto& power_change : {power_on_at_, booted_at_}) {
+    if (power_change && (!deadline || *power_change < *deadline)) deadline = power_change;
+  }
   return deadline;
 }
 

@@ -10,7 +10,7 @@ namespace ldoem::faults {
 namespace {
 
 constexpr double kTicksPerDegree = 16.0;      // spec 3.6: angles in 1/16 deg
-constexpr double kMaxSeconds = 1.0e6;         // about 11.5 days: longer is a typo
+constexpr double kMaxSeconds = kMaxFaultSeconds;  // about 11.5 days: longer is a typo
 constexpr double kMaxCount = 1.0e12;
 
 FieldError error(FieldErrorKind kind, std::string_view key, std::string detail) {
@@ -81,10 +81,13 @@ std::optional<FieldError> as_degrees(std::string_view key, const FieldValue& val
 }
 
 std::optional<FieldError> as_u32(std::string_view key, const FieldValue& value, std::uint64_t min,
-                                 std::uint32_t& out) {
+                                 std::uint32_t& out, std::uint32_t max = UINT32_MAX) {
   std::uint64_t number = 0;
   if (auto problem = as_count(key, value, min, number)) return problem;
-  if (number > UINT32_MAX) return error(FieldErrorKind::out_of_range, key, "must be at most 4294967295");
+  if (number > max) {
+    return error(FieldErrorKind::out_of_range, key,
+                 "must be an integer in [" + std::to_string(min) + ", " + std::to_string(max) + "]");
+  }
   out = static_cast<std::uint32_t>(number);
   return std::nullopt;
 }
@@ -206,7 +209,11 @@ std::optional<FieldError> FaultEntryBuilder::set(std::string_view key, const Fie
   }
   if (key == "delay_s") {
     params_.emplace_back(std::string(key), FaultParam::delay_s);
-    return as_seconds(key, value, spec_.delay, true);
+    if (auto problem = as_seconds(key, value, spec_.delay, true)) return problem;
+    if (spec_.delay > std::chrono::duration_cast<SimTime>(std::chrono::duration<double>(kMaxDelaySeconds))) {
+      return error(FieldErrorKind::out_of_range, key, "must be at most 60 s");
+    }
+    return std::nullopt;
   }
   if (key == "off_s") {
     params_.emplace_back(std::string(key), FaultParam::off_s);
@@ -218,11 +225,11 @@ std::optional<FieldError> FaultEntryBuilder::set(std::string_view key, const Fie
   }
   if (key == "bytes") {
     params_.emplace_back(std::string(key), FaultParam::bytes);
-    return as_u32(key, value, 1, spec_.garbage_bytes);
+    return as_u32(key, value, 1, spec_.garbage_bytes, kMaxGarbageBytes);
   }
   if (key == "bytes_per_s") {
     params_.emplace_back(std::string(key), FaultParam::bytes_per_s);
-    return as_u32(key, value, 1, spec_.bytes_per_s);
+    return as_u32(key, value, 1, spec_.bytes_per_s, kMaxBytesPerSecond);
   }
   return set_trigger(key, value);
 }

@@ -71,6 +71,14 @@ bool TcpConnection::peer_gone() const {
   return count == 0 || (count < 0 && errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR);
 }
 
+IoStatus TcpConnection::reset_on_close() {
+  const linger abortive{1, 0};
+  if (::setsockopt(fd_.get(), SOL_SOCKET, SO_LINGER, &abortive, sizeof abortive) != 0) {
+    return io_failure(last_system_error("setsockopt SO_LINGER", peer_));
+  }
+  return Done{};
+}
+
 IoResult<Received> TcpConnection::receive(std::size_t max_bytes) {
   Received received;
   received.bytes.resize(max_bytes);
@@ -130,6 +138,27 @@ IoResult<TcpListener> TcpListener::listen(std::uint16_t port, std::string_view a
   if (::bind(fd.get(), reinterpret_cast<const sockaddr*>(&*local), sizeof *local) != 0) {
     return io_failure(last_system_error("bind", where));
   }
+  if (port == 0) {
+    // A port the kernel picked is given back when the socket stops listening (stop_listening):
+    // a second socket binds it by number while the first still holds it (both SO_REUSEADDR,
+    // neither listening), so the port is never free in between.
+    sockaddr_in picked{};
+    socklen_t picked_length = sizeof picked;
+    if (::getsockname(fd.get(), reinterpret_cast<sockaddr*>(&picked), &picked_length) != 0) {
+      return io_failure(last_system_error("getsockname", where));
+    }
+    base::UniqueFd by_number(::socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0));
+    if (!by_number.valid()) {
+      return io_failure(last_system_error("socket", where));
+    }
+    if (::setsockopt(by_number.get(), SOL_SOCKET, SO_REUSEADDR, &on, sizeof on) != 0) {
+      return io_failure(last_system_error("setsockopt SO_REUSEADDR", where));
+    }
+    if (::bind(by_number.get(), reinterpret_cast<const sockaddr*>(&picked), sizeof picked) != 0) {
+      return io_failure(last_system_error("bind", endpoint_text(address, ntohs(picked.sin_port))));
+    }
+    fd = std::move(by_number);
+  }
   if (::listen(fd.get(), backlog) != 0) {
     return io_failure(last_system_error("listen", where));
   }
@@ -138,7 +167,7 @@ IoResult<TcpListener> TcpListener::listen(std::uint16_t port, std::string_view a
   if (::getsockname(fd.get(), reinterpret_cast<sockaddr*>(&bound), &length) != 0) {
     return io_failure(last_system_error("getsockname", where));
   }
-  return TcpListener(std::move(fd), std::string(address), ntohs(bound.sin_port));
+  return TcpListener(std::move(fd), std::string(address), ntohs(bound.sin_port), backlog);
 }
 
 IoResult<std::optional<TcpConnection>> TcpListener::accept() {
@@ -152,6 +181,9 @@ IoResult<std::optional<TcpConnection>> TcpListener::accept() {
       if (::setsockopt(fd.get(), IPPROTO_TCP, TCP_NODELAY, &on, sizeof on) != 0) {
         return io_failure(last_system_error("setsockopt TCP_NODELAY", text_of(peer)));
       }
+      if (::setsockopt(fd.get(), SOL_SOCKET, SO_SNDBUF, &kTcpSendBufferBytes, sizeof kTcpSendBufferBytes) != 0) {
+        return io_failure(last_system_error("setsockopt SO_SNDBUF", text_of(peer)));
+      }
       return std::optional<TcpConnection>(TcpConnection(std::move(fd), text_of(peer)));
     }
     // A client that gave up between SYN and accept is not our error: try the next one.
@@ -163,6 +195,30 @@ IoResult<std::optional<TcpConnection>> TcpListener::accept() {
     }
     return io_failure(last_system_error("accept4", endpoint_text(address_, port_)));
   }
+}
+
+IoStatus TcpListener::stop_listening() {
+  if (::shutdown(fd_.get(), SHUT_RD) != 0) {
+    return io_failure(last_system_error("shutdown", endpoint_text(address_, port_)));
+  }
+  // A bound socket that does not listen lets any other SO_REUSEADDR socket bind and listen on
+  // its port; without the flag it does not, until listen_again().
+  const int off = 0;
+  if (::setsockopt(fd_.get(), SOL_SOCKET, SO_REUSEADDR, &off, sizeof off) != 0) {
+    return io_failure(last_system_error("setsockopt SO_REUSEADDR", endpoint_text(address_, port_)));
+  }
+  return Done{};
+}
+
+IoStatus TcpListener::listen_again() {
+  const int on = 1;  // connections of before may sit in TIME_WAIT on the port
+  if (::setsockopt(fd_.get(), SOL_SOCKET, SO_REUSEADDR, &on, sizeof on) != 0) {
+    return io_failure(last_system_error("setsockopt SO_REUSEADDR", endpoint_text(address_, port_)));
+  }
+  if (::listen(fd_.get(), backlog_) != 0) {
+    return io_failure(last_system_error("listen", endpoint_text(address_, port_)));
+  }
+  return Done{};
 }
 
 }  // namespace ldoem::io

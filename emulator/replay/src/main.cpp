@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
     std::cerr << "ldoem-replay: " << loaded.error() << '\n';
     return 2;
   }
+  if (!loaded->warning.empty()) std::cerr << "ldoem-replay: warning: " << loaded->warning << '\n';
   const auto& telegrams = loaded->conversation.telegrams;
   const auto transport = options->transport ? options->transport : protocol::busiest_transport(telegrams);
   if (!transport) {

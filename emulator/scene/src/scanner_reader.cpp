@@ -17,6 +17,8 @@ constexpr double kDeviceMaxRange_m = 250.0;
 constexpr double kMinPulseWidth_s = 1e-10;
 constexpr double kMaxPulseWidth_s = 1e-7;
 constexpr double kMaxBeamDivergence_rad = 0.1;
+// D11 power_cycle: the longest boot a scene may ask for (docs/decisions-local.md L-faults-5).
+constexpr double kMaxBootTime_s = 60.0;
 constexpr std::uint64_t kMaxCanId = 0x7FF;      // 11-bit identifiers (D1)
 constexpr std::uint64_t kMaxSectorFunction = 4;   // spec 3.6: 0..4
 
@@ -186,20 +188,32 @@ void read_flash(const std::string& file, const YAML::Node& node, const std::stri
   map.finish();
 }
 
+// Issue 27 D14: a GET_IDENTIFICATION reply is `81 01` and the text, and no telegram's payload
+// may exceed 5816 bytes (D3; some hosts crash beyond it, and TCP drops the connection): each
+// text is bounded here, before the device can serve it.
+void read_identification_text(MapReader& map, std::string_view key, std::string& out) {
+  read_field(map, key, out);
+  if (out.size() > kMaxIdentificationTextBytes) {
+    fail(map.file(), SceneErrorKind::out_of_range, map.get(key).value_or(map.node()), map.child_path(key),
+         "is " + std::to_string(out.size()) + " bytes long; at most " + std::to_string(kMaxIdentificationTextBytes) +
+             " (the reply's payload may not exceed 5816 bytes, D3)");
+  }
+}
+
 void read_identification(const std::string& file, const YAML::Node& node, const std::string& path,
                          Identification& id) {
   MapReader map(file, node, path);
-  read_field(map, "sensor_part_number", id.sensor_part_number);
-  read_field(map, "sensor_name", id.sensor_name);
-  read_field(map, "sensor_version", id.sensor_version);
-  read_field(map, "sensor_serial_number", id.sensor_serial_number);
-  read_field(map, "edm_serial_number", id.edm_serial_number);
-  read_field(map, "firmware_part_number", id.firmware_part_number);
-  read_field(map, "firmware_name", id.firmware_name);
-  read_field(map, "firmware_version", id.firmware_version);
-  read_field(map, "application_part_number", id.application_part_number);
-  read_field(map, "application_name", id.application_name);
-  read_field(map, "application_version", id.application_version);
+  read_identification_text(map, "sensor_part_number", id.sensor_part_number);
+  read_identification_text(map, "sensor_name", id.sensor_name);
+  read_identification_text(map, "sensor_version", id.sensor_version);
+  read_identification_text(map, "sensor_serial_number", id.sensor_serial_number);
+  read_identification_text(map, "edm_serial_number", id.edm_serial_number);
+  read_identification_text(map, "firmware_part_number", id.firmware_part_number);
+  read_identification_text(map, "firmware_name", id.firmware_name);
+  read_identification_text(map, "firmware_version", id.firmware_version);
+  read_identification_text(map, "application_part_number", id.application_part_number);
+  read_identification_text(map, "application_name", id.application_name);
+  read_identification_text(map, "application_version", id.application_version);
   map.finish();
 }
 
@@ -261,6 +275,10 @@ ScannerConfig read_scanner_fields(MapReader& map) {
   }
   read_field(map, "optical_offset_m", scanner.optical_offset_m);
   read_ranges(map, scanner);
+  read_field(map, "boot_s", scanner.boot_s, Constraint::non_negative);
+  if (scanner.boot_s > kMaxBootTime_s) {
+    fail(file, SceneErrorKind::out_of_range, *map.get("boot_s"), map.child_path("boot_s"), "must be <= 60 s");
+  }
   const bool calibration_given = [&] {
     if (auto optics = map.get("optics")) {
       read_optics(file, *optics, map.child_path("optics"), scanner.optics);

@@ -59,17 +59,24 @@ void spin_up(Session& session) {
   std::ostringstream numbers;
   numbers << "device clock " << device_ms << " ms (minus up to " << overhead_ms << " ms of round trips), wall "
           << spin_wall_ms << " ms at --time-scale " << session.options().time_scale;
-  if (device_ms + 1 < min_ms || device_ms - overhead_ms - 1 > max_ms) {
-    throw CaseFailed("spin-up took " + numbers.str() + "; expected " + std::to_string(int(min_ms)) + ".." +
-                     std::to_string(int(max_ms)) + " ms simulated");
+  const std::string expected_range = "; expected " + std::to_string(int(min_ms)) + ".." + std::to_string(int(max_ms)) +
+                                     " ms simulated";
+  // Too fast is the device's fault whatever the load. Too slow can be a starved daemon: its
+  // clock runs on while it waits for a CPU and answers late (L-time-1), so the probe judges that,
+  // with the slack this window leaves in wall time at this scale.
+  if (device_ms + 1 < min_ms) throw CaseFailed("spin-up took " + numbers.str() + expected_range);
+  if (device_ms - overhead_ms - 1 > max_ms) {
+    const double slack_wall_ms = session.options().virtual_time ? 0 : (max_ms - min_ms) / 2 / session.options().time_scale;
+    throw WallClockFailed("spin-up took " + numbers.str() + expected_range, slack_wall_ms);
   }
   if (!session.options().virtual_time) {
     const double scale_now = session.options().time_scale;
     const double wall_min = min_ms / scale_now - 5;
     const double wall_max = max_ms / scale_now + kWallLatencyMs;
     if (spin_wall_ms < wall_min || spin_wall_ms > wall_max) {
-      throw CaseFailed("spin-up took " + numbers.str() + "; expected " + ms_text(wall_min) + ".." +
-                       ms_text(wall_max) + " ms wall (simulated / time scale)");
+      throw WallClockFailed("spin-up took " + numbers.str() + "; expected " + ms_text(wall_min) + ".." +
+                                ms_text(wall_max) + " ms wall (simulated / time scale)",
+                            kWallLatencyMs);
     }
   }
 }
@@ -154,10 +161,11 @@ void check_cadence(Session& session, const Stream& stream, const ProfileExpectat
       const double lag = wall_ms(stream.arrivals[i] - stream.arrivals.front()) - since_ms / session.options().time_scale;
       lags << (i > 0 ? ", " : "") << ms_text(lag);
     }
-    throw CaseFailed("profiles arrived over " + ms_text(measured_wall) + " ms wall for " +
+    throw WallClockFailed("profiles arrived over " + ms_text(measured_wall) + " ms wall for " +
                      std::to_string(revolutions) + " revolutions; expected " + ms_text(expected_wall) +
                      " ms (simulated / time scale, +-30 % + 50 ms); arrival lag behind TSTART/X [" + lags.str() +
-                     "] ms wall");
+                     "] ms wall",
+                          0.3 * expected_wall + kWallLatencyMs);
   }
 }
 
@@ -210,10 +218,13 @@ void add_spin_up_cases(std::vector<Case>& cases) {
 }
 
 void add_timing_cases(std::vector<Case>& cases) {
-  cases.push_back(Case{"timing/profile_cadence_5_Hz", [](Session& s) { cadence(s, 5, 4, std::nullopt); }, false, true, {}});
-  cases.push_back(Case{"timing/profile_cadence_10_Hz", [](Session& s) { cadence(s, 10, 4, std::nullopt); }, false, true, {}});
+  cases.push_back(Case{"timing/profile_cadence_5_Hz", [](Session& s) { cadence(s, 5, 4, std::nullopt); },
+                       false, true, {}});
+  cases.push_back(Case{"timing/profile_cadence_10_Hz", [](Session& s) { cadence(s, 10, 4, std::nullopt); },
+                       false, true, {}});
   // 20 Hz needs step >= 0.5 deg: 720 * 20 = 14400 Hz, the maximum pulse frequency (spec 5).
-  cases.push_back(Case{"timing/profile_cadence_20_Hz", [](Session& s) { cadence(s, 20, 8, std::nullopt); }, false, true, {}});
+  cases.push_back(Case{"timing/profile_cadence_20_Hz", [](Session& s) { cadence(s, 20, 8, std::nullopt); },
+                       false, true, {}});
   // The clock set 500 ms before its wrap: TSTART deltas must be taken modulo 65536 (spec 2.3).
   cases.push_back(Case{"timing/profile_cadence_10_Hz_across_clock_wrap", [](Session& s) { cadence(s, 10, 4, 65036); },
                        false, true, {}});

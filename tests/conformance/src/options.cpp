@@ -129,6 +129,7 @@ Expected<Options, UsageError> parse_options(std::span<const std::string_view> ar
   CLI::App& app = command_line.app();
   app.add_flag("--list", parser.options.list);
   app.add_flag("--virtual-time", parser.options.virtual_time);
+  app.add_flag("--strict-timing", parser.options.strict_timing);
   app.add_flag("-v,--verbose", parser.options.verbose);
   for (const std::string_view option : kValueOptions) {
     // Every value is applied, repeats included: --filter and --mask add patterns, a second
@@ -196,6 +197,8 @@ std::string usage_text(std::string_view program_name) {
          "                        --time-scale); timing cases expect wall = simulated / X [1]\n"
          "  --virtual-time        the endpoint runs ldoem-emud --virtual-time: no wall-clock checks,\n"
          "                        device-clock values must match exactly [off]\n"
+         "  --strict-timing       a wall-clock case that fails while the machine was too busy to\n"
+         "                        keep time is FAIL, not INCONCLUSIVE (a quiet lab machine) [off]\n"
          "  --timeout SECONDS     wall time to wait for one reply (spec 6: S1 waits 5 s) [5]\n"
          "  --filter GLOB         run only cases whose name matches (fnmatch, `*` spans `/`);\n"
          "                        repeatable, any match selects [all]\n"
@@ -217,8 +220,9 @@ std::string usage_text(std::string_view program_name) {
          "  --help, -h            this text\n"
          "\n"
          "Output: one line per case, `PASS NAME` or `FAIL NAME: why` followed by an indented hex\n"
-         "diff (expected / received / carets under differing bytes, `..` = not asserted), then\n"
-         "exactly `N passed, M failed`.\n"
+         "diff (expected / received / carets under differing bytes, `..` = not asserted), or\n"
+         "`INCONCLUSIVE NAME (machine busy: ...): why` for a wall-clock case the machine could not\n"
+         "time; then exactly `N passed, M failed, K inconclusive` (inconclusive exits 0).\n"
          "The suite changes the device's configuration (SET_CONFIG global commits to flash) and\n"
          "leaves it in IDLE with the D4 defaults: sensor id 1, 10 Hz, 0.25 deg, sectors 135/225 deg.\n"
          "\n"

@@ -29,6 +29,7 @@ struct Options {
   Target target = Target::emulator;
   double time_scale = 1.0;       // the endpoint's simulated seconds per wall second (D7)
   bool virtual_time = false;     // the endpoint's clock is not tied to the wall clock at all
+  bool strict_timing = false;    // a wall-clock failure on a busy machine is FAIL, not INCONCLUSIVE
   std::chrono::milliseconds reply_timeout{5000};  // spec 6: S1 waits 5 s for a reply
   std::vector<std::string> filters;   // globs over case names; empty = all
   std::vector<std::string> excludes;  // globs over case names left out after the filters

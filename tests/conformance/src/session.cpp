@@ -15,6 +15,10 @@ using namespace protocol;
 
 constexpr std::uint16_t kProfileCode = 0x8301;  // spec 3.5
 
+// A host that does not read for this long can lose CAN frames: vcan in User-Mode Linux carries
+// about 6 000 frames/s and the receive buffer holds about a thousand (conformance.md).
+constexpr double kLinkStallToleranceMs = 200;
+
 bool is_profile(ByteView payload) { return payload.size() >= 2 && read_word_be(payload, 0) == kProfileCode; }
 
 std::string describe_request(ByteView payload) { return format_telegram(payload); }
@@ -43,8 +47,38 @@ void Session::log(const char* direction, ByteView payload) const {
             << (payload.size() > 64 ? " ..." : "") << '\n';
 }
 
+void Session::note_request(ByteView payload) {
+  auto request = decode_request(payload);
+  if (!request) return;
+  if (std::holds_alternative<GetProfile>(*request)) {
+    device_clock_.start_stream();
+    dropped_at_stream_start_ = transport_->counters().dropped_frames;
+    missing_in_stream_ = 0;
+  }
+  if (const auto* rotate = std::get_if<TransRotate>(&*request)) pending_rotate_hz_ = rotate->frequency_hz;
+  if (const auto* config = std::get_if<SetConfig>(&*request)) {
+    if (const auto* global = std::get_if<GlobalConfig>(&config->body)) pending_config_hz_ = global->motor_speed_hz;
+  }
+}
+
+void Session::note_reply(ByteView payload) {
+  auto response = decode_response(payload);
+  if (!response) return;
+  if (const auto* config = std::get_if<SetConfigReply>(&*response)) {
+    if (config->value == kSetConfigSuccess && pending_config_hz_) configured_hz_ = *pending_config_hz_;
+    pending_config_hz_.reset();
+  } else if (std::holds_alternative<TransRotateReply>(*response)) {
+    const std::uint16_t asked = pending_rotate_hz_.value_or(0);
+    device_clock_.set_speed_hz(asked != 0 ? asked : configured_hz_);
+    pending_rotate_hz_.reset();
+  } else if (std::holds_alternative<DoResetReply>(*response)) {
+    device_clock_.set_speed_hz(configured_hz_);  // the next TRANS_ROTATE 0 turns at the configured speed
+  }
+}
+
 void Session::send(ByteView payload) {
   log(">>", payload);
+  note_request(payload);
   auto sent = transport_->send(payload, Clock::now() + options_.reply_timeout);
   if (!sent) throw CaseFailed("send " + describe_request(payload) + ": " + driver::describe(sent.error()));
 }
@@ -55,8 +89,29 @@ std::optional<Arrival> Session::receive(Deadline deadline) {
     if (received.error().kind == driver::ErrorKind::timeout) return std::nullopt;
     throw CaseFailed("receive: " + driver::describe(received.error()));
   }
+  const Clock::time_point at = Clock::now();
   log("<<", *received);
-  return Arrival{std::move(*received), Clock::now()};
+  if (!is_profile(*received)) {
+    note_reply(*received);
+  } else if (auto profile = decode_profile(*received)) {  // one that does not decode fails its case's check
+    // Broken telegrams the transport dropped in this stream (a CAN link that lost frames or timed
+    // out, D1) may have been profiles: PROFILESENT may skip that many, the clock may not. The
+    // transport counts a drop when it reads the frames, which can be before it hands up the
+    // profiles read with them, so the drops are counted per stream, not per profile.
+    const std::uint64_t dropped = transport_->counters().dropped_frames - dropped_at_stream_start_;
+    const std::uint64_t lost = dropped > missing_in_stream_ ? dropped - missing_in_stream_ : 0;
+    if (auto slipped = device_clock_.next(*profile, lost)) throw CaseFailed("device clock: " + *slipped);
+    if (device_clock_.last_sent_step() > 1) {
+      missing_in_stream_ += device_clock_.last_sent_step() - 1u;
+      // The host link's failure, not the device's: judged like a wall-clock one (a starved host
+      // reads too late and loses frames), INCONCLUSIVE when the probe saw the machine stall.
+      throw WallClockFailed("link: PROFILESENT advanced " + std::to_string(device_clock_.last_sent_step()) +
+                                " to " + std::to_string(profile->profile_sent) + " and the transport dropped " +
+                                std::to_string(dropped) + " broken telegram(s) in this stream; the device clock was exact",
+                            kLinkStallToleranceMs);
+    }
+  }
+  return Arrival{std::move(*received), at};
 }
 
 Arrival Session::request(ByteView payload, std::optional<std::chrono::milliseconds> wait) {
@@ -66,7 +121,8 @@ Arrival Session::request(ByteView payload, std::optional<std::chrono::millisecon
   while (true) {
     auto arrival = receive(deadline);
     if (!arrival) {
-      throw CaseFailed("no reply to " + describe_request(payload) + " within " + std::to_string(waited.count()) + " ms");
+      throw WallClockFailed("no reply to " + describe_request(payload) + " within " + std::to_string(waited.count()) + " ms",
+                            static_cast<double>(waited.count()));
     }
     if (!is_profile(arrival->payload)) return std::move(*arrival);
     ++profiles_skipped_;
@@ -106,7 +162,10 @@ Arrival Session::expect(std::string_view what, ByteView payload, const BytePatte
 
 Arrival Session::await_profile(std::string_view what, std::chrono::milliseconds wait) {
   auto arrival = receive(Clock::now() + wait);
-  if (!arrival) throw CaseFailed(std::string(what) + ": no profile within " + std::to_string(wait.count()) + " ms");
+  if (!arrival) {
+    throw WallClockFailed(std::string(what) + ": no profile within " + std::to_string(wait.count()) + " ms",
+                          static_cast<double>(wait.count()));
+  }
   if (!is_profile(arrival->payload)) {
     throw CaseFailed(std::string(what) + ": expected a profile (0x8301), received " + format_telegram(arrival->payload));
   }
@@ -125,6 +184,7 @@ void Session::expect_silence(std::string_view what, std::chrono::milliseconds wa
 std::size_t Session::drain(std::chrono::milliseconds wall) {
   std::size_t dropped = 0;
   const Deadline deadline = Clock::now() + wall;
+  device_clock_.stop_judging();  // what is dropped after a failed case belongs to a judged stream
   while (receive(deadline)) ++dropped;
   return dropped;
 }
@@ -185,6 +245,8 @@ void Session::set_global(std::uint16_t sensor_id, std::uint16_t speed_hz, std::u
 }
 
 void Session::restore_baseline() {
+  // A stream a failed case left running ends with this DO_RESET; the case was judged already.
+  device_clock_.stop_judging();
   // DO_RESET level 2 halts the application and enters IDLE from any state (spec 3.3) and ends a
   // profile stream first (D10).
   expect("baseline DO_RESET 2", encode_request(DoReset{reset_level::kHaltToIdle}),
@@ -223,6 +285,8 @@ void Session::reopen_transport() {
   auto reopened = open_suite_transport(options_);
   if (!reopened) throw CaseFailed("reopen: " + reopened.error());
   transport_ = std::move(*reopened);
+  dropped_at_stream_start_ = 0;  // a new transport counts from 0
+  missing_in_stream_ = 0;
 }
 
 }  // namespace ldoem::conformance

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "byte_pattern.hpp"
+#include "device_clock.hpp"
 #include "ldoem/driver/transport.hpp"
 #include "ldoem/protocol/messages.hpp"
 #include "ldoem/protocol/status.hpp"
@@ -34,6 +35,19 @@ class CaseFailed : public std::runtime_error {
 
  private:
   std::string detail_;
+};
+
+// A failure of the host link's promise rather than the device's: a quantity measured on the
+// wall clock fell outside its tolerance. Where the runner probed the machine during the case
+// (timing_probe.hpp) and saw it lose that much time itself, the case is INCONCLUSIVE instead.
+class WallClockFailed : public CaseFailed {
+ public:
+  WallClockFailed(std::string why, double tolerance_ms, std::string detail = {})
+      : CaseFailed(std::move(why), std::move(detail)), tolerance_ms_(tolerance_ms) {}
+  double tolerance_ms() const { return tolerance_ms_; }
+
+ private:
+  double tolerance_ms_;
 };
 
 // A received telegram with its wall-clock arrival time.
@@ -99,6 +113,9 @@ class Session {
   void reopen_transport();
 
   std::uint64_t profiles_skipped() const { return profiles_skipped_; }
+  // Every profile that arrives, whichever step receives it, is judged on the device's own clock
+  // (device_clock.hpp); a GET_PROFILE sent starts a new stream.
+  const DeviceClockCheck& device_clock() const { return device_clock_; }
   driver::TransportCounters transport_counters() const { return transport_->counters(); }
 
   // On a serial line, `received` without the one 0x00 pad byte an odd payload of
@@ -107,11 +124,20 @@ class Session {
 
  private:
   void log(const char* direction, ByteView payload) const;
+  // Follows the head speed from the requests sent and the replies that confirm them.
+  void note_request(ByteView payload);
+  void note_reply(ByteView payload);
 
   std::unique_ptr<driver::Transport> transport_;
   const Options& options_;
   const VectorTable& vectors_;
   std::uint64_t profiles_skipped_ = 0;
+  DeviceClockCheck device_clock_;
+  std::uint64_t dropped_at_stream_start_ = 0;  // the transport's dropped_frames at GET_PROFILE
+  std::uint64_t missing_in_stream_ = 0;        // PROFILESENT gaps already put down to those drops
+  std::uint16_t configured_hz_ = 10;  // D4
+  std::optional<std::uint16_t> pending_config_hz_;  // SET_CONFIG global sent, reply not yet seen
+  std::optional<std::uint16_t> pending_rotate_hz_;  // TRANS_ROTATE sent (0 = configured speed)
 };
 
 // Replies built from the typed protocol (encode_response), for readability in the cases.

@@ -25,6 +25,9 @@ std::string_view format_name(CaptureFormat format);
 struct CapturePackets {
   CaptureFormat format = CaptureFormat::pcapng;
   std::vector<protocol::DecodedPacket> packets;
+  // Not empty when the file was read only in part: a pcapng cut inside a block (a full disk,
+  // a crash) gives its whole blocks and says so here.
+  std::string warning;
 };
 
 // Every packet of the file, decoded per link type, with its time. Errors name the file and
@@ -34,6 +37,7 @@ struct CapturePackets {
 struct CaptureConversation {
   CaptureFormat format = CaptureFormat::pcapng;
   protocol::Conversation conversation;
+  std::string warning;  // as CapturePackets::warning
 };
 
 // The telegrams of the file (protocol::extract_conversation), in capture order.

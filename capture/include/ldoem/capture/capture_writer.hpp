@@ -8,16 +8,22 @@
 //   2 "serial" LINKTYPE_USER0          direction byte + the bytes of the line
 //   3 "lpt"    LINKTYPE_USER1          direction byte 0 + data-register values (D8)
 // Timestamps are device time (D7) in nanoseconds. Each call writes its blocks with one write(2),
-// so a crash loses at most the telegram being written. With a size cap the file rotates:
-// FILE is always the newest, older ones are FILE.1, FILE.2, ... up to max_files in all.
+// so a crash loses at most the telegram being written; a failed write is cut back, so the file
+// always ends at a block boundary. With a size cap the file rotates: FILE is always the newest,
+// older ones are FILE.1, FILE.2, ... up to max_files in all (the renames run on a worker thread;
+// FILE.rotating.N exist while they wait for it).
 #pragma once
 
+#include <condition_variable>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "ldoem/protocol/bytes.hpp"
 #include "ldoem/protocol/can_frame.hpp"
@@ -51,6 +57,7 @@ struct CaptureWriterCounters {
   std::uint64_t records = 0;  // calls that wrote something
   std::uint64_t bytes = 0;    // bytes written to the current file
   std::uint64_t rotations = 0;
+  std::uint64_t write_errors = 0;  // records not written (the file was cut back to the one before)
 };
 
 class CaptureWriter {
@@ -69,6 +76,9 @@ class CaptureWriter {
   [[nodiscard]] std::string write_serial(base::SimTime time, WireDirection direction, ByteView bytes);
   [[nodiscard]] std::string write_lpt(base::SimTime time, ByteView values);
 
+  // Waits until the last rotation's renames are done (FILE.1 ... in place); their error, if any.
+  [[nodiscard]] std::string wait_for_rotation() { return finish_shifting(); }
+
   const CaptureWriterCounters& counters() const { return counters_; }
   const std::filesystem::path& path() const { return options_.path; }
 
@@ -81,6 +91,9 @@ class CaptureWriter {
   explicit CaptureWriter(CaptureWriterOptions options);
   std::string start_file();
   std::string rotate();
+  std::string finish_shifting();  // waits until no rotation's renames are pending; their error
+  std::filesystem::path aside_name(std::uint64_t sequence) const;  // FILE.rotating.N
+  void shift_files();             // the worker thread
   std::string commit(const std::function<protocol::Bytes()>& build);
   std::string write_all(const protocol::Bytes& blocks);
   protocol::TcpSegment segment(std::uint32_t connection, WireDirection direction, std::uint8_t flags,
@@ -92,6 +105,17 @@ class CaptureWriter {
   int fd_ = -1;
   CaptureWriterCounters counters_;
   std::map<std::uint32_t, TcpConnection> connections_;
+  // Rotation's renames on a worker thread (issue 27 D4); everything below shift_mutex_ is
+  // guarded by it, except shifter_ and next_rotation_ (the caller's thread only).
+  std::thread shifter_;
+  std::uint64_t next_rotation_ = 0;
+  std::mutex shift_mutex_;
+  std::condition_variable shift_wake_;  // work pending, or stopping
+  std::condition_variable shift_done_;  // a batch finished
+  std::vector<std::uint64_t> pending_;  // FILE.rotating.N waiting to become FILE.1, oldest first
+  bool shifting_ = false;
+  bool stopping_ = false;
+  std::string shift_error_;
 };
 
 }  // namespace ldoem::capture

@@ -5,7 +5,9 @@
 // disconnected. Runs on the daemon's event loop; no threads.
 #pragma once
 
+#include <chrono>
 #include <cstddef>
+#include <cstdint>
 #include <deque>
 #include <functional>
 #include <memory>
@@ -39,6 +41,10 @@ class ControlServer {
   ControlServer& operator=(const ControlServer&) = delete;
 
   void set_client_observer(ClientObserver observer) { observer_ = std::move(observer); }
+  // Where the server's own warnings go (descriptors running out), one line each, no newline.
+  void set_warning_sink(std::function<void(const std::string&)> warn) { warn_ = std::move(warn); }
+  // Times accept() failed for want of descriptors or memory and the listener rested.
+  std::uint64_t listener_rests() const { return listener_rests_; }
   // One line (no newline) to every client.
   void broadcast(const std::string& line);
 
@@ -66,6 +72,11 @@ class ControlServer {
   void queue(Client& client, const std::string& line);
   void flush(Client& client);
   void drop(int fd);
+  void rest(int error);
+
+  // Out of descriptors the listener is not watched this long (as the TCP listener, issue 11).
+  static constexpr std::chrono::milliseconds kListenerRest{100};
+  static constexpr std::chrono::seconds kRestWarningPeriod{10};
 
   io::EventLoop& loop_;
   std::string path_;
@@ -79,6 +90,13 @@ class ControlServer {
   int serving_ = 0;        // the client whose line the handler is handling (0: none)
   bool deferred_ = false;  // the handler called defer()
   std::uint64_t clients_dropped_ = 0;
+  std::function<void(const std::string&)> warn_;
+  bool resting_ = false;
+  io::EventLoop::TimerId resume_timer_ = 0;
+  std::uint64_t listener_rests_ = 0;
+  bool warned_once_ = false;
+  std::chrono::steady_clock::time_point last_warning_{};
+  std::uint64_t rests_unsaid_ = 0;
 };
 
 }  // namespace ldoem::control_socket

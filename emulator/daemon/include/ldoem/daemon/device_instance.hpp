@@ -70,6 +70,10 @@ class DeviceInstance final : public endpoints::EndpointSink,
   void deliver_from_host(control::ConnectionId from, protocol::Bytes payload);
   void send_to_host(control::ConnectionId to, protocol::ByteView payload, bool is_profile);
   void disconnect(control::ConnectionId connection);
+  // D11 power_cycle: every endpoint goes dark, resets its old connections, serves again.
+  void set_power(endpoints::DevicePower power) {
+    for (const auto& endpoint : endpoints_) endpoint->set_power(power);
+  }
 
   bool waiting_for_host() const;
   // Flushes the endpoints and saves the flash (at exit). False when the flash was not saved

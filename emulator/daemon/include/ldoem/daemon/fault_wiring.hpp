@@ -1,13 +1,13 @@
 // ldoem-emud's fault machinery (D11), built only when the scene names faults or --control is
 // given (D9: a scene without faults pays nothing). It is the device's WireTap: it counts
 // requests for the triggers, applies the telegram-level wire faults, and keeps the device silent
-// while powered off; and it gives the endpoints their fault hook (endpoint_faults.hpp) for the
-// faults below the telegram. It drives the FaultInjector from the daemon's simulated clock, serves the
-// control socket and writes the event log.
+// while powered off or booting (its endpoints go dark: DeviceInstance::set_power); and it gives
+// the endpoints their fault hook (endpoint_faults.hpp) for the faults below the telegram. It
+// drives the FaultInjector from the daemon's simulated clock, serves the control socket and
+// writes the event log.
 #pragma once
 
 #include <cstdint>
-#include <fstream>
 #include <map>
 #include <memory>
 #include <optional>
@@ -22,7 +22,9 @@
 #include "ldoem/control_socket/object_commands.hpp"
 #include "ldoem/daemon/device_instance.hpp"
 #include "ldoem/daemon/endpoint_faults.hpp"
+#include "ldoem/daemon/event_log.hpp"
 #include "ldoem/endpoints/scheduler.hpp"
+#include "ldoem/endpoints/warning_throttle.hpp"
 #include "ldoem/endpoints/wire_tap.hpp"
 #include "ldoem/fault_injection/fault_injector.hpp"
 
@@ -31,6 +33,11 @@ class TriMeshData;  // ode_world.hpp: a mesh's collision tree, built by add-obje
 }  // namespace ldoem::raycast
 
 namespace ldoem::daemon {
+
+// delay_reply (issue 27 D1): replies held back at once per connection, at most this many and
+// this many bytes (64 full-size profiles, as a TCP connection's output queue). Beyond: dropped.
+inline constexpr std::size_t kMaxDelayedTelegrams = 64;
+inline constexpr std::size_t kMaxDelayedBytes = 64 * 5825;
 
 class FaultWiring final : public endpoints::WireTap, public control_socket::ControlTarget {
  public:
@@ -71,12 +78,20 @@ class FaultWiring final : public endpoints::WireTap, public control_socket::Cont
 
   // Every scanner's together.
   std::uint64_t injections() const;
+  std::uint64_t delayed_replies_dropped() const;
+  // The fault machinery's counters, every scanner's: injections, delayed replies dropped, event
+  // log write errors.
+  void fill_counters(endpoints::Counters& counters) const {
+    counters.fault_injections = injections();
+    counters.delayed_replies_dropped = delayed_replies_dropped();
+    counters.event_log_write_errors = event_log_.write_errors();
+  }
 
  private:
   FaultWiring(DeviceInstance& device, endpoints::Scheduler& scheduler, const endpoints::Logger& logger,
               std::function<void()> stop);
   // The injector, the endpoints' fault hook and the connection observer of `device_`.
-  void attach(std::vector<faults::FaultSpec> scene_faults, std::uint64_t seed, bool head_dynamics);
+  void attach(std::vector<faults::FaultSpec> scene_faults, std::uint64_t seed, bool head_dynamics, double boot_s);
   void take(fault_injection::InjectorOutput output);
   void publish(const fault_injection::InjectorEvent& event);
   void publish_for(const std::string& scanner, fault_injection::InjectorEvent event);
@@ -89,6 +104,9 @@ class FaultWiring final : public endpoints::WireTap, public control_socket::Cont
   void finish_import();
   void abandon_import();  // at destruction: the worker may still run, and owns what it uses
   endpoints::WireVerdict to_host(endpoints::WireTelegram& telegram);
+  void delay(const endpoints::WireTelegram& telegram, base::SimTime by);
+  void release(control::ConnectionId connection, const endpoints::Scheduler::Key& key, std::size_t size);
+  void forget_delayed(control::ConnectionId connection);
 
   DeviceInstance& device_;
   endpoints::Scheduler& scheduler_;
@@ -97,11 +115,17 @@ class FaultWiring final : public endpoints::WireTap, public control_socket::Cont
   std::unique_ptr<fault_injection::FaultInjector> injector_;
   std::unique_ptr<EndpointFaults> endpoint_faults_;  // the endpoints' fault hook
   std::unique_ptr<control_socket::ControlServer> server_;
-  std::ofstream event_log_;
+  EventLog event_log_;
   std::optional<endpoints::Scheduler::Key> deadline_;
   std::optional<base::SimTime> deadline_at_;
-  std::set<control::ConnectionId> connections_;  // seen from hosts; a power cycle drops them
   std::map<control::ConnectionId, std::string> peers_;  // open TCP connections' addresses
+  struct DelayedReplies {
+    std::set<endpoints::Scheduler::Key> pending;  // deadlines of the held replies
+    std::size_t bytes = 0;
+  };
+  std::map<control::ConnectionId, DelayedReplies> delayed_;  // delay_reply's held replies
+  std::uint64_t delayed_dropped_ = 0;
+  endpoints::WarningThrottle delayed_warning_{std::chrono::seconds(10)};
   plant::SceneWorld* world_ = nullptr;
   io::EventLoop* loop_ = nullptr;
   bool imports_off_loop_ = false;

@@ -36,6 +36,8 @@ inline constexpr double kMaxTimeoutSeconds = 1e9;         // about 31 years (int
 inline constexpr double kMinTimeScale = 1e-6;             // a simulated second per 11.6 wall days
 inline constexpr double kMaxTimeScale = 1e6;              // 11.6 simulated days per wall second
 inline constexpr double kMaxRecordMegabytes = 1024.0 * 1024.0;  // 1 TiB per capture file
+// Rotation renames up to this many files (on a worker thread, issue 27 D4).
+inline constexpr unsigned kMaxRecordFiles = 1000;
 inline constexpr double kMaxHostTimeoutSeconds = 1e6;     // the host timeouts: 11.6 days
 inline constexpr std::size_t kMaxTcpClients = 100'000;    // --max-clients (descriptors bound it sooner)
 
@@ -77,6 +79,7 @@ struct Options {
   bool reset_flash = false;
   double time_scale = 1.0;
   bool virtual_time = false;
+  bool realtime = false;  // --realtime: SCHED_FIFO and mlockall when permitted (realtime.hpp)
   std::optional<std::uint64_t> seed;  // overrides the scene's seed
   LogLevel log_level = LogLevel::warn;
   std::optional<std::uint64_t> count_profiles;  // stop (exit 0) after this many profiles

@@ -37,6 +37,9 @@ class CanEndpoint final : public HostEndpoint {
   void close() override {}
   bool waiting_for_host() const override;
   void apply_can_config(const protocol::CanConfig& config) override;
+  // D11 power_cycle: while off or booting, frames from hosts are read and lost (no flow control
+  // either) and nothing is sent; at power-off every transfer under way is forgotten.
+  void set_power(DevicePower power) override;
   void add_counters(Counters& counters) const override;
 
  private:
@@ -49,6 +52,8 @@ class CanEndpoint final : public HostEndpoint {
   void flush_backlog();
   void note_dropped_frames(std::size_t count);
   void set_filters();
+  // A fresh channel in place of `channel` (its transfers forgotten, its counts kept).
+  void renew_channel(std::size_t channel, const IsoTpChannelConfig& config);
   // D11 (can_endpoint_faults.cpp): a host's first frame answered with FC overflow or held with
   // FC WAIT; false when the frame goes to the channel as usual.
   bool first_frame_faulted(std::size_t channel, const protocol::CanFrame& frame);
@@ -71,6 +76,7 @@ class CanEndpoint final : public HostEndpoint {
   std::optional<SimTime> pacer_scheduled_;  // the pacer's release deadline already queued
   IsoTpChannelCounters retired_;            // counts of channels replaced by a new CAN configuration
   std::vector<std::optional<HeldFirstFrame>> held_;  // D11 isotp_fc_wait, per channel (fault hook only)
+  bool dark_ = false;  // D11 power_cycle: off or booting
 };
 
 }  // namespace ldoem::endpoints

@@ -24,6 +24,8 @@ struct Counters {
   std::uint64_t serial_overflows = 0;      // serial output discarded: nobody reads the pty
   std::uint64_t lpt_steps = 0;
   std::uint64_t fault_injections = 0;      // D11: faults that became active (scene or control socket)
+  std::uint64_t delayed_replies_dropped = 0;  // delay_reply's per-connection bound reached (issue 27)
+  std::uint64_t event_log_write_errors = 0;   // --event-log records lost to write errors (issue 27)
 
   // Field by field (a daemon with several scanners sums its devices').
   Counters& operator+=(const Counters& other);

@@ -34,6 +34,12 @@ namespace ldoem::endpoints {
 using control::ConnectionId;
 using control::TransportKind;
 
+// D11 power_cycle as a host sees it (docs/decisions-local.md L-faults-5). `off`: the device is
+// dark: no byte read or written, no new connection completed, established ones left as they
+// are (no FIN: the host's own timeouts must fire). `booting`: power is back; connections from
+// before are reset (RST); still dark. `on`: listening and serving again.
+enum class DevicePower : std::uint8_t { on, off, booting };
+
 // Telegrams and connection events from the hosts, to the device.
 class EndpointSink {
  public:
@@ -97,8 +103,11 @@ class HostEndpoint {
   virtual void send(ConnectionId to, protocol::ByteView payload) = 0;
   virtual void close() = 0;
 
-  // Drops one connection as if the host had gone (a reset on the wire); the sink hears of it.
+  // Drops one connection with a reset on the wire (TCP: RST, D11 tcp_reset); the sink hears of it.
   virtual void disconnect(ConnectionId /*connection*/) {}
+  // D11 power_cycle (DevicePower above). Only the fault machinery calls it; an endpoint that
+  // keeps no state across telegrams needs nothing (the device's wire tap drops its telegrams).
+  virtual void set_power(DevicePower /*power*/) {}
   // A deadline of this endpoint is a timeout on a host that needs wall time to answer (ISO-TP
   // N_Bs/N_Cr): a virtual clock must not jump over it while the host is alive (D1, D7).
   virtual bool waiting_for_host() const { return false; }

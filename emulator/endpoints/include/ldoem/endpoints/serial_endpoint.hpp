@@ -26,6 +26,9 @@ class SerialEndpoint final : public HostEndpoint {
   bool busy(ConnectionId) const override { return !output_.empty(); }
   void send(ConnectionId to, protocol::ByteView payload) override;
   void close() override { flush(); }
+  // D11 power_cycle: while off or booting, what arrives is read and lost (a switched-off UART
+  // hears nothing) and nothing is written; at power-off what was queued is gone.
+  void set_power(DevicePower power) override;
 
  private:
   void on_ready(io::Readiness readiness);
@@ -43,6 +46,7 @@ class SerialEndpoint final : public HostEndpoint {
   OutputQueue output_;
   std::uint64_t echo_resets_logged_ = 0;
   std::uint64_t next_echo_report_ = 1;
+  bool dark_ = false;  // D11 power_cycle: off or booting
 };
 
 }  // namespace ldoem::endpoints

@@ -33,6 +33,7 @@ class TcpEndpoint final : public HostEndpoint {
   void send(ConnectionId to, protocol::ByteView payload) override;
   void close() override;
   void disconnect(ConnectionId connection) override;
+  void set_power(DevicePower power) override;
 
   // The port actually listened on (the one asked for, or the kernel's pick for 0).
   std::optional<std::uint16_t> port() const;
@@ -59,12 +60,17 @@ class TcpEndpoint final : public HostEndpoint {
   void resume_listener();
   void on_client_ready(std::uint32_t index, io::Readiness readiness);
   void flush(std::uint32_t index);
-  void drop(std::uint32_t index, std::string_view why);
+  // Closes the connection (with a RST when `reset`) and tells the sink.
+  void drop(std::uint32_t index, std::string_view why, bool reset = false);
   // D11 (tcp_endpoint_faults.cpp): true when the fault hook holds the connection's reading or
   // writing back; the deadline that lets it go on is then queued.
   bool stalled(std::uint32_t index, Client& client);
   bool paced(std::uint32_t index, Client& client);
   void resume_after_fault(std::uint32_t index);
+  // D11 power_cycle (tcp_endpoint_faults.cpp): dark, connections from before reset, awake.
+  void go_dark();
+  void reset_dark_connections();
+  void wake();
   void after_receive(std::uint32_t index);
   void on_inter_byte_timeout(std::uint32_t index);
   void arm_quiet_timer(std::uint32_t index, std::chrono::steady_clock::time_point at);
@@ -82,6 +88,7 @@ class TcpEndpoint final : public HostEndpoint {
   static constexpr std::chrono::seconds kWarnPeriod{10};
   static constexpr std::size_t kAcceptBudget = 16;  // connections accepted per loop round
   bool listener_resting_ = false;
+  bool dark_ = false;  // D11 power_cycle: off or booting (set_power)
   io::EventLoop::TimerId resume_timer_ = 0;
   WarningThrottle rest_warning_{kWarnPeriod};     // out of descriptors
   WarningThrottle refused_warning_{kWarnPeriod};  // --max-clients reached

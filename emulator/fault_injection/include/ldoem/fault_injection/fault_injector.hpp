@@ -1,7 +1,7 @@
 // The daemon's fault machinery without I/O (D11). It owns the fault scheduler and acts on the
 // control unit: motor faults, spontaneous resets, power cycles and beam faults. The daemon
-// feeds it time and requests, performs the control-unit Actions it returns, drops connections
-// when it says so, and broadcasts its event lines. Wire faults are read from scheduler() by the
+// feeds it time and requests, performs the control-unit Actions it returns, puts its endpoints
+// in the power states it names (Power), and broadcasts its event lines. Wire faults are read from scheduler() by the
 // daemon's wire tap. Deterministic: no clock, no global random state.
 #pragma once
 
@@ -21,22 +21,31 @@ using faults::SimTime;
 
 // An event for the control socket: name, data, simulated time.
 struct InjectorEvent {
-  std::string name;  // FAULT_INJECTED, FAULT_CLEARED, POWER_OFF, POWER_ON, STATE_CHANGED
+  std::string name;  // FAULT_INJECTED, FAULT_CLEARED, POWER_OFF, POWER_ON, BOOTED, STATE_CHANGED
   nlohmann::json data;
   SimTime at{};
 };
 
+// D11 power_cycle (docs/decisions-local.md L-faults-5): on; off (dark: nothing in or out, no
+// connection completed); booting (power back, connections from before reset, still dark for
+// the scene's boot time); then on again.
+enum class Power : std::uint8_t { on, off, booting };
+std::string_view describe(Power power);  // "ON", "OFF", "BOOTING"
+
 struct InjectorOutput {
-  control::Actions actions;           // perform like any control-unit output
-  bool drop_all_connections = false;  // a power cycle began: every host connection goes
+  control::Actions actions;  // perform like any control-unit output
+  // The power states entered, in order: the endpoints follow each (several in one call when
+  // time jumped over a boot, or the boot time is 0).
+  std::vector<Power> power_steps;
   std::vector<InjectorEvent> events;
 };
 
 class FaultInjector {
  public:
-  // `head_dynamics`: the scene has D9's head_dynamics, so a stall coasts down (D11).
+  // `head_dynamics`: the scene has D9's head_dynamics, so a stall coasts down (D11). `boot_time`:
+  // after a power cycle's off time, how long the device boots before it serves (scanner.boot_s).
   FaultInjector(std::vector<faults::FaultSpec> scene_faults, std::uint64_t seed, bool head_dynamics,
-                control::ControlUnit& unit);
+                control::ControlUnit& unit, SimTime boot_time = SimTime::zero());
 
   // Simulated time reached `now`: triggers, expiries, power-on.
   InjectorOutput advance(SimTime now);
@@ -51,8 +60,8 @@ class FaultInjector {
   // After every control-unit event: a STATE_CHANGED event when the mode changed.
   void note_state(SimTime now, std::vector<InjectorEvent>& events);
 
-  // While off (power_cycle), nothing reaches the device and nothing leaves it.
-  bool powered() const { return !power_on_at_; }
+  // While off or booting (power_cycle), nothing reaches the device and nothing leaves it.
+  Power power() const { return power_on_at_ ? Power::off : booted_at_ ? Power::booting : Power::on; }
   std::optional<SimTime> next_deadline() const;
   nlohmann::json query_faults() const;
   faults::FaultScheduler& scheduler() { return scheduler_; }
@@ -71,7 +80,9 @@ class FaultInjector {
   std::uint64_t seed_;
   bool head_dynamics_;
   control::ControlUnit& unit_;
-  std::optional<SimTime> power_on_at_;
+  SimTime boot_time_;
+  std::optional<SimTime> power_on_at_;  // off until then
+  std::optional<SimTime> booted_at_;    // booting until then
   control::DeviceMode last_mode_;
   std::uint64_t injections_ = 0;
 };

@@ -36,6 +36,18 @@ namespace ldoem::faults {
 
 using base::SimTime;
 
+// Upper bounds of the values that size the daemon's memory or time (issue 27, docs/robustness.md).
+// Every trigger time, duration_s and off_s: at most 1e6 s; every count: at most 1e12.
+inline constexpr double kMaxFaultSeconds = 1.0e6;
+// delay_reply: a reply later than this is lost to any host (the driver gives up after seconds).
+inline constexpr double kMaxDelaySeconds = 60.0;
+// garbage: a burst of line noise, built whole in memory for each telegram it precedes. 4096
+// bytes keep it well inside a TCP connection's output queue (372 800 bytes) and the CAN
+// backlog (4096 frames of 8 bytes); above about 372 800 it could never arrive at all.
+inline constexpr std::uint32_t kMaxGarbageBytes = 4096;
+// bandwidth: 1 Gbit/s, faster than any of the device's links.
+inline constexpr std::uint32_t kMaxBytesPerSecond = 125'000'000;
+
 struct TriggerNow {
   bool operator==(const TriggerNow&) const = default;
 };

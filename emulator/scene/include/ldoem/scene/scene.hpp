@@ -162,6 +162,10 @@ struct FlashDefaults {
   std::uint16_t can_response_id = 0x6C1;  // D1
 };
 
+// The longest identification text: its reply (`81 01` + text) is then exactly the largest
+// telegram payload, 5816 bytes (D3, protocol::kMaxTelegramPayload). Issue 27 D14.
+inline constexpr std::size_t kMaxIdentificationTextBytes = 5816 - 2;
+
 // D3: GET_IDENTIFICATION texts, indexed by the item numbers of spec 3.3.
 struct Identification {
   std::string sensor_part_number = "0000000";
@@ -203,6 +207,9 @@ struct ScannerConfig {
   TiltMotorConfig tilt_motor;
   FlashDefaults flash;
   Identification identification;
+  // D11 power_cycle: seconds from power-on to serving hosts again, [0, 60] (docs/decisions-local.md
+  // L-faults-5: the LD-OEM's boot time is unpublished).
+  double boot_s = 1.0;
   HousingConfig housing;  // only built when the scene has two scanners or more
 };
 
