@@ -14,9 +14,11 @@
 
 namespace {
 
+// Never destroyed: write_totals runs at exit, after the destructors of statics built later
+// than its registration, and libFuzzer may end the process from its timer while an input runs.
 ldoem::oracle::Stats& totals() {
-  static ldoem::oracle::Stats stats;
-  return stats;
+  static auto* stats = new ldoem::oracle::Stats;
+  return *stats;
 }
 
 void write_totals() {
