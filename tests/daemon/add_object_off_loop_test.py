@@ -8,6 +8,12 @@ at once sends GET_STATUS over TCP. Before the fix the loop was busy importing, s
 reply was written before the TCP request was even read: when the TCP reply arrives, the control
 reply is already there. After it, the TCP reply comes while the import still runs. Bounded: every
 wait has a timeout, the daemon is killed at the end.
+
+The mesh's collision tree (ODE's OPCODE trimesh data) is built on the worker too: it had stalled
+the hosts 217-336 ms for large-rock.obj once the import had moved. query-status counts the trees
+the loop built at world changes (mesh_trees_built_on_loop): 0 after the add-object, and after a
+remove-object (whose rebuilt index reuses the tree). That the counter sees a tree built on the
+loop is checked under --virtual-time, where the import and the tree stay on the loop.
 usage: add_object_off_loop_test.py EMUD SCENE"""
 import json, os, select, socket, subprocess, sys, tempfile, time
 
@@ -56,28 +62,46 @@ def reply(sock, deadline):
             sys.exit("no reply from the control socket in time")
         read_lines(sock, max(0.0, deadline - time.time()))
 
+def start(folder, extra):
+    """ldoem-emud on minimal.yaml with a control socket: (process, TCP port, control socket)."""
+    control = os.path.join(folder, "ctl.sock")
+    if os.path.exists(control):
+        os.unlink(control)
+    daemon = subprocess.Popen([emud, "--scene", scene, "--no-can", "--tcp", "127.0.0.1:0", "--no-flash",
+                               "--control", control, "--timeout", str(LIMIT_S)] + extra,
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    port = None
+    deadline = time.time() + 30
+    while time.time() < deadline:
+        line = daemon.stdout.readline()
+        if not line:
+            daemon.kill()
+            sys.exit("ldoem-emud ended before ready: " + daemon.stderr.read())
+        if line.startswith("tcp "):
+            port = int(line.split(":")[-1])
+        if line.strip() == "ready":
+            break
+    ctl = socket.socket(socket.AF_UNIX)
+    ctl.connect(control)
+    read_lines(ctl, 10)  # greeting
+    pending.clear()
+    return daemon, port, ctl
+
+def ask(ctl, request):
+    ctl.sendall((json.dumps(request) + "\n").encode())
+    answer = reply(ctl, time.time() + LIMIT_S)
+    if answer.get("id") != request["id"] or "return" not in answer:
+        sys.exit(f"unexpected reply to {request}: {answer}")
+    return answer["return"]
+
+def trees_on_loop(ctl, id):
+    return ask(ctl, {"execute": "query-status", "id": id})["counters"]["mesh_trees_built_on_loop"]
+
 with tempfile.TemporaryDirectory() as folder:
     mesh = os.path.join(folder, "big.obj")
     write_mesh(mesh)
-    control = os.path.join(folder, "ctl.sock")
-    daemon = subprocess.Popen([emud, "--scene", scene, "--no-can", "--tcp", "127.0.0.1:0", "--no-flash",
-                               "--control", control, "--timeout", str(LIMIT_S)],
-                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    daemon, port, ctl = start(folder, [])
     try:
-        port = None
-        deadline = time.time() + 30
-        while time.time() < deadline:
-            line = daemon.stdout.readline()
-            if not line:
-                sys.exit("ldoem-emud ended before ready: " + daemon.stderr.read())
-            if line.startswith("tcp "):
-                port = int(line.split(":")[-1])
-            if line.strip() == "ready":
-                break
-        ctl = socket.socket(socket.AF_UNIX)
-        ctl.connect(control)
-        read_lines(ctl, 10)  # greeting
-        pending.clear()
         host = socket.create_connection(("127.0.0.1", port), timeout=10)
         request = {"execute": "add-object", "id": 1,
                    "arguments": {"object": {"name": "big", "mesh": {"file": mesh}, "pose": {"position_m": [30, 0, 0]}}}}
@@ -99,11 +123,32 @@ with tempfile.TemporaryDirectory() as folder:
         print("add-object:", answer)
         if answer.get("id") != 1 or "return" not in answer or answer["return"].get("name") != "big":
             sys.exit(f"unexpected add-object reply: {answer}")
-        # The control session goes on in order after the deferred reply.
-        ctl.sendall(b'{"execute": "query-status", "id": 2}\n')
-        status = reply(ctl, time.time() + 10)
-        if status.get("id") != 2:
-            sys.exit(f"unexpected reply after add-object: {status}")
+        # The control session goes on in order after the deferred reply; the mesh's tree was
+        # built by the worker, and the remove-object's rebuilt index builds none either.
+        built = trees_on_loop(ctl, 2)
+        print("mesh trees built on the loop after add-object:", built)
+        if built != 0:
+            sys.exit(f"the loop built {built} mesh tree(s) for add-object: the tree was not built on the worker")
+        ask(ctl, {"execute": "remove-object", "id": 3, "arguments": {"name": "big"}})
+        built = trees_on_loop(ctl, 4)
+        print("mesh trees built on the loop after remove-object:", built)
+        if built != 0:
+            sys.exit(f"the loop built {built} mesh tree(s) for remove-object: the index did not reuse the tree")
+    finally:
+        daemon.kill()
+        daemon.wait()
+
+    # The counter can fail: under --virtual-time the import and its tree stay on the loop.
+    small = os.path.join(folder, "small.obj")
+    write_mesh(small, rings=4, segments=6)
+    daemon, port, ctl = start(folder, ["--virtual-time"])
+    try:
+        ask(ctl, {"execute": "add-object", "id": 1,
+                  "arguments": {"object": {"name": "small", "mesh": {"file": small}, "pose": {"position_m": [30, 0, 0]}}}})
+        built = trees_on_loop(ctl, 2)
+        print("under --virtual-time, mesh trees built on the loop:", built)
+        if built != 1:
+            sys.exit(f"under --virtual-time the loop built {built} mesh trees, expected 1")
     finally:
         daemon.kill()
         daemon.wait()

@@ -3,6 +3,8 @@
 // that are dropped once no ray can reach them; a removed body stops colliding.
 #include "world_test_support.hpp"
 
+#include <thread>
+
 namespace ldoem::world {
 namespace {
 
@@ -82,6 +84,48 @@ TEST(RuntimeChanges, RemovedBodyStopsCollidingAndIsNotSeen) {
   caster.prepare(1.2, 1.3);
   const auto hit = caster.cast(ray_at(Eigen::Vector3d(0, 0, 0.5), kAhead, 1.25));
   EXPECT_FALSE(hit) << "range " << (hit ? hit->range_m : 0.0);
+}
+
+}  // namespace
+}  // namespace ldoem::world
+
+namespace ldoem::world {
+namespace {
+
+// A closed cube of edge 1 m about its origin: 8 vertices, 12 triangles facing outwards.
+scene::SceneObject runtime_cube_mesh(const std::string& name, double x) {
+  scene::Mesh mesh;
+  const auto corner = [](int i, int bit) { return (i & bit) != 0 ? 0.5f : -0.5f; };
+  for (int i = 0; i < 8; ++i) mesh.vertices_m.emplace_back(corner(i, 1), corner(i, 2), corner(i, 4));
+  mesh.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                    {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  scene::SceneObject object;
+  object.name = name;
+  object.shape = std::move(mesh);
+  object.pose.position_m = Eigen::Vector3d(x, 0, 0.5);
+  return object;
+}
+
+// Issue 27 (D8): a mesh's ODE tree was built on the event loop's thread at every rebuild of the
+// moving index (add-object, remove-object). The daemon now builds it on add-object's worker and
+// hands it in; the index keeps it for later rebuilds, so this thread builds none.
+TEST(RuntimeChanges, AMeshTreeBuiltElsewhereIsUsedAndKeptByLaterRebuilds) {
+  SceneCaster caster(scene_from("objects:\n  - name: wall\n    box: {size_m: [0.5, 10, 5]}\n    pose: {position_m: [10.25, 0, 0]}\n"));
+  const scene::SceneObject rock = runtime_cube_mesh("rock", 4.0);
+  std::shared_ptr<const raycast::TriMeshData> tree;
+  std::thread([&] { tree = raycast::TriMeshData::build(std::get<scene::Mesh>(rock.shape)); }).join();
+  const std::uint64_t before = raycast::TriMeshData::built_on_this_thread();
+  ASSERT_EQ(std::get<double>(caster.add_object(rock, 1.0, tree)), 1.0);
+  ASSERT_EQ(std::get<double>(caster.add_object(box("crate", 7.25), 2.0)), 2.0);  // rebuilds the index
+  ASSERT_EQ(std::get<double>(caster.remove_object("crate", 3.0)), 3.0);          // and again
+  EXPECT_EQ(raycast::TriMeshData::built_on_this_thread(), before) << "a rebuild built the mesh's tree again";
+  EXPECT_NEAR(*range_at(caster, 1.5), 3.5, 1e-9) << "the tree built on another thread answers the rays";
+  EXPECT_NEAR(*range_at(caster, 0.5), 10.0, 1e-9);
+  // Without one, add_object builds it here (the daemon under --virtual-time), once.
+  ASSERT_EQ(std::get<double>(caster.add_object(runtime_cube_mesh("pebble", 2.0), 4.0)), 4.0);
+  ASSERT_EQ(std::get<double>(caster.remove_object("rock", 5.0)), 5.0);
+  EXPECT_EQ(raycast::TriMeshData::built_on_this_thread(), before + 1);
+  EXPECT_NEAR(*range_at(caster, 5.5), 1.5, 1e-9);
 }
 
 }  // namespace

@@ -299,7 +299,8 @@ nlohmann::json FaultWiring::query_status() {
         {"tcp_connections", counters.tcp_connections},
         {"delayed_replies_dropped", delayed_dropped_},
         {"event_log_write_errors", event_log_.write_errors()},
-        {"fault_injections", injector_->injections()}}}};
+        {"fault_injections", injector_->injections()},
+        {"mesh_trees_built_on_loop", mesh_trees_on_loop_}}}};
   if (on) status["status_byte"] = unit.status_byte().to_byte();
   return status;
 }

@@ -36,9 +36,10 @@ std::variant<double, std::string> SceneWorld::move_object(std::string_view name,
   return moving_caster_->move_object(name, pose, at_s, keep_velocity);
 }
 
-std::variant<double, std::string> SceneWorld::add_object(scene::SceneObject object, double at_s) {
+std::variant<double, std::string> SceneWorld::add_object(scene::SceneObject object, double at_s,
+                                                         std::shared_ptr<const raycast::TriMeshData> mesh) {
   if (!moving_caster_) return std::string("add-object: this world is not editable");
-  return moving_caster_->add_object(std::move(object), at_s);
+  return moving_caster_->add_object(std::move(object), at_s, std::move(mesh));
 }
 
 std::variant<double, std::string> SceneWorld::remove_object(std::string_view name, double at_s) {

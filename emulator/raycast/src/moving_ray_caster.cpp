@@ -176,7 +176,7 @@ std::optional<detail::Contact> MovingRayCaster::Impl::test(std::size_t k, const 
 
 MovingRayCaster::MovingRayCaster(const std::vector<scene::SceneObject>& objects,
                                  std::vector<std::uint32_t> scene_indices, const MotionSource& motion,
-                                 MovingCasterOptions options)
+                                 MovingCasterOptions options, std::vector<std::shared_ptr<const TriMeshData>> meshes)
     : impl_(std::make_unique<Impl>(motion, options)) {
   if (objects.size() != scene_indices.size()) throw std::invalid_argument("MovingRayCaster: one index per object");
   if (options.slices == 0) throw std::invalid_argument("MovingRayCaster: slices must be positive");
@@ -196,7 +196,7 @@ MovingRayCaster::MovingRayCaster(const std::vector<scene::SceneObject>& objects,
     upper = upper.cwiseMax(p);
   }
   if (!objects.empty()) impl_->frame_origin_m = 0.5 * (lower + upper);
-  impl_->local_world = std::make_unique<OdeWorld>(local);
+  impl_->local_world = std::make_unique<OdeWorld>(local, std::move(meshes));
   for (std::size_t k = 0; k < objects.size(); ++k) {
     const bool mesh = std::holds_alternative<scene::Mesh>(objects[k].shape);
     impl_->primitives.push_back(mesh ? std::nullopt

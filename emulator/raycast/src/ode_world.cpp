@@ -8,11 +8,21 @@ namespace ldoem::raycast {
 
 static_assert(std::is_same_v<dReal, double>, "ldoem needs ODE built in double precision (dDOUBLE)");
 
-void ensure_ode_ready_for_this_thread() {
+namespace {
+
+thread_local std::uint64_t trimesh_builds = 0;
+
+void ensure_ode_initialised() {
   // ODE's own process-wide initialisation; it is reference counted inside ODE and we keep one
   // reference for the life of the process.
   static std::once_flag ode_initialised;
   std::call_once(ode_initialised, [] { dInitODE2(0); });
+}
+
+}  // namespace
+
+void ensure_ode_ready_for_this_thread() {
+  ensure_ode_initialised();
   thread_local bool thread_data_allocated = false;
   if (!thread_data_allocated) {
     dAllocateODEDataForThread(dAllocateMaskAll);
@@ -20,15 +30,28 @@ void ensure_ode_ready_for_this_thread() {
   }
 }
 
-struct OdeWorld::TriMeshBuffers {
-  std::vector<float> vertices;    // x, y, z per vertex, object frame
-  std::vector<dTriIndex> indices;  // 3 per triangle
-  dTriMeshDataID data = nullptr;
+std::shared_ptr<const TriMeshData> TriMeshData::build(const scene::Mesh& mesh) {
+  // Building the data needs no per-thread ODE data (only collisions do): a worker that builds
+  // one and ends leaves nothing of ODE's behind.
+  ensure_ode_initialised();
+  std::shared_ptr<TriMeshData> out(new TriMeshData());
+  out->vertices_.reserve(mesh.vertices_m.size() * 3);
+  for (const Eigen::Vector3f& v : mesh.vertices_m) out->vertices_.insert(out->vertices_.end(), {v.x(), v.y(), v.z()});
+  out->indices_.reserve(mesh.triangles.size() * 3);
+  for (const auto& t : mesh.triangles) out->indices_.insert(out->indices_.end(), {t[0], t[1], t[2]});
+  out->data_ = dGeomTriMeshDataCreate();
+  dGeomTriMeshDataBuildSingle(out->data_, out->vertices_.data(), 3 * sizeof(float),
+                              static_cast<int>(mesh.vertices_m.size()), out->indices_.data(),
+                              static_cast<int>(out->indices_.size()), 3 * sizeof(dTriIndex));
+  ++trimesh_builds;
+  return out;
+}
 
-  ~TriMeshBuffers() {
-    if (data != nullptr) dGeomTriMeshDataDestroy(data);
-  }
-};
+TriMeshData::~TriMeshData() {
+  if (data_ != nullptr) dGeomTriMeshDataDestroy(data_);
+}
+
+std::uint64_t TriMeshData::built_on_this_thread() { return trimesh_builds; }
 
 namespace {
 
@@ -41,13 +64,14 @@ void place(dGeomID geom, const scene::Pose& pose) {
 
 }  // namespace
 
-OdeWorld::OdeWorld(const scene::Scene& scene) : objects_(scene.objects) {
+OdeWorld::OdeWorld(const scene::Scene& scene, std::vector<std::shared_ptr<const TriMeshData>> meshes)
+    : objects_(scene.objects) {
   ensure_ode_ready_for_this_thread();
   world_ = dWorldCreate();
   space_ = dSimpleSpaceCreate(nullptr);
   geoms_.reserve(objects_.size());
   for (std::size_t i = 0; i < objects_.size(); ++i) {
-    dGeomID geom = create_geom(objects_[i]);
+    dGeomID geom = create_geom(objects_[i], i < meshes.size() ? std::move(meshes[i]) : nullptr);
     dGeomSetData(geom, reinterpret_cast<void*>(i));  // object index, for space-based queries
     // Computing the AABB now leaves no lazily updated state for concurrent casts to race on.
     dReal aabb[6];
@@ -77,9 +101,10 @@ bool OdeWorld::is_mesh(std::size_t index) const {
   return std::holds_alternative<scene::Mesh>(objects_[index].shape);
 }
 
-dGeomID OdeWorld::create_geom(const scene::SceneObject& object) {
+dGeomID OdeWorld::create_geom(const scene::SceneObject& object, std::shared_ptr<const TriMeshData> prepared) {
   struct Builder {
     OdeWorld& self;
+    std::shared_ptr<const TriMeshData>& prepared;
     dGeomID operator()(const scene::Box& box) const {
       return dCreateBox(self.space_, box.size_m.x(), box.size_m.y(), box.size_m.z());
     }
@@ -90,21 +115,13 @@ dGeomID OdeWorld::create_geom(const scene::SceneObject& object) {
       return dCreatePlane(self.space_, plane.normal.x(), plane.normal.y(), plane.normal.z(), plane.offset_m);
     }
     dGeomID operator()(const scene::Mesh& mesh) const {
-      auto buffers = std::make_unique<TriMeshBuffers>();
-      buffers->vertices.reserve(mesh.vertices_m.size() * 3);
-      for (const Eigen::Vector3f& v : mesh.vertices_m) buffers->vertices.insert(buffers->vertices.end(), {v.x(), v.y(), v.z()});
-      buffers->indices.reserve(mesh.triangles.size() * 3);
-      for (const auto& t : mesh.triangles) buffers->indices.insert(buffers->indices.end(), {t[0], t[1], t[2]});
-      buffers->data = dGeomTriMeshDataCreate();
-      dGeomTriMeshDataBuildSingle(buffers->data, buffers->vertices.data(), 3 * sizeof(float),
-                                  static_cast<int>(mesh.vertices_m.size()), buffers->indices.data(),
-                                  static_cast<int>(buffers->indices.size()), 3 * sizeof(dTriIndex));
-      dGeomID geom = dCreateTriMesh(self.space_, buffers->data, nullptr, nullptr, nullptr);
-      self.meshes_.push_back(std::move(buffers));
+      if (!prepared || prepared->triangle_count() != mesh.triangles.size()) prepared = TriMeshData::build(mesh);
+      dGeomID geom = dCreateTriMesh(self.space_, prepared->data(), nullptr, nullptr, nullptr);
+      self.meshes_.push_back(std::move(prepared));
       return geom;
     }
   };
-  dGeomID geom = std::visit(Builder{*this}, object.shape);
+  dGeomID geom = std::visit(Builder{*this, prepared}, object.shape);
   if (!std::holds_alternative<scene::Plane>(object.shape)) place(geom, object.pose);
   return geom;
 }

@@ -7,11 +7,23 @@ namespace ldoem::world {
 
 SceneCaster::SceneCaster(const scene::Scene& scene, raycast::MovingCasterOptions options)
     : options_(options), motion_(scene) {
-  for (const scene::SceneObject& object : scene.objects) entries_.push_back(Entry{object, object.moves(), true});
+  for (const scene::SceneObject& object : scene.objects) {
+    Entry entry{object, object.moves(), true, nullptr};
+    if (const auto* mesh = std::get_if<scene::Mesh>(&object.shape); mesh != nullptr && entry.moving) {
+      entry.mesh = raycast::TriMeshData::build(*mesh);
+    }
+    entries_.push_back(std::move(entry));
+  }
   scene_objects_ = entries_.size();
   epochs_.push_back(build_epoch(-INFINITY));
   moving_caster_ = std::make_unique<raycast::MovingRayCaster>(motion_.moving_objects(), motion_.scene_indices(),
-                                                              motion_, options_);
+                                                              motion_, options_, moving_meshes());
+}
+
+std::vector<std::shared_ptr<const raycast::TriMeshData>> SceneCaster::moving_meshes() const {
+  std::vector<std::shared_ptr<const raycast::TriMeshData>> meshes;
+  for (const std::uint32_t index : motion_.scene_indices()) meshes.push_back(entries_.at(index).mesh);
+  return meshes;
 }
 
 SceneCaster::~SceneCaster() = default;
@@ -34,7 +46,7 @@ SceneCaster::StaticEpoch SceneCaster::build_epoch(double from_s) const {
 
 void SceneCaster::rebuild_moving_caster() {
   moving_caster_ = std::make_unique<raycast::MovingRayCaster>(motion_.moving_objects(), motion_.scene_indices(),
-                                                              motion_, options_);
+                                                              motion_, options_, moving_meshes());
   moving_caster_->set_presence(motion_.presence());
 }
 
@@ -123,7 +135,8 @@ std::variant<double, std::string> SceneCaster::move_object(std::string_view name
   return at_s;
 }
 
-std::variant<double, std::string> SceneCaster::add_object(scene::SceneObject object, double at_s) {
+std::variant<double, std::string> SceneCaster::add_object(scene::SceneObject object, double at_s,
+                                                          std::shared_ptr<const raycast::TriMeshData> mesh) {
   if (object.name.empty()) return std::string("add-object: the object needs a name");
   if (motion_.has(object.name) || find_static(object.name) >= 0) {
     return "add-object: an object named '" + object.name + "' exists already";
@@ -147,8 +160,13 @@ std::variant<double, std::string> SceneCaster::add_object(scene::SceneObject obj
   if (!object.motion && !object.dynamics) object.motion = scene::ConstantVelocity{};
   double exists_from_s = at_s;
   try {
+    // The mesh's tree is most of a rebuild's cost (0.2 s for scenes/meshes/large-rock.obj): the
+    // daemon builds it on its import worker, and here it is built only when it was not.
+    if (const auto* shape = std::get_if<scene::Mesh>(&object.shape); shape != nullptr && !mesh) {
+      mesh = raycast::TriMeshData::build(*shape);
+    }
     exists_from_s = motion_.add(object, index, at_s);
-    entries_.push_back(Entry{std::move(object), true, true});
+    entries_.push_back(Entry{std::move(object), true, true, std::move(mesh)});
     rebuild_moving_caster();
   } catch (const std::exception& failure) {
     return std::string("add-object: ") + failure.what();

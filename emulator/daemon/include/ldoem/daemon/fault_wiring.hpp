@@ -28,6 +28,10 @@
 #include "ldoem/endpoints/wire_tap.hpp"
 #include "ldoem/fault_injection/fault_injector.hpp"
 
+namespace ldoem::raycast {
+class TriMeshData;  // ode_world.hpp: a mesh's collision tree, built by add-object's worker
+}  // namespace ldoem::raycast
+
 namespace ldoem::daemon {
 
 // delay_reply (issue 27 D1): replies held back at once per connection, at most this many and
@@ -96,7 +100,7 @@ class FaultWiring final : public endpoints::WireTap, public control_socket::Cont
   // add-object after its parse (and mesh import): the world change, the event, the reply.
   control_socket::CommandResult add_parsed(const nlohmann::json& arguments,
                                            std::variant<control_socket::AddObjectRequest, std::string> parsed,
-                                           base::SimTime now);
+                                           base::SimTime now, std::shared_ptr<const raycast::TriMeshData> mesh = nullptr);
   void finish_import();
   void abandon_import();  // at destruction: the worker may still run, and owns what it uses
   endpoints::WireVerdict to_host(endpoints::WireTelegram& telegram);
@@ -125,6 +129,7 @@ class FaultWiring final : public endpoints::WireTap, public control_socket::Cont
   plant::SceneWorld* world_ = nullptr;
   io::EventLoop* loop_ = nullptr;
   bool imports_off_loop_ = false;
+  std::uint64_t mesh_trees_on_loop_ = 0;  // built by world changes on the loop (query-status)
   struct Import;                    // object_control.cpp: the one mesh import in flight
   std::shared_ptr<Import> import_;
   std::string name_;                 // the scanner's name in the scene (empty: a scanner: section)

@@ -45,7 +45,9 @@ class SceneWorld {
   // why it was refused (the world is unchanged then).
   std::variant<double, std::string> move_object(std::string_view name, const scene::Pose& pose, double at_s,
                                                 bool keep_velocity);
-  std::variant<double, std::string> add_object(scene::SceneObject object, double at_s);
+  // `mesh`: the object's trimesh data if built beforehand (world::SceneCaster::add_object).
+  std::variant<double, std::string> add_object(scene::SceneObject object, double at_s,
+                                               std::shared_ptr<const raycast::TriMeshData> mesh = nullptr);
   std::variant<double, std::string> remove_object(std::string_view name, double at_s);
 
  private:

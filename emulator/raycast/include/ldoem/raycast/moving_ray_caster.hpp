@@ -23,6 +23,8 @@
 
 namespace ldoem::raycast {
 
+class TriMeshData;  // ode_world.hpp
+
 // Where each moving object is. Implemented by emulator/world (kinematic paths, ODE bodies).
 // Const calls must be thread-safe.
 class MotionSource {
@@ -73,9 +75,12 @@ struct MovingCasterOptions {
 class MovingRayCaster final : public RayCaster {
  public:
   // objects[k] is moving object k (its pose and motion are ignored: poses come from `motion`);
-  // hits report scene_indices[k]. `motion` must outlive the caster.
+  // hits report scene_indices[k]. `motion` must outlive the caster. meshes[k], when given and
+  // not null, is mesh object k's trimesh data, built beforehand (OdeWorld): a caster rebuilt at
+  // a runtime change then builds no mesh's tree again, which is most of its cost.
   MovingRayCaster(const std::vector<scene::SceneObject>& objects, std::vector<std::uint32_t> scene_indices,
-                  const MotionSource& motion, MovingCasterOptions options = {});
+                  const MotionSource& motion, MovingCasterOptions options = {},
+                  std::vector<std::shared_ptr<const TriMeshData>> meshes = {});
   ~MovingRayCaster() override;
   MovingRayCaster(const MovingRayCaster&) = delete;
   MovingRayCaster& operator=(const MovingRayCaster&) = delete;

@@ -8,6 +8,7 @@
 #include <ode/ode.h>
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -17,9 +18,37 @@ namespace ldoem::raycast {
 // (ODE needs per-thread collision data for trimeshes). Cheap after the first call.
 void ensure_ode_ready_for_this_thread();
 
+// A mesh's ODE trimesh data: its vertex and index arrays and the OPCODE tree built over them,
+// the costly part of a mesh's geom (about 0.2 s for scenes/meshes/large-rock.obj). Immutable once
+// built and shared by every OdeWorld holding the mesh, so a caster rebuilt after add-object or
+// remove-object does not build it again; add-object builds it on its import worker (issue 27),
+// and only the cheap geom is made on the loop's thread.
+class TriMeshData {
+ public:
+  // Any thread may build one (it calls dInitODE2 once per process, nothing per thread).
+  static std::shared_ptr<const TriMeshData> build(const scene::Mesh& mesh);
+  ~TriMeshData();
+  TriMeshData(const TriMeshData&) = delete;
+  TriMeshData& operator=(const TriMeshData&) = delete;
+
+  dTriMeshDataID data() const { return data_; }
+  std::size_t triangle_count() const { return indices_.size() / 3; }
+  // How many the calling thread has built: the daemon counts those its event loop built
+  // (query-status mesh_trees_built_on_loop), tests that a rebuild took the prepared one.
+  static std::uint64_t built_on_this_thread();
+
+ private:
+  TriMeshData() = default;
+  std::vector<float> vertices_;     // x, y, z per vertex, object frame
+  std::vector<dTriIndex> indices_;  // 3 per triangle
+  dTriMeshDataID data_ = nullptr;
+};
+
 class OdeWorld {
  public:
-  explicit OdeWorld(const scene::Scene& scene);
+  // meshes[i], when given and not null, is object i's trimesh data, built beforehand (its mesh
+  // must be object i's); the others are built here.
+  explicit OdeWorld(const scene::Scene& scene, std::vector<std::shared_ptr<const TriMeshData>> meshes = {});
   ~OdeWorld();
   OdeWorld(const OdeWorld&) = delete;
   OdeWorld& operator=(const OdeWorld&) = delete;
@@ -37,9 +66,7 @@ class OdeWorld {
   double bounding_radius_m(std::size_t index) const { return bounds_[index].radius_m; }
 
  private:
-  struct TriMeshBuffers;  // vertex and index arrays ODE points into
-
-  dGeomID create_geom(const scene::SceneObject& object);
+  dGeomID create_geom(const scene::SceneObject& object, std::shared_ptr<const TriMeshData> mesh);
 
   dWorldID world_ = nullptr;
   dSpaceID space_ = nullptr;
@@ -50,7 +77,7 @@ class OdeWorld {
     double radius_m;
   };
   std::vector<BoundingSphere> bounds_;
-  std::vector<std::unique_ptr<TriMeshBuffers>> meshes_;
+  std::vector<std::shared_ptr<const TriMeshData>> meshes_;  // what the trimesh geoms point into
 };
 
 }  // namespace ldoem::raycast

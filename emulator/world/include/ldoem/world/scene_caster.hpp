@@ -15,6 +15,7 @@
 
 #include "ldoem/raycast/embree_ray_caster.hpp"
 #include "ldoem/raycast/moving_ray_caster.hpp"
+#include "ldoem/raycast/ode_world.hpp"
 #include "ldoem/world/world_motion.hpp"
 
 #include <deque>
@@ -52,7 +53,10 @@ class SceneCaster final : public raycast::RayCaster {
   // its first ODE step not yet computed at or after at_s, the time returned (RigidBodies::add).
   std::variant<double, std::string> move_object(std::string_view name, const scene::Pose& pose, double at_s,
                                                 bool keep_velocity);
-  std::variant<double, std::string> add_object(scene::SceneObject object, double at_s);
+  // `mesh`: the object's trimesh data, built beforehand off the loop's thread (issue 27); null:
+  // built here when the object is a mesh.
+  std::variant<double, std::string> add_object(scene::SceneObject object, double at_s,
+                                               std::shared_ptr<const raycast::TriMeshData> mesh = nullptr);
   std::variant<double, std::string> remove_object(std::string_view name, double at_s);
 
   std::size_t static_epochs() const { return epochs_.size(); }
@@ -62,6 +66,8 @@ class SceneCaster final : public raycast::RayCaster {
     scene::SceneObject object;
     bool moving = false;
     bool exists = true;  // after the last change
+    // A moving mesh's trimesh data, built once and reused by every rebuild of the moving index.
+    std::shared_ptr<const raycast::TriMeshData> mesh;
   };
   struct StaticEpoch {
     double from_s = -INFINITY;
@@ -71,6 +77,7 @@ class SceneCaster final : public raycast::RayCaster {
   };
   StaticEpoch build_epoch(double from_s) const;
   void rebuild_moving_caster();
+  std::vector<std::shared_ptr<const raycast::TriMeshData>> moving_meshes() const;
   std::optional<std::string> check_change_time(std::string_view command, double at_s) const;
   std::ptrdiff_t find_static(std::string_view name) const;
 
