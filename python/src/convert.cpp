@@ -51,16 +51,6 @@ const char* sensor_name(protocol::SensorMode mode) {
   return "UNKNOWN";
 }
 
-const char* motor_name(protocol::MotorMode mode) {
-  switch (mode) {
-    case protocol::MotorMode::ok: return "ok";
-    case protocol::MotorMode::spin_too_low: return "spin_too_low";
-    case protocol::MotorMode::spin_too_high: return "spin_too_high";
-    case protocol::MotorMode::fault: return "fault";
-  }
-  return "unknown";
-}
-
 }  // namespace
 
 void raise_error(const driver::DriverError& error, const std::string& message) {
@@ -89,7 +79,7 @@ py::dict status_dict(const protocol::StatusBlock& status) {
   py::dict out;
   out["status_byte"] = status.status.to_byte();
   out["sensor"] = sensor_name(status.status.sensor);
-  out["motor"] = motor_name(status.status.motor);
+  out["motor"] = std::string(protocol::motor_mode_name(status.status.motor));
   return out;
 }
 

@@ -55,16 +55,6 @@ std::string_view sensor_mode_token(protocol::SensorMode mode) {
   return "unknown";
 }
 
-std::string_view motor_mode_token(protocol::MotorMode mode) {
-  switch (mode) {
-    case protocol::MotorMode::ok: return "ok";
-    case protocol::MotorMode::spin_too_low: return "spin_too_low";
-    case protocol::MotorMode::spin_too_high: return "spin_too_high";
-    case protocol::MotorMode::fault: return "fault";
-  }
-  return "unknown";
-}
-
 }  // namespace
 
 std::string_view error_kind_token(ErrorKind kind) {
@@ -118,7 +108,7 @@ std::vector<ReplyField> status_fields(const StatusBlock& status) {
   protocol::append_status_block(block, status);
   return {{"status", hex_of(block)},
           {"mode", std::string(sensor_mode_token(status.status.sensor))},
-          {"motor", std::string(motor_mode_token(status.status.motor))}};
+          {"motor", std::string(protocol::motor_mode_name(status.status.motor))}};
 }
 
 std::optional<StatusBlock> status_from(const HubReply& reply) {

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string_view>
 
 #include "ldoem/protocol/bytes.hpp"
 
@@ -13,6 +14,18 @@ enum class SensorMode : std::uint8_t { idle = 0x1, rotate = 0x2, measure = 0x3, 
 
 // High nibble of the status byte (spec 2.4). 0 is also reported with the motor stopped in IDLE.
 enum class MotorMode : std::uint8_t { ok = 0x0, spin_too_low = 0x4, spin_too_high = 0x9, fault = 0xB };
+
+// The motor nibble's name, one spelling for the hub's replies and the Python package: "ok",
+// "spin_too_low", "spin_too_high", "fault"; "unknown" for a nibble the spec does not define.
+constexpr std::string_view motor_mode_name(MotorMode mode) {
+  switch (mode) {
+    case MotorMode::ok: return "ok";
+    case MotorMode::spin_too_low: return "spin_too_low";
+    case MotorMode::spin_too_high: return "spin_too_high";
+    case MotorMode::fault: return "fault";
+  }
+  return "unknown";
+}
 
 // The status byte. Decoding never fails: a real device's unlisted nibble is kept as its raw
 // value so that it can be shown and re-encoded; is_known() tells whether it is in spec 2.4.
