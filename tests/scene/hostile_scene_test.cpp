@@ -23,6 +23,20 @@ using namespace std::chrono_literals;
 using test_support::call_within;
 using test_support::peak_rss_bytes;
 
+// Under AddressSanitizer a load touches about twice the memory (shadow bytes, and freed blocks
+// kept in quarantine): 190 MiB where the plain build stays under 100. The bounds below grow by
+// this factor there; they still catch the old loader, which grew by 1.2 GB on the same input.
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define LDOEM_HOSTILE_SCENE_ASAN 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__) || defined(LDOEM_HOSTILE_SCENE_ASAN)
+constexpr std::size_t kRssFactor = 3;
+#else
+constexpr std::size_t kRssFactor = 1;
+#endif
+
 // A result of load_scene that must come at once: a hang fails the test.
 SceneError load_error_within(const std::filesystem::path& path) {
   auto outcome = call_within(10s, [path] {
@@ -78,7 +92,7 @@ TEST_F(HostileScene, TooManyObjects_FailAtTheFirstOneOverTheLimit_WithLittleMemo
   EXPECT_EQ(result.error().key_path, "objects");
   EXPECT_EQ(result.error().line, static_cast<int>(kMaxSceneObjects) + 2) << result.error().message();
   // Before: about 100 bytes of RSS per byte of YAML (1.2 GB here); the text itself is 6 MB.
-  EXPECT_LT(grown, std::size_t{100} << 20) << "peak RSS grew by " << (grown >> 20) << " MiB";
+  EXPECT_LT(grown, kRssFactor * (std::size_t{100} << 20)) << "peak RSS grew by " << (grown >> 20) << " MiB";
 }
 
 TEST_F(HostileScene, TooManyWaypointsInOneList_FailWhereTheyStart) {
@@ -148,7 +162,7 @@ TEST_F(HostileScene, BinaryStlOverTheTriangleLimit_IsRefusedFromItsHeader) {
   ASSERT_FALSE(result);
   EXPECT_EQ(result.error().kind, SceneErrorKind::mesh);
   EXPECT_NE(result.error().detail.find("5000000 triangles"), std::string::npos) << result.error().message();
-  EXPECT_LT(grown, std::size_t{64} << 20) << "peak RSS grew by " << (grown >> 20) << " MiB";
+  EXPECT_LT(grown, kRssFactor * (std::size_t{64} << 20)) << "peak RSS grew by " << (grown >> 20) << " MiB";
 }
 
 TEST_F(HostileScene, BinaryStlWhoseHeaderDisagreesWithItsSize_IsRefused) {
