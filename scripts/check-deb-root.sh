@@ -4,7 +4,7 @@
 #   2. a clean bookworm root made by mmdebstrap from Debian's mirror, with the .deb's dependencies
 #      (its Depends field), cached as a tarball in ${LDOEM_CACHE:-~/.cache/ldoem}/deb-root keyed by
 #      the package list, so that a rerun only unpacks it;
-#   3. `dpkg -i` of the .deb into that root;
+#   3. `dpkg -i` of the .deb into that root, and `import ldoem` there with the root's python3;
 #   4. the root booted with systemd-nspawn (its own network namespace: only its loopback), where a
 #      one-shot unit starts ldoem-emud@corridor.service and ldoem-hub.service as shipped (their
 #      /etc/ldoem/hub.yaml, their hardening) and runs `ldoem-scan --hub ... --out corridor.ply`
@@ -82,6 +82,10 @@ for file in /etc/ldoem/hub.yaml /usr/bin/ldoem-replay /usr/share/man/man1/ldoem-
 done
 grep -qx /etc/ldoem/hub.yaml "$root/var/lib/dpkg/info/ldoem.conffiles" ||
   { echo "check-deb-root: /etc/ldoem/hub.yaml is not a conffile" >&2; exit 1; }
+# The Python package from the .deb, with the root's own python3 and numpy (issue 25).
+version=$(chroot "$root" python3 -c "import ldoem; print(ldoem.__version__)" 2>&1) ||
+  { echo "check-deb-root: import ldoem from the .deb failed: $version" >&2; exit 1; }
+echo "check-deb-root: import ldoem from the .deb: version $version"
 
 step "boot the root (systemd-nspawn), scan through ldoem-hub.service"
 # The scan runs inside, as a one-shot unit after boot; it always powers the root off, so the
