@@ -18,7 +18,9 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build=$root/build/default
 seconds=20
 doc=
-command_line="scripts/bench-jitter.sh $*"
+. "$(dirname "$0")/lib/doc-section.sh"
+. "$(dirname "$0")/lib/doc-paths.sh"
+command_line=$(printf '%s' "scripts/bench-jitter.sh $*" | doc_paths)
 while [ $# -gt 0 ]; do
   case $1 in
     --seconds)
@@ -93,10 +95,6 @@ if [ -n "$doc" ]; then
     cat "$work/table.md"
     echo "<!-- bench-jitter:end -->"
   } > "$work/section.md"
-  awk -v section="$work/section.md" '
-    /^<!-- bench-jitter:begin -->$/ { while ((getline line < section) > 0) print line; skipping = 1; next }
-    /^<!-- bench-jitter:end -->$/ { skipping = 0; next }
-    !skipping { print }' "$doc" > "$work/doc.md"
-  cat "$work/doc.md" > "$doc"
+  replace_doc_section "$doc" bench-jitter "$work/section.md"
   echo "bench-jitter.sh: wrote the table into $doc" >&2
 fi

@@ -30,6 +30,7 @@ old_emud=
 rounds=1
 doc=
 . "$(dirname "$0")/lib/doc-paths.sh"
+. "$(dirname "$0")/lib/doc-section.sh"
 command_line=$(printf '%s' "scripts/bench-latency.sh $*" | doc_paths)
 while [ $# -gt 0 ]; do
   case $1 in
@@ -190,10 +191,6 @@ if [ -n "$doc" ]; then
     cat "$work/report.md"
     echo "<!-- bench-latency:end -->"
   } > "$work/section.md"
-  awk -v section="$work/section.md" '
-    /^<!-- bench-latency:begin -->$/ { while ((getline line < section) > 0) print line; skipping = 1; next }
-    /^<!-- bench-latency:end -->$/ { skipping = 0; next }
-    !skipping { print }' "$doc" > "$work/doc.md"
-  cat "$work/doc.md" > "$doc"
+  replace_doc_section "$doc" bench-latency "$work/section.md"
   echo "bench-latency.sh: wrote the table into $doc" >&2
 fi
