@@ -18,7 +18,7 @@ set -euo pipefail
 
 usage() {
   cat <<'EOF'
-usage: scripts/check-fleet.sh [--build-dir DIR] [--scanners N]
+usage: scripts/check-fleet.sh [--build-dir DIR] [--deb FILE] [--scanners N]
 
 Builds the image, runs N (default 3) emulated scanners and the hub with `podman kube play`,
 scans through the hub from each scanner, kills one and checks the hub reports it and recovers,
@@ -26,6 +26,7 @@ then removes everything it made but the cached image.
 
   --build-dir DIR   the built programs (default build/default): the .deb for the image, and
                     ldoem-scan, the client that scans through the hub
+  --deb FILE        make the image from this .deb instead of running cpack in DIR
   --scanners N      how many scanners (2..8, default 3)
 
 Environment: LDOEM_CACHE (the image's cache, scripts/build-image.sh). Needs root and podman.
@@ -35,10 +36,12 @@ EOF
 cd "$(dirname "$0")/.."
 tool=check-fleet
 build_dir=build/default
+deb=""
 scanners=3
 while [[ $# -gt 0 ]]; do
   case $1 in
     --build-dir) build_dir=${2:?--build-dir needs a folder}; shift 2 ;;
+    --deb) deb=${2:?--deb needs a file}; shift 2 ;;
     --scanners) scanners=${2:?--scanners needs a number}; shift 2 ;;
     -h|--help) usage; exit 0 ;;
     *) echo "$tool: unknown argument '$1' (try --help)" >&2; exit 2 ;;
@@ -60,7 +63,11 @@ rendered=$(python3 deploy/kubernetes/render.py kubernetes)
 
 say "image (scripts/build-image.sh)"
 image_started=$SECONDS
-image=$(scripts/build-image.sh --build-dir "$build_dir" | tail -n 1)
+if [[ -n $deb ]]; then
+  image=$(scripts/build-image.sh --deb "$deb" | tail -n 1)
+else
+  image=$(scripts/build-image.sh --build-dir "$build_dir" | tail -n 1)
+fi
 image_seconds=$((SECONDS - image_started))
 image_mb=$(( $(podman image inspect --format '{{.Size}}' "$image") / 1000000 ))
 say "image $image: $image_mb MB, $image_seconds s"
