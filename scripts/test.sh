@@ -87,7 +87,8 @@ scripts/hostile.sh --build-dir build/default --budget-s 300
 
 step "the .deb (cpack), once for the clean Debian 12 root and the fleet"
 rm -rf build/deb
-(cd build/default && cpack -G DEB -B "$PWD/../deb" >/dev/null)
+deb_dir=$PWD/build/deb
+(cd build/default && cpack -G DEB -B "$deb_dir" >/dev/null)
 deb=$(ls build/deb/*.deb)
 echo "$deb"
 # The clean root and the fleet mostly wait (downloads, booting, scans in real time), as the vcan
