@@ -59,9 +59,7 @@ struct ReplayHost::Impl final : ep::EndpointSink, ep::LptSink, ep::Scheduler {
   void on_telegram(ConnectionId from, protocol::Bytes payload) override {
     ++counters.telegrams_received;
     ReplayAnswer answer = device.on_request(now(), payload);
-    if (logger.enabled(ep::LogLevel::info)) {
-      logger.log(ep::LogLevel::info, control::to_string(from) + " -> " + protocol::format_telegram(payload));
-    }
+    logger.log(ep::LogLevel::info, [&] { return control::to_string(from) + " -> " + protocol::format_telegram(payload); });
     if (answer.diagnostic) logger.log(ep::LogLevel::warn, control::to_string(from) + ": " + *answer.diagnostic);
     auto& queue = outgoing[from];
     for (auto& telegram : answer.telegrams) queue.push_back(std::move(telegram));

@@ -2,8 +2,10 @@
 // Telegrams are logged in the protocol's text form (protocol/text.hpp).
 #pragma once
 
+#include <concepts>
 #include <cstdint>
 #include <ostream>
+#include <string>
 #include <string_view>
 
 namespace ldoem::endpoints {
@@ -19,6 +21,14 @@ class Logger {
   bool enabled(LogLevel level) const { return level <= level_; }
   // "ldoem-emud: info: tcp#1 -> GET_STATUS"
   void log(LogLevel level, std::string_view text) const;
+  // The text made only when the level is printed: a telegram's text form costs more than the
+  // telegram's handling, and at the default level (warn) every one would be thrown away.
+  template <std::invocable MakeText>
+  void log(LogLevel level, MakeText&& make_text) const {
+    if (!enabled(level)) return;
+    const std::string text = make_text();
+    log(level, std::string_view(text));
+  }
 
  private:
   std::ostream& out_;
