@@ -97,7 +97,7 @@ INSTANTIATE_TEST_SUITE_P(
 
 TEST(FlashStore, CorruptStore_FallsBackToDefaultsAndSaysWhy) {
   MemoryFlashStore store;
-  store.save(bytes_of("garbage"));
+  ASSERT_TRUE(store.save(bytes_of("garbage")));
   const FlashLoadResult result = load_flash_or(store, factory_config());
   EXPECT_EQ(result.config, factory_config());
   ASSERT_TRUE(result.problem.has_value());
@@ -112,7 +112,7 @@ TEST(FlashPersistence, FlashWritesSurviveARestartOfTheDaemon) {
     bench.request(kTcp1, "SET_FUNCTION 0001 0001 0a00 0000");  // RAM only
     bench.request(kTcp1, "SET_CONFIG 0001 0003 0001 0002 0007");
     ASSERT_FALSE(bench.flash_writes.empty());
-    store.save(bench.flash_writes.back());
+    ASSERT_TRUE(store.save(bench.flash_writes.back()));
   }
   const FlashLoadResult loaded = load_flash_or(store, factory_config());
   ASSERT_FALSE(loaded.problem.has_value());
@@ -155,9 +155,9 @@ TEST(FlashPersistence, UnchangedFlash_IsNotRewritten) {
 class RefusingFlashStore final : public FlashStore {
  public:
   protocol::Bytes load() const override { return {}; }
-  bool save(protocol::ByteView) override {
+  Saved save(protocol::ByteView) override {
     ++attempts;
-    return false;
+    return base::Unexpected(std::string("refused"));
   }
   int attempts = 0;
 };

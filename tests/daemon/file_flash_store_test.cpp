@@ -27,10 +27,8 @@ TEST_F(FlashFile, SaveReplacesTheImageAndLeavesNoTemporaryFile) {
   FileFlashStore store(folder_ / "scene.flash");
   const protocol::Bytes first{'a', 'b', 'c'};
   const protocol::Bytes second{'x', 'y'};
-  store.save(first);
-  EXPECT_EQ(store.last_error(), "");
-  store.save(second);
-  EXPECT_EQ(store.last_error(), "");
+  EXPECT_TRUE(store.save(first));
+  EXPECT_TRUE(store.save(second));
   EXPECT_EQ(store.load(), second);
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder_), {}), 1);
 }
@@ -40,17 +38,17 @@ TEST_F(FlashFile, ASymlinkAtTheOldFixedTemporaryNameIsNotFollowed) {
   { std::ofstream(victim) << "keep me"; }
   std::filesystem::create_symlink(victim, folder_ / "scene.flash.tmp");
   FileFlashStore store(folder_ / "scene.flash");
-  store.save(protocol::Bytes{'n', 'e', 'w'});
-  EXPECT_EQ(store.last_error(), "");
+  EXPECT_TRUE(store.save(protocol::Bytes{'n', 'e', 'w'}));
   std::ifstream in(victim);
   EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "keep me");
 }
 
 TEST_F(FlashFile, UnwritableFolder_IsReportedAndLeavesNothing) {
   FileFlashStore store(folder_ / "missing" / "scene.flash");
-  EXPECT_FALSE(store.save(protocol::Bytes{'x'}));
-  EXPECT_EQ(store.last_error(), "flash " + (folder_ / "missing" / "scene.flash").string() +
-                                    " not saved: mkstemp: No such file or directory");
+  const auto saved = store.save(protocol::Bytes{'x'});
+  ASSERT_FALSE(saved);
+  EXPECT_EQ(saved.error(), "flash " + (folder_ / "missing" / "scene.flash").string() +
+                               " not saved: mkstemp: No such file or directory");
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder_), {}), 0);
 }
 
@@ -70,7 +68,8 @@ TEST_F(FlashFile, ASymlinkedFlashIsWrittenThroughTheLink) {
   { std::ofstream(target) << "old"; }
   std::filesystem::create_symlink("real/cell.flash", folder_ / "scene.flash");
   FileFlashStore store(folder_ / "scene.flash");
-  ASSERT_TRUE(store.save(protocol::Bytes{'n', 'e', 'w'})) << store.last_error();
+  const auto saved = store.save(protocol::Bytes{'n', 'e', 'w'});
+  ASSERT_TRUE(saved) << saved.error();
   EXPECT_TRUE(std::filesystem::is_symlink(folder_ / "scene.flash"));
   EXPECT_EQ(test_support::read_file(target.string()), "new");
   EXPECT_EQ(store.load(), (protocol::Bytes{'n', 'e', 'w'}));

@@ -195,7 +195,7 @@ TimerId ControlUnit::arm_timer(Actions& out, SimTime at) {
 bool ControlUnit::write_flash(Actions& out, const DeviceConfig& flash) {
   if (flash == state_.flash) return true;
   protocol::Bytes image = serialise_flash_image(flash);
-  if (setup_.flash_store != nullptr && !setup_.flash_store->save(image)) return false;
+  if (setup_.flash_store != nullptr && !setup_.flash_store->save(image)) return false;  // logged by the store's owner
   state_.flash = flash;
   out.flash_image = std::move(image);
   return true;

@@ -192,17 +192,16 @@ void DeviceInstance::send_to_host(ConnectionId to, protocol::ByteView payload, b
   if (route != route_.end()) route->second->send(to, payload);
 }
 
-bool DeviceInstance::save_flash(protocol::ByteView image) {
-  if (flash_->save(image)) return true;
-  const auto* file = dynamic_cast<const FileFlashStore*>(flash_.get());
-  logger_.log(LogLevel::error, file != nullptr ? file->last_error() : "flash not saved");
-  return false;
+control::FlashStore::Saved DeviceInstance::save(protocol::ByteView image) {
+  Saved saved = flash_->save(image);
+  if (!saved) logger_.log(LogLevel::error, saved.error());
+  return saved;
 }
 
 bool DeviceInstance::close() {
   for (const auto& endpoint : endpoints_) endpoint->close();
   if (dynamic_cast<FileFlashStore*>(flash_.get()) == nullptr) return true;
-  return save_flash(control::serialise_flash_image(unit_->state().flash));
+  return save(control::serialise_flash_image(unit_->state().flash)).has_value();
 }
 
 Counters DeviceInstance::counters() const {

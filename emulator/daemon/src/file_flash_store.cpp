@@ -102,11 +102,10 @@ protocol::Bytes FileFlashStore::load() const {
 // mkstemp in the flash file's folder (O_EXCL: a symlink planted at a predictable name is never
 // followed), write, fsync, rename over the image, fsync the folder: after save() returns the new
 // image survives a power cut, and a crash at any point leaves the old image or the new one.
-bool FileFlashStore::save(protocol::ByteView image) {
+control::FlashStore::Saved FileFlashStore::save(protocol::ByteView image) {
   // "flash /srv/cell.flash not saved: mkstemp: No such file or directory"
-  const auto failed = [this](const char* step, int error) {
-    last_error_ = "flash " + path_.string() + " not saved: " + step + ": " + std::strerror(error);
-    return false;
+  const auto failed = [this](const char* step, int error) -> Saved {
+    return base::Unexpected("flash " + path_.string() + " not saved: " + step + ": " + std::strerror(error));
   };
   const std::filesystem::path folder = path_.has_parent_path() ? path_.parent_path() : std::filesystem::path(".");
   std::string temporary = (folder / ("." + path_.filename().string() + ".XXXXXX")).string();
@@ -144,8 +143,7 @@ bool FileFlashStore::save(protocol::ByteView image) {
     return failed("fsync the folder", error);
   }
   ::close(folder_fd);
-  last_error_.clear();
-  return true;
+  return std::monostate{};
 }
 
 }  // namespace ldoem::daemon

@@ -21,7 +21,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <string_view>
+#include <variant>
 
 #include "ldoem/control/device_config.hpp"
 #include "ldoem/protocol/bytes.hpp"
@@ -52,22 +54,24 @@ std::string_view describe(FlashErrorKind kind);
 protocol::Bytes serialise_flash_image(const DeviceConfig& config);
 base::Expected<DeviceConfig, FlashError> parse_flash_image(protocol::ByteView image);
 
-// Where the daemon keeps the image: a file beside the scene, or memory with --no-flash (D4).
+// Where the daemon keeps the image: a file in the state folder, or memory with --no-flash (D4).
 class FlashStore {
  public:
+  // Nothing, or why the image was not stored (the file, the step, the OS error).
+  using Saved = base::Expected<std::monostate, std::string>;
   virtual ~FlashStore() = default;
   // The stored bytes; empty when nothing was ever saved.
   virtual protocol::Bytes load() const = 0;
-  // False when the image was not stored (a file store: a removed folder, a full disk).
-  virtual bool save(protocol::ByteView image) = 0;
+  // An error when the image was not stored (a file store: a removed folder, a full disk).
+  virtual Saved save(protocol::ByteView image) = 0;
 };
 
 class MemoryFlashStore final : public FlashStore {
  public:
   protocol::Bytes load() const override { return image_; }
-  bool save(protocol::ByteView image) override {
+  Saved save(protocol::ByteView image) override {
     image_.assign(image.begin(), image.end());
-    return true;
+    return std::monostate{};
   }
 
  private:

@@ -105,11 +105,10 @@ class DeviceInstance final : public endpoints::EndpointSink,
   // The control unit's flash store: a write the file store refuses is logged, and the unit
   // answers the service's error (L-flash-1).
   protocol::Bytes load() const override { return flash_->load(); }
-  bool save(protocol::ByteView image) override { return save_flash(image); }
+  Saved save(protocol::ByteView image) override;
   // Runs `input` now, or after the Actions being performed when called from inside them.
   void accept_input(std::function<void()> input);
   void perform(base::SimTime at, const control::Actions& actions);
-  bool save_flash(protocol::ByteView image);  // logs a failure
 
   endpoints::Scheduler& scheduler_;
   const endpoints::Logger& logger_;

@@ -29,15 +29,13 @@ class FileFlashStore final : public control::FlashStore {
   // Removes the temporary files a save killed before its rename left beside the flash
   // (".NAME.XXXXXX", regular files only; issue 27 D13). Returns a line to log when it removed any.
   std::optional<std::string> remove_stale_temporaries() const;
-  // False on failure; last_error() then names the flash file, the step and the OS error.
-  bool save(protocol::ByteView image) override;
+  // On failure, the error names the flash file, the step and the OS error.
+  Saved save(protocol::ByteView image) override;
 
   const std::filesystem::path& path() const { return path_; }
-  const std::string& last_error() const { return last_error_; }
 
  private:
   std::filesystem::path path_;
-  std::string last_error_;
 };
 
 }  // namespace ldoem::daemon
