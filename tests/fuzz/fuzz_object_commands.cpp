@@ -16,9 +16,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (arguments.is_discarded() || !arguments.is_object()) return 0;
   try {
     const auto move = ldoem::control_socket::parse_move_object(arguments);
-    if (const auto* request = std::get_if<ldoem::control_socket::MoveObjectRequest>(&move)) {
-      if (!request->pose.position_m.allFinite() || request->name.empty()) std::abort();
-    }
+    if (move && (!move->pose.position_m.allFinite() || move->name.empty())) std::abort();
     (void)ldoem::control_socket::parse_add_object(arguments);
     (void)ldoem::control_socket::parse_remove_object(arguments);
     (void)ldoem::control_socket::command_time(0.5, 1.0);

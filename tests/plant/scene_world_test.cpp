@@ -25,7 +25,7 @@ TEST(SceneWorld, StaticSceneWithoutControl_BuildsNoMotionMachinery) {
   EXPECT_EQ(dynamic_cast<const world::SceneCaster*>(&world.caster()), nullptr);
   EXPECT_FALSE(world.timing()) << "no prepare per revolution";
   EXPECT_EQ(world.motion(), nullptr);
-  EXPECT_TRUE(std::holds_alternative<std::string>(world.add_object(scene::SceneObject{}, 1.0))) << "not editable";
+  EXPECT_TRUE(!world.add_object(scene::SceneObject{}, 1.0).has_value()) << "not editable";
 }
 
 TEST(SceneWorld, MovingSceneOrControl_BuildsTheSceneCaster) {

@@ -45,13 +45,13 @@ json vector_json(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v
 // trees it builds there are counted (query-status mesh_trees_built_on_loop), as each one kept
 // the hosts waiting (0.1-0.5 s for large-rock.obj).
 template <typename Change>
-std::variant<double, std::string> guarded(std::string_view command, std::uint64_t& trees_built, Change change) {
+base::Expected<double, std::string> guarded(std::string_view command, std::uint64_t& trees_built, Change change) {
   const std::uint64_t before = raycast::TriMeshData::built_on_this_thread();
-  std::variant<double, std::string> outcome{0.0};
+  base::Expected<double, std::string> outcome{0.0};
   try {
     outcome = change();
   } catch (const std::exception& failure) {
-    outcome = std::string(command) + ": " + failure.what();
+    outcome = base::Unexpected(std::string(command) + ": " + failure.what());
   }
   trees_built += raycast::TriMeshData::built_on_this_thread() - before;
   return outcome;
@@ -61,23 +61,23 @@ std::variant<double, std::string> guarded(std::string_view command, std::uint64_
 
 CommandResult FaultWiring::move_object(const json& arguments) {
   auto parsed = parse_move_object(arguments);
-  if (auto* problem = std::get_if<std::string>(&parsed)) return refused(*problem);
-  const MoveObjectRequest& request = std::get<MoveObjectRequest>(parsed);
+  if (!parsed) return refused(parsed.error());
+  const MoveObjectRequest& request = *parsed;
   const base::SimTime now = scheduler_.now();
   auto at_s = command_time(request.at_s, seconds(now));
-  if (auto* problem = std::get_if<std::string>(&at_s)) return refused("move-object: " + *problem);
+  if (!at_s) return refused("move-object: " + at_s.error());
   if (world_ == nullptr) return refused("move-object: this daemon has no scene world");
   auto moved = guarded("move-object", mesh_trees_on_loop_, [&] {
-    return world_->move_object(request.name, request.pose, std::get<double>(at_s), request.keep_velocity);
+    return world_->move_object(request.name, request.pose, *at_s, request.keep_velocity);
   });
-  if (auto* problem = std::get_if<std::string>(&moved)) return refused(*problem);
+  if (!moved) return refused(moved.error());
   json data{{"name", request.name},
             {"position_m", vector_json(request.pose.position_m)},
             {"rpy_deg", vector_json(request.rpy_deg)},
-            {"at_s", std::get<double>(moved)},
+            {"at_s", *moved},
             {"keep_velocity", request.keep_velocity}};
   publish({"OBJECT_MOVED", data, now});
-  return json{{"name", request.name}, {"at_s", std::get<double>(moved)}};
+  return json{{"name", request.name}, {"at_s", *moved}};
 }
 
 // The one add-object whose mesh is being imported. Shared with the worker, which may outlive the
@@ -89,7 +89,7 @@ struct FaultWiring::Import {
   control_socket::ControlServer::Ticket ticket = 0;
   base::SimTime asked_at{};
   std::mutex mutex;
-  std::variant<AddObjectRequest, std::string> parsed{std::string("add-object: the import did not finish")};
+  control_socket::ParsedAddObject parsed{base::Unexpected(std::string("add-object: the import did not finish"))};
   std::shared_ptr<const raycast::TriMeshData> mesh;  // the imported mesh's trimesh data
 };
 
@@ -119,12 +119,12 @@ bool FaultWiring::add_object_later(const json& arguments, ReplyLine reply_line) 
     // The mesh's ODE tree (OPCODE) took the loop 0.2-0.5 s for large-rock.obj after the import
     // itself moved here: it is built here too, and the loop only makes the geom that uses it.
     std::shared_ptr<const raycast::TriMeshData> mesh;
-    if (auto* request = std::get_if<AddObjectRequest>(&parsed)) {
-      if (const auto* shape = std::get_if<scene::Mesh>(&request->object.shape)) {
+    if (parsed) {
+      if (const auto* shape = std::get_if<scene::Mesh>(&parsed->object.shape)) {
         try {
           mesh = raycast::TriMeshData::build(*shape);
         } catch (const std::exception& failure) {
-          parsed = std::string("add-object: ") + failure.what();
+          parsed = base::Unexpected(std::string("add-object: ") + failure.what());
         }
       }
     }
@@ -144,7 +144,7 @@ void FaultWiring::finish_import() {
   const std::shared_ptr<Import> job = std::move(import_);
   if (!job) return;
   loop_->unwatch(job->done.get());
-  std::variant<AddObjectRequest, std::string> parsed{std::string()};
+  control_socket::ParsedAddObject parsed{base::Unexpected(std::string())};
   std::shared_ptr<const raycast::TriMeshData> mesh;
   {
     const std::lock_guard<std::mutex> lock(job->mutex);
@@ -153,10 +153,8 @@ void FaultWiring::finish_import() {
   }
   // The object goes in at the later of at_s and now: device time went on during the import (an
   // at_s already past when asked was refused as ever).
-  if (auto* request = std::get_if<AddObjectRequest>(&parsed);
-      request != nullptr && request->at_s && *request->at_s >= seconds(job->asked_at) &&
-      *request->at_s < seconds(scheduler_.now())) {
-    request->at_s.reset();
+  if (parsed && parsed->at_s && *parsed->at_s >= seconds(job->asked_at) && *parsed->at_s < seconds(scheduler_.now())) {
+    parsed->at_s.reset();
   }
   const CommandResult result = add_parsed(job->arguments, std::move(parsed), scheduler_.now(), std::move(mesh));
   if (server_) server_->complete(job->ticket, job->reply_line(result));
@@ -174,35 +172,35 @@ void FaultWiring::abandon_import() {
   import_.reset();
 }
 
-CommandResult FaultWiring::add_parsed(const json& arguments, std::variant<AddObjectRequest, std::string> parsed,
+CommandResult FaultWiring::add_parsed(const json& arguments, control_socket::ParsedAddObject parsed,
                                       base::SimTime now, std::shared_ptr<const raycast::TriMeshData> mesh) {
-  if (auto* problem = std::get_if<std::string>(&parsed)) return refused(*problem);
-  AddObjectRequest& request = std::get<AddObjectRequest>(parsed);
+  if (!parsed) return refused(parsed.error());
+  AddObjectRequest& request = *parsed;
   auto at_s = command_time(request.at_s, seconds(now));
-  if (auto* problem = std::get_if<std::string>(&at_s)) return refused("add-object: " + *problem);
+  if (!at_s) return refused("add-object: " + at_s.error());
   if (world_ == nullptr) return refused("add-object: this daemon has no scene world");
   const std::string name = request.object.name;
   auto added = guarded("add-object", mesh_trees_on_loop_, [&] {
-    return world_->add_object(std::move(request.object), std::get<double>(at_s), std::move(mesh));
+    return world_->add_object(std::move(request.object), *at_s, std::move(mesh));
   });
-  if (auto* problem = std::get_if<std::string>(&added)) return refused(*problem);
-  publish({"OBJECT_ADDED", json{{"name", name}, {"at_s", std::get<double>(added)}, {"object", arguments["object"]}}, now});
-  return json{{"name", name}, {"at_s", std::get<double>(added)}};
+  if (!added) return refused(added.error());
+  publish({"OBJECT_ADDED", json{{"name", name}, {"at_s", *added}, {"object", arguments["object"]}}, now});
+  return json{{"name", name}, {"at_s", *added}};
 }
 
 CommandResult FaultWiring::remove_object(const json& arguments) {
   auto parsed = parse_remove_object(arguments);
-  if (auto* problem = std::get_if<std::string>(&parsed)) return refused(*problem);
-  const RemoveObjectRequest& request = std::get<RemoveObjectRequest>(parsed);
+  if (!parsed) return refused(parsed.error());
+  const RemoveObjectRequest& request = *parsed;
   const base::SimTime now = scheduler_.now();
   auto at_s = command_time(request.at_s, seconds(now));
-  if (auto* problem = std::get_if<std::string>(&at_s)) return refused("remove-object: " + *problem);
+  if (!at_s) return refused("remove-object: " + at_s.error());
   if (world_ == nullptr) return refused("remove-object: this daemon has no scene world");
   auto removed = guarded("remove-object", mesh_trees_on_loop_,
-                         [&] { return world_->remove_object(request.name, std::get<double>(at_s)); });
-  if (auto* problem = std::get_if<std::string>(&removed)) return refused(*problem);
-  publish({"OBJECT_REMOVED", json{{"name", request.name}, {"at_s", std::get<double>(removed)}}, now});
-  return json{{"name", request.name}, {"at_s", std::get<double>(removed)}};
+                         [&] { return world_->remove_object(request.name, *at_s); });
+  if (!removed) return refused(removed.error());
+  publish({"OBJECT_REMOVED", json{{"name", request.name}, {"at_s", *removed}}, now});
+  return json{{"name", request.name}, {"at_s", *removed}};
 }
 
 void FaultWiring::on_connection(bool opened, control::ConnectionId connection, std::string_view peer) {

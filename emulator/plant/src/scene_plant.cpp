@@ -30,20 +30,20 @@ std::optional<WorldTiming> SceneWorld::timing() {
 
 world::WorldMotion* SceneWorld::motion() { return moving_caster_ ? &moving_caster_->motion() : nullptr; }
 
-std::variant<double, std::string> SceneWorld::move_object(std::string_view name, const scene::Pose& pose, double at_s,
+base::Expected<double, std::string> SceneWorld::move_object(std::string_view name, const scene::Pose& pose, double at_s,
                                                           bool keep_velocity) {
-  if (!moving_caster_) return "move-object: this world is not editable ('" + std::string(name) + "')";
+  if (!moving_caster_) return base::Unexpected<std::string>("move-object: this world is not editable ('" + std::string(name) + "')");
   return moving_caster_->move_object(name, pose, at_s, keep_velocity);
 }
 
-std::variant<double, std::string> SceneWorld::add_object(scene::SceneObject object, double at_s,
+base::Expected<double, std::string> SceneWorld::add_object(scene::SceneObject object, double at_s,
                                                          std::shared_ptr<const raycast::TriMeshData> mesh) {
-  if (!moving_caster_) return std::string("add-object: this world is not editable");
+  if (!moving_caster_) return base::Unexpected<std::string>("add-object: this world is not editable");
   return moving_caster_->add_object(std::move(object), at_s, std::move(mesh));
 }
 
-std::variant<double, std::string> SceneWorld::remove_object(std::string_view name, double at_s) {
-  if (!moving_caster_) return "remove-object: this world is not editable ('" + std::string(name) + "')";
+base::Expected<double, std::string> SceneWorld::remove_object(std::string_view name, double at_s) {
+  if (!moving_caster_) return base::Unexpected<std::string>("remove-object: this world is not editable ('" + std::string(name) + "')");
   return moving_caster_->remove_object(name, at_s);
 }
 

@@ -108,20 +108,20 @@ std::ptrdiff_t SceneCaster::find_static(std::string_view name) const {
   return -1;
 }
 
-std::variant<double, std::string> SceneCaster::move_object(std::string_view name, const scene::Pose& pose, double at_s,
+base::Expected<double, std::string> SceneCaster::move_object(std::string_view name, const scene::Pose& pose, double at_s,
                                                            bool keep_velocity) {
   if (motion_.has(name)) return motion_.move(name, pose, at_s, keep_velocity);
   const std::ptrdiff_t index = find_static(name);
-  if (index < 0) return "move-object: no object named '" + std::string(name) + "'";
+  if (index < 0) return base::Unexpected<std::string>("move-object: no object named '" + std::string(name) + "'");
   if (!pose.position_m.allFinite() || !pose.orientation.coeffs().allFinite() || pose.orientation.norm() < 1e-9) {
-    return std::string("move-object: the pose must be finite");
+    return base::Unexpected<std::string>("move-object: the pose must be finite");
   }
-  if (pose.position_m.cwiseAbs().maxCoeff() > kWorldLimit_m) return std::string("move-object: position beyond 1e4 m");
+  if (pose.position_m.cwiseAbs().maxCoeff() > kWorldLimit_m) return base::Unexpected<std::string>("move-object: position beyond 1e4 m");
   Entry& entry = entries_[static_cast<std::size_t>(index)];
   if (std::holds_alternative<scene::Plane>(entry.object.shape)) {
-    return "move-object: '" + std::string(name) + "' is a plane, which has no pose";
+    return base::Unexpected<std::string>("move-object: '" + std::string(name) + "' is a plane, which has no pose");
   }
-  if (auto problem = check_change_time("move-object", at_s)) return *problem;
+  if (auto problem = check_change_time("move-object", at_s)) return base::Unexpected<std::string>(*problem);
   const scene::Pose before = entry.object.pose;
   entry.object.pose = pose;
   entry.object.pose.orientation.normalize();
@@ -129,29 +129,29 @@ std::variant<double, std::string> SceneCaster::move_object(std::string_view name
     epochs_.push_back(build_epoch(at_s));
   } catch (const std::exception& failure) {
     entry.object.pose = before;
-    return std::string("move-object: ") + failure.what();
+    return base::Unexpected<std::string>(std::string("move-object: ") + failure.what());
   }
   last_change_s_ = at_s;
   return at_s;
 }
 
-std::variant<double, std::string> SceneCaster::add_object(scene::SceneObject object, double at_s,
+base::Expected<double, std::string> SceneCaster::add_object(scene::SceneObject object, double at_s,
                                                           std::shared_ptr<const raycast::TriMeshData> mesh) {
-  if (object.name.empty()) return std::string("add-object: the object needs a name");
+  if (object.name.empty()) return base::Unexpected<std::string>("add-object: the object needs a name");
   if (motion_.has(object.name) || find_static(object.name) >= 0) {
-    return "add-object: an object named '" + object.name + "' exists already";
+    return base::Unexpected<std::string>("add-object: an object named '" + object.name + "' exists already");
   }
   if (std::holds_alternative<scene::Plane>(object.shape)) {
     // Unbounded: no box can hold it for the moving index, and a static epoch would show it to the
     // rays but not to the bodies, which collide with the scene's own static objects only.
-    return std::string("add-object: planes are unbounded and cannot be added at runtime (no box holds them for the "
+    return base::Unexpected<std::string>(std::string("add-object: planes are unbounded and cannot be added at runtime (no box holds them for the "
                        "moving index, and bodies collide only with the scene's own static objects); put the plane "
-                       "in the scene");
+                       "in the scene"));
   }
   if (entries_.size() - scene_objects_ >= kMaxRuntimeObjects) {
-    return std::string("add-object: too many objects added (10000 at most)");
+    return base::Unexpected<std::string>("add-object: too many objects added (10000 at most)");
   }
-  if (auto problem = check_change_time("add-object", at_s)) return *problem;
+  if (auto problem = check_change_time("add-object", at_s)) return base::Unexpected<std::string>(*problem);
   const auto index = static_cast<std::uint32_t>(entries_.size());
   // An added object always goes to the moving index, a still one as a motion of zero velocity,
   // a `dynamics` one as a body joining the running world: rebuilding the moving index costs
@@ -169,16 +169,16 @@ std::variant<double, std::string> SceneCaster::add_object(scene::SceneObject obj
     entries_.push_back(Entry{std::move(object), true, true, std::move(mesh)});
     rebuild_moving_caster();
   } catch (const std::exception& failure) {
-    return std::string("add-object: ") + failure.what();
+    return base::Unexpected<std::string>(std::string("add-object: ") + failure.what());
   }
   last_change_s_ = at_s;
   return exists_from_s;
 }
 
-std::variant<double, std::string> SceneCaster::remove_object(std::string_view name, double at_s) {
+base::Expected<double, std::string> SceneCaster::remove_object(std::string_view name, double at_s) {
   const std::ptrdiff_t index = find_static(name);
-  if (index < 0 && !motion_.has(name)) return "remove-object: no object named '" + std::string(name) + "'";
-  if (auto problem = check_change_time("remove-object", at_s)) return *problem;
+  if (index < 0 && !motion_.has(name)) return base::Unexpected<std::string>("remove-object: no object named '" + std::string(name) + "'");
+  if (auto problem = check_change_time("remove-object", at_s)) return base::Unexpected<std::string>(*problem);
   if (motion_.has(name)) {
     for (std::size_t i = entries_.size(); i-- > 0;) {
       if (entries_[i].exists && entries_[i].moving && entries_[i].object.name == name) {
@@ -186,7 +186,7 @@ std::variant<double, std::string> SceneCaster::remove_object(std::string_view na
         break;
       }
     }
-    if (auto problem = motion_.remove(name, at_s)) return *problem;
+    if (auto problem = motion_.remove(name, at_s)) return base::Unexpected<std::string>(*problem);
     rebuild_moving_caster();
     last_change_s_ = at_s;
     return at_s;
@@ -196,7 +196,7 @@ std::variant<double, std::string> SceneCaster::remove_object(std::string_view na
     epochs_.push_back(build_epoch(at_s));
   } catch (const std::exception& failure) {
     entries_[static_cast<std::size_t>(index)].exists = true;  // nothing changed
-    return std::string("remove-object: ") + failure.what();
+    return base::Unexpected<std::string>(std::string("remove-object: ") + failure.what());
   }
   last_change_s_ = at_s;
   return at_s;

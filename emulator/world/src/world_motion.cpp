@@ -32,7 +32,7 @@ void WorldMotion::advance(double t0_s, double t1_s) { bodies_.advance(t0_s, t1_s
 
 std::optional<std::string> WorldMotion::move_object(std::string_view name, const scene::Pose& pose, double at_s) {
   auto moved = move(name, pose, at_s);
-  if (auto* refused = std::get_if<std::string>(&moved)) return std::move(*refused);
+  if (!moved) return std::move(moved.error());
   return std::nullopt;
 }
 
@@ -81,23 +81,23 @@ std::vector<raycast::TimeSpan> WorldMotion::presence() const {
   return spans;
 }
 
-std::variant<double, std::string> WorldMotion::move(std::string_view name, const scene::Pose& pose, double at_s,
+base::Expected<double, std::string> WorldMotion::move(std::string_view name, const scene::Pose& pose, double at_s,
                                                     bool keep_velocity) {
   if (!std::isfinite(at_s) || !pose.position_m.allFinite() || !pose.orientation.coeffs().allFinite()) {
-    return std::string("move-object: time and pose must be finite");
+    return base::Unexpected<std::string>("move-object: time and pose must be finite");
   }
   if (pose.position_m.cwiseAbs().maxCoeff() > kWorldLimit_m) {
-    return std::string("move-object: position beyond 1e4 m");
+    return base::Unexpected<std::string>("move-object: position beyond 1e4 m");
   }
-  if (pose.orientation.norm() < 1e-9) return std::string("move-object: orientation must not be zero");
+  if (pose.orientation.norm() < 1e-9) return base::Unexpected<std::string>("move-object: orientation must not be zero");
   const auto it = find(name);
   if (it == movers_.end()) {
-    return "move-object: no moving object named '" + std::string(name) +
-           "' (only objects with motion or dynamics can be moved)";
+    return base::Unexpected<std::string>("move-object: no moving object named '" + std::string(name) +
+           "' (only objects with motion or dynamics can be moved)");
   }
   if (at_s < it->exists.from_s) {
-    return "move-object: '" + std::string(name) + "' exists only from " + std::to_string(it->exists.from_s) +
-           " s (added at runtime); move it at or after that time";
+    return base::Unexpected<std::string>("move-object: '" + std::string(name) + "' exists only from " + std::to_string(it->exists.from_s) +
+           " s (added at runtime); move it at or after that time");
   }
   scene::Pose unit = pose;
   unit.orientation.normalize();
@@ -107,7 +107,7 @@ std::variant<double, std::string> WorldMotion::move(std::string_view name, const
     return effective_s;
   }
   if (it->moves.size() >= kMaxMovesPerObject) {
-    return "move-object: '" + std::string(name) + "' already has 1024 moves";
+    return base::Unexpected<std::string>("move-object: '" + std::string(name) + "' already has 1024 moves");
   }
   const auto at = std::upper_bound(it->moves.begin(), it->moves.end(), at_s,
                                    [](double t, const Move& m) { return t < m.at_s; });

@@ -11,6 +11,7 @@
 // at_s is device time (the profiles' clock, seconds since power-up); without it, now.
 #pragma once
 
+#include "ldoem/base/expected.hpp"
 #include <optional>
 #include <string>
 #include <variant>
@@ -39,11 +40,12 @@ struct RemoveObjectRequest {
   std::optional<double> at_s;
 };
 
-std::variant<MoveObjectRequest, std::string> parse_move_object(const nlohmann::json& arguments);
-std::variant<AddObjectRequest, std::string> parse_add_object(const nlohmann::json& arguments);
-std::variant<RemoveObjectRequest, std::string> parse_remove_object(const nlohmann::json& arguments);
+base::Expected<MoveObjectRequest, std::string> parse_move_object(const nlohmann::json& arguments);
+using ParsedAddObject = base::Expected<AddObjectRequest, std::string>;
+ParsedAddObject parse_add_object(const nlohmann::json& arguments);
+base::Expected<RemoveObjectRequest, std::string> parse_remove_object(const nlohmann::json& arguments);
 
 // The device time a command acts at: at_s, or `now_s` without it; refused in the past.
-std::variant<double, std::string> command_time(std::optional<double> at_s, double now_s);
+base::Expected<double, std::string> command_time(std::optional<double> at_s, double now_s);
 
 }  // namespace ldoem::control_socket

@@ -99,7 +99,7 @@ class FaultWiring final : public endpoints::WireTap, public control_socket::Cont
   void arm_deadline();
   // add-object after its parse (and mesh import): the world change, the event, the reply.
   control_socket::CommandResult add_parsed(const nlohmann::json& arguments,
-                                           std::variant<control_socket::AddObjectRequest, std::string> parsed,
+                                           control_socket::ParsedAddObject parsed,
                                            base::SimTime now, std::shared_ptr<const raycast::TriMeshData> mesh = nullptr);
   void finish_import();
   void abandon_import();  // at destruction: the worker may still run, and owns what it uses

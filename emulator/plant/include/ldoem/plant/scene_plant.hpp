@@ -4,6 +4,7 @@
 // ray caster) is built once per scene and may be shared by several plants, one per scanner.
 #pragma once
 
+#include "ldoem/base/expected.hpp"
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -43,12 +44,12 @@ class SceneWorld {
   // The control socket's object commands (docs/dynamic-scenes.md "Runtime changes"), between
   // revolutions on the measuring thread. Each returns the device time it takes effect at, or
   // why it was refused (the world is unchanged then).
-  std::variant<double, std::string> move_object(std::string_view name, const scene::Pose& pose, double at_s,
+  base::Expected<double, std::string> move_object(std::string_view name, const scene::Pose& pose, double at_s,
                                                 bool keep_velocity);
   // `mesh`: the object's trimesh data if built beforehand (world::SceneCaster::add_object).
-  std::variant<double, std::string> add_object(scene::SceneObject object, double at_s,
+  base::Expected<double, std::string> add_object(scene::SceneObject object, double at_s,
                                                std::shared_ptr<const raycast::TriMeshData> mesh = nullptr);
-  std::variant<double, std::string> remove_object(std::string_view name, double at_s);
+  base::Expected<double, std::string> remove_object(std::string_view name, double at_s);
 
  private:
   scene::BeamTime beam_time_;

@@ -13,6 +13,7 @@
 //   epochs no later ray can reach are dropped at prepare. Nothing is rebuilt per beam.
 #pragma once
 
+#include "ldoem/base/expected.hpp"
 #include "ldoem/raycast/embree_ray_caster.hpp"
 #include "ldoem/raycast/moving_ray_caster.hpp"
 #include "ldoem/raycast/ode_world.hpp"
@@ -51,13 +52,13 @@ class SceneCaster final : public raycast::RayCaster {
   // add_object and remove_object, and moves of static objects, come in device-time order: one
   // timed before such a change already made is refused. An added `dynamics` object exists from
   // its first ODE step not yet computed at or after at_s, the time returned (RigidBodies::add).
-  std::variant<double, std::string> move_object(std::string_view name, const scene::Pose& pose, double at_s,
+  base::Expected<double, std::string> move_object(std::string_view name, const scene::Pose& pose, double at_s,
                                                 bool keep_velocity);
   // `mesh`: the object's trimesh data, built beforehand off the loop's thread (issue 27); null:
   // built here when the object is a mesh.
-  std::variant<double, std::string> add_object(scene::SceneObject object, double at_s,
+  base::Expected<double, std::string> add_object(scene::SceneObject object, double at_s,
                                                std::shared_ptr<const raycast::TriMeshData> mesh = nullptr);
-  std::variant<double, std::string> remove_object(std::string_view name, double at_s);
+  base::Expected<double, std::string> remove_object(std::string_view name, double at_s);
 
   std::size_t static_epochs() const { return epochs_.size(); }
 

@@ -5,6 +5,7 @@
 // The control socket moves objects through move_object (docs/dynamic-scenes.md "Runtime changes").
 #pragma once
 
+#include "ldoem/base/expected.hpp"
 #include "ldoem/raycast/moving_ray_caster.hpp"
 #include "ldoem/world/rigid_bodies.hpp"
 
@@ -39,7 +40,7 @@ class WorldMotion final : public raycast::MotionSource {
   // step not yet computed at or after at_s, RigidBodies::place). keep_velocity: a body keeps
   // the velocity it has at that step (a teleport in flight) instead of restarting from rest;
   // kinematic objects have no velocity of their own after a move (they stay at `pose`).
-  [[nodiscard]] std::variant<double, std::string> move(std::string_view name, const scene::Pose& pose, double at_s,
+  [[nodiscard]] base::Expected<double, std::string> move(std::string_view name, const scene::Pose& pose, double at_s,
                                                        bool keep_velocity = false);
   // True if a moving object that has not been removed is called `name`.
   bool has(std::string_view name) const;
