@@ -56,14 +56,14 @@ base::Expected<std::unique_ptr<CaptureWriter>, std::string> CaptureWriter::open(
   if (options.path.empty()) return base::Unexpected(std::string("capture: no file name"));
   if (options.max_files == 0) return base::Unexpected(std::string("capture: max_files must be at least 1"));
   std::unique_ptr<CaptureWriter> writer(new CaptureWriter(std::move(options)));
-  if (std::string error = writer->start_file(); !error.empty()) return base::Unexpected(error);
+  if (auto started = writer->start_file(); !started) return base::Unexpected(std::move(started.error()));
   return writer;
 }
 
-std::string CaptureWriter::start_file() {
+Written CaptureWriter::start_file() {
   // Issue 27 (D11): a FIFO or device is refused at once, never waited on or written into.
   auto opened = base::open_regular_file(options_.path, O_WRONLY | O_CREAT | O_TRUNC);
-  if (!opened) return options_.path.string() + ": " + opened.error().text;
+  if (!opened) return base::Unexpected(options_.path.string() + ": " + opened.error().text);
   fd_ = opened->release();
   counters_.bytes = 0;
   for (auto& [index, connection] : connections_) connection.announced = false;
@@ -83,7 +83,7 @@ std::string CaptureWriter::start_file() {
 // FILE.i to FILE.i+M (dropping those beyond max_files - 1), then puts the M pending files in
 // FILE.1 ... FILE.M, newest first: at most max_files - 1 renames per batch however fast the
 // rotations come, and the files never get out of order.
-std::string CaptureWriter::rotate() {
+Written CaptureWriter::rotate() {
   ::close(fd_);
   fd_ = -1;
   std::error_code ignored;
@@ -93,17 +93,16 @@ std::string CaptureWriter::rotate() {
     const std::uint64_t sequence = next_rotation_++;
     std::error_code error;
     std::filesystem::rename(options_.path, aside_name(sequence), error);
-    if (error) return "rename " + options_.path.string() + ": " + error.message();
+    if (error) return base::Unexpected("rename " + options_.path.string() + ": " + error.message());
     std::lock_guard lock(shift_mutex_);
     pending_.push_back(sequence);
     if (!shifter_.joinable()) shifter_ = std::thread([this] { shift_files(); });
     shift_wake_.notify_all();
   }
   ++counters_.rotations;
-  std::string error = start_file();
-  if (!error.empty()) return error;
+  if (Written started = start_file(); !started) return started;
   std::lock_guard lock(shift_mutex_);
-  return std::exchange(shift_error_, std::string());
+  return shift_outcome();
 }
 
 std::filesystem::path CaptureWriter::aside_name(std::uint64_t sequence) const {
@@ -146,19 +145,26 @@ void CaptureWriter::shift_files() {
   }
 }
 
-std::string CaptureWriter::finish_shifting() {
+Written CaptureWriter::finish_shifting() {
   std::unique_lock lock(shift_mutex_);
   shift_done_.wait(lock, [this] { return pending_.empty() && !shifting_; });
-  return std::exchange(shift_error_, std::string());
+  return shift_outcome();
 }
 
-std::string CaptureWriter::commit(const std::function<Bytes()>& build) {
+// The renames' error since the last call, if any, as a Written (and forgotten).
+Written CaptureWriter::shift_outcome() {
+  std::string error = std::exchange(shift_error_, std::string());
+  if (error.empty()) return std::monostate{};
+  return base::Unexpected(std::move(error));
+}
+
+Written CaptureWriter::commit(const std::function<Bytes()>& build) {
   Bytes blocks = build();
   // The cap: a record never makes a file exceed it, except a record too large for any file.
   // Rotation resets what a new file must repeat (TCP handshakes), so the record is rebuilt.
   if (options_.max_file_bytes > 0 && counters_.bytes > 0 &&
       counters_.bytes + blocks.size() > options_.max_file_bytes) {
-    if (std::string error = rotate(); !error.empty()) return error;
+    if (Written rotated = rotate(); !rotated) return rotated;
     blocks = build();
   }
   return write_all(blocks);
@@ -167,8 +173,8 @@ std::string CaptureWriter::commit(const std::function<Bytes()>& build) {
 // Issue 27 D9: a record is written whole or not at all. On a write error (a full disk) the
 // file is cut back to where the record began, so that it ends at a block boundary and stays
 // readable; the error is counted and returned (the recording tap reports it once and stops).
-std::string CaptureWriter::write_all(const Bytes& blocks) {
-  if (fd_ < 0) return "write " + options_.path.string() + ": capture file is not open";
+Written CaptureWriter::write_all(const Bytes& blocks) {
+  if (fd_ < 0) return base::Unexpected("write " + options_.path.string() + ": capture file is not open");
   std::size_t done = 0;
   while (done < blocks.size()) {
     const ssize_t written = ::write(fd_, blocks.data() + done, blocks.size() - done);
@@ -180,12 +186,12 @@ std::string CaptureWriter::write_all(const Bytes& blocks) {
         error += "; cutting it back to its last whole block: " + std::string(std::strerror(errno));
       }
       ::lseek(fd_, static_cast<off_t>(counters_.bytes), SEEK_SET);
-      return error;
+      return base::Unexpected(std::move(error));
     }
     done += static_cast<std::size_t>(written);
   }
   counters_.bytes += blocks.size();
-  return {};
+  return std::monostate{};
 }
 
 void CaptureWriter::append_packet(Bytes& out, std::uint32_t interface, base::SimTime time, ByteView data,
@@ -195,7 +201,7 @@ void CaptureWriter::append_packet(Bytes& out, std::uint32_t interface, base::Sim
   out.insert(out.end(), block.begin(), block.end());
 }
 
-std::string CaptureWriter::write_can(base::SimTime time, const protocol::CanFrame& frame, WireDirection direction) {
+Written CaptureWriter::write_can(base::SimTime time, const protocol::CanFrame& frame, WireDirection direction) {
   ++counters_.records;
   return commit([&] {
     Bytes blocks;
@@ -219,7 +225,7 @@ protocol::TcpSegment CaptureWriter::segment(std::uint32_t connection, WireDirect
   return segment;
 }
 
-std::string CaptureWriter::write_tcp(base::SimTime time, std::uint32_t connection, WireDirection direction, ByteView bytes) {
+Written CaptureWriter::write_tcp(base::SimTime time, std::uint32_t connection, WireDirection direction, ByteView bytes) {
   TcpConnection* state = nullptr;
   const auto build = [&] {
     state = &connections_[connection];
@@ -257,21 +263,21 @@ std::string CaptureWriter::write_tcp(base::SimTime time, std::uint32_t connectio
     return blocks;
   };
   ++counters_.records;
-  std::string error = commit(build);
-  if (error.empty()) {
+  Written written = commit(build);
+  if (written) {
     state->announced = true;
     (direction == WireDirection::host_to_device ? state->host_next : state->device_next) +=
         static_cast<std::uint32_t>(bytes.size());
   }
-  return error;
+  return written;
 }
 
-std::string CaptureWriter::close_tcp(base::SimTime time, std::uint32_t connection, bool reset) {
+Written CaptureWriter::close_tcp(base::SimTime time, std::uint32_t connection, bool reset) {
   const auto found = connections_.find(connection);
-  if (found == connections_.end()) return {};
+  if (found == connections_.end()) return std::monostate{};
   TcpConnection state = found->second;
   connections_.erase(found);
-  if (!state.announced) return {};
+  if (!state.announced) return std::monostate{};
   const std::uint8_t fin = protocol::kTcpFin | protocol::kTcpAck;
   ++counters_.records;
   return commit([&] {
@@ -295,7 +301,7 @@ std::string CaptureWriter::close_tcp(base::SimTime time, std::uint32_t connectio
   });
 }
 
-std::string CaptureWriter::write_serial(base::SimTime time, WireDirection direction, ByteView bytes) {
+Written CaptureWriter::write_serial(base::SimTime time, WireDirection direction, ByteView bytes) {
   ++counters_.records;
   return commit([&] {
     Bytes blocks;
@@ -305,7 +311,7 @@ std::string CaptureWriter::write_serial(base::SimTime time, WireDirection direct
   });
 }
 
-std::string CaptureWriter::write_lpt(base::SimTime time, ByteView values) {
+Written CaptureWriter::write_lpt(base::SimTime time, ByteView values) {
   ++counters_.records;
   return commit([&] {
     Bytes blocks;

@@ -5,7 +5,7 @@
 
 namespace ldoem::capture {
 
-std::string TelegramRecorder::record(base::SimTime time, protocol::WireTransport transport, std::uint32_t connection,
+Written TelegramRecorder::record(base::SimTime time, protocol::WireTransport transport, std::uint32_t connection,
                                      WireDirection direction, ByteView payload) {
   switch (transport) {
     case protocol::WireTransport::tcp:
@@ -17,37 +17,38 @@ std::string TelegramRecorder::record(base::SimTime time, protocol::WireTransport
     case protocol::WireTransport::can:
       return record_isotp(time, direction, payload);
   }
-  return "record: unknown transport";
+  return base::Unexpected(std::string("record: unknown transport"));
 }
 
-std::string TelegramRecorder::connection_closed(base::SimTime time, protocol::WireTransport transport, std::uint32_t connection,
+Written TelegramRecorder::connection_closed(base::SimTime time, protocol::WireTransport transport, std::uint32_t connection,
                                                 bool reset) {
-  return transport == protocol::WireTransport::tcp ? writer_.close_tcp(time, connection, reset) : std::string{};
+  if (transport != protocol::WireTransport::tcp) return std::monostate{};
+  return writer_.close_tcp(time, connection, reset);
 }
 
-std::string TelegramRecorder::record_isotp(base::SimTime time, WireDirection direction, ByteView payload) {
-  if (payload.empty()) return {};  // ISO-TP cannot carry an empty message (nothing was on the bus)
+Written TelegramRecorder::record_isotp(base::SimTime time, WireDirection direction, ByteView payload) {
+  if (payload.empty()) return std::monostate{};  // ISO-TP cannot carry an empty message (nothing was on the bus)
   const bool to_device = direction == WireDirection::host_to_device;
   const std::uint32_t data_id = to_device ? ids_.request_id : ids_.response_id;
   const std::uint32_t flow_control_id = to_device ? ids_.response_id : ids_.request_id;
   const WireDirection back = to_device ? WireDirection::device_to_host : WireDirection::host_to_device;
   protocol::IsoTpSender sender({.data_id = data_id});
-  if (!sender.start(base::SimTime{}, payload)) return "record: telegram too large for ISO-TP";
+  if (!sender.start(base::SimTime{}, payload)) return base::Unexpected(std::string("record: telegram too large for ISO-TP"));
   protocol::IsoTpReceiver receiver({.flow_control_id = flow_control_id, .max_message_bytes = payload.size()});
   // Bounded: one FC plus one CF per 7 bytes.
   for (std::size_t round = 0; round <= payload.size() / 7 + 2; ++round) {
     const protocol::IsoTpSendPoll poll = sender.poll(base::SimTime{});
     for (const auto& frame : poll.frames) {
-      if (std::string error = writer_.write_can(time, frame, direction); !error.empty()) return error;
+      if (Written written = writer_.write_can(time, frame, direction); !written) return written;
       const auto result = receiver.on_frame(base::SimTime{}, frame);
       if (result.flow_control) {
-        if (std::string error = writer_.write_can(time, *result.flow_control, back); !error.empty()) return error;
+        if (Written written = writer_.write_can(time, *result.flow_control, back); !written) return written;
         sender.on_flow_control(base::SimTime{}, *result.flow_control);
       }
-      if (result.message) return {};
+      if (result.message) return std::monostate{};
     }
   }
-  return "record: ISO-TP segmentation did not finish";
+  return base::Unexpected(std::string("record: ISO-TP segmentation did not finish"));
 }
 
 }  // namespace ldoem::capture

@@ -43,6 +43,10 @@ void check(const std::string& error) {
   }
 }
 
+void check(const capture::Written& written) {
+  if (!written) check(written.error());
+}
+
 // One telegram over ISO-TP as the bus carries it: the sender's frames and, for a multi-frame
 // message, the receiver's flow control.
 void write_isotp(capture::CaptureWriter& writer, base::SimTime& time, const Bytes& payload, WireDirection direction) {

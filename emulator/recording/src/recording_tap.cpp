@@ -16,10 +16,10 @@ protocol::WireTransport wire_transport(control::TransportKind kind) {
 
 void RecordingTap::on_connection_closed(control::ConnectionId connection, base::SimTime at, bool reset) {
   if (!failed_) {
-    if (const std::string error = recorder_.connection_closed(at, wire_transport(connection.kind), connection.index, reset);
-        !error.empty()) {
+    if (const capture::Written closed = recorder_.connection_closed(at, wire_transport(connection.kind), connection.index, reset);
+        !closed) {
       failed_ = true;
-      logger_.log(endpoints::LogLevel::error, "--record: " + error + "; recording stopped, the device goes on");
+      logger_.log(endpoints::LogLevel::error, "--record: " + closed.error() + "; recording stopped, the device goes on");
     }
   }
   if (next_) next_->on_connection_closed(connection, at, reset);
@@ -29,11 +29,11 @@ void RecordingTap::record(const endpoints::WireTelegram& telegram) {
   if (failed_) return;
   const auto direction = telegram.direction == endpoints::WireDirection::from_host ? protocol::WireDirection::host_to_device
                                                                                    : protocol::WireDirection::device_to_host;
-  const std::string error = recorder_.record(telegram.at, wire_transport(telegram.connection.kind),
-                                             telegram.connection.index, direction, telegram.payload);
-  if (!error.empty()) {
+  const capture::Written written = recorder_.record(telegram.at, wire_transport(telegram.connection.kind),
+                                                    telegram.connection.index, direction, telegram.payload);
+  if (!written) {
     failed_ = true;
-    logger_.log(endpoints::LogLevel::error, "--record: " + error + "; recording stopped, the device goes on");
+    logger_.log(endpoints::LogLevel::error, "--record: " + written.error() + "; recording stopped, the device goes on");
     return;
   }
   ++recorded_;

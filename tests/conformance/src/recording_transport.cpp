@@ -27,8 +27,8 @@ struct RunRecording {
               protocol::ByteView payload) {
     if (failed || !recorder) return;
     const auto time = std::chrono::duration_cast<base::SimTime>(driver::Clock::now() - start);
-    if (std::string error = recorder->record(time, transport, connection, direction, payload); !error.empty()) {
-      std::cerr << "ldoem-conformance: --record: " << error << " (recording stopped)\n";
+    if (const capture::Written written = recorder->record(time, transport, connection, direction, payload); !written) {
+      std::cerr << "ldoem-conformance: --record: " << written.error() << " (recording stopped)\n";
       failed = true;
     }
   }

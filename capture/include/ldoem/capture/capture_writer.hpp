@@ -23,6 +23,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <variant>
 #include <thread>
 #include <vector>
 
@@ -61,6 +62,9 @@ struct CaptureWriterCounters {
   std::uint64_t write_errors = 0;  // records not written (the file was cut back to the one before)
 };
 
+// Nothing, or what went wrong ("write FILE: No space left on device").
+using Written = base::Expected<std::monostate, std::string>;
+
 class CaptureWriter {
  public:
   // Creates (truncates) the file and writes the section and interface blocks.
@@ -69,18 +73,18 @@ class CaptureWriter {
   CaptureWriter(const CaptureWriter&) = delete;
   CaptureWriter& operator=(const CaptureWriter&) = delete;
 
-  // Each returns an error text ("write FILE: No space left on device") or an empty string.
-  [[nodiscard]] std::string write_can(base::SimTime time, const protocol::CanFrame& frame, WireDirection direction);
-  [[nodiscard]] std::string write_tcp(base::SimTime time, std::uint32_t connection, WireDirection direction, ByteView bytes);
+  // Each returns the error when the record was not written (Written).
+  [[nodiscard]] Written write_can(base::SimTime time, const protocol::CanFrame& frame, WireDirection direction);
+  [[nodiscard]] Written write_tcp(base::SimTime time, std::uint32_t connection, WireDirection direction, ByteView bytes);
   // The connection ended: an orderly close is a FIN both ways; a reset (the device dropped it:
   // a tcp_reset fault, a power cycle) is one RST from the device. A later write on the same
   // index starts a new connection with its own handshake.
-  [[nodiscard]] std::string close_tcp(base::SimTime time, std::uint32_t connection, bool reset = false);
-  [[nodiscard]] std::string write_serial(base::SimTime time, WireDirection direction, ByteView bytes);
-  [[nodiscard]] std::string write_lpt(base::SimTime time, ByteView values);
+  [[nodiscard]] Written close_tcp(base::SimTime time, std::uint32_t connection, bool reset = false);
+  [[nodiscard]] Written write_serial(base::SimTime time, WireDirection direction, ByteView bytes);
+  [[nodiscard]] Written write_lpt(base::SimTime time, ByteView values);
 
   // Waits until the last rotation's renames are done (FILE.1 ... in place); their error, if any.
-  [[nodiscard]] std::string wait_for_rotation() { return finish_shifting(); }
+  [[nodiscard]] Written wait_for_rotation() { return finish_shifting(); }
 
   const CaptureWriterCounters& counters() const { return counters_; }
   const std::filesystem::path& path() const { return options_.path; }
@@ -92,13 +96,14 @@ class CaptureWriter {
     bool announced = false;         // handshake written in the current file
   };
   explicit CaptureWriter(CaptureWriterOptions options);
-  std::string start_file();
-  std::string rotate();
-  std::string finish_shifting();  // waits until no rotation's renames are pending; their error
+  Written start_file();
+  Written rotate();
+  Written shift_outcome();  // takes shift_error_; called with shift_mutex_ held
+  Written finish_shifting();  // waits until no rotation's renames are pending; their error
   std::filesystem::path aside_name(std::uint64_t sequence) const;  // FILE.rotating.N
   void shift_files();             // the worker thread
-  std::string commit(const std::function<protocol::Bytes()>& build);
-  std::string write_all(const protocol::Bytes& blocks);
+  Written commit(const std::function<protocol::Bytes()>& build);
+  Written write_all(const protocol::Bytes& blocks);
   protocol::TcpSegment segment(std::uint32_t connection, WireDirection direction, std::uint8_t flags,
                                const TcpConnection& state) const;
   void append_packet(protocol::Bytes& out, std::uint32_t interface, base::SimTime time, ByteView data,

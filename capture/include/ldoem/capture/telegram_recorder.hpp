@@ -27,17 +27,17 @@ class TelegramRecorder {
  public:
   TelegramRecorder(CaptureWriter& writer, RecorderCanIds ids = {}) : writer_(writer), ids_(ids) {}
 
-  // Returns an error text, or an empty string.
-  [[nodiscard]] std::string record(base::SimTime time, protocol::WireTransport transport, std::uint32_t connection,
+  // The error when the telegram was not written.
+  [[nodiscard]] Written record(base::SimTime time, protocol::WireTransport transport, std::uint32_t connection,
                                    WireDirection direction, ByteView payload);
   // TCP: FIN both ways, or RST from the device when `reset` (CaptureWriter::close_tcp); the
   // other transports have no connections to close.
-  [[nodiscard]] std::string connection_closed(base::SimTime time, protocol::WireTransport transport, std::uint32_t connection,
+  [[nodiscard]] Written connection_closed(base::SimTime time, protocol::WireTransport transport, std::uint32_t connection,
                                               bool reset = false);
   void set_can_ids(RecorderCanIds ids) { ids_ = ids; }
 
  private:
-  std::string record_isotp(base::SimTime time, WireDirection direction, ByteView payload);
+  Written record_isotp(base::SimTime time, WireDirection direction, ByteView payload);
 
   CaptureWriter& writer_;
   RecorderCanIds ids_;
