@@ -14,7 +14,7 @@
 
 #include "endpoint_harness.hpp"
 #include "ldoem/endpoints/tcp_endpoint.hpp"
-#include "ldoem/endpoints/warning_throttle.hpp"
+#include "ldoem/base/warning_throttle.hpp"
 #include "ldoem/protocol/tcp_framing.hpp"
 
 namespace ldoem::endpoints::test {
@@ -259,8 +259,8 @@ TEST_F(TcpFixture, ResetFloodBeyondMaxClients_LeavesAPlaceForTheNextHost) {
 }
 
 TEST(WarningThrottle, SaysALineOncePerPeriodWithTheCountHeldBack) {
-  WarningThrottle throttle(std::chrono::seconds(10));
-  const auto t0 = WarningThrottle::Clock::time_point{} + std::chrono::hours(1);
+  base::WarningThrottle throttle(std::chrono::seconds(10));
+  const auto t0 = base::WarningThrottle::Clock::time_point{} + std::chrono::hours(1);
   EXPECT_EQ(throttle.admit("full", t0), std::optional<std::string>("full"));
   EXPECT_FALSE(throttle.admit("full", t0 + 1s));
   EXPECT_FALSE(throttle.admit("full", t0 + 9s));

@@ -16,6 +16,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "ldoem/base/warning_throttle.hpp"
 #include "ldoem/hub/backend_handler.hpp"
 #include "ldoem/hub/hub_protocol.hpp"
 #include "ldoem/hub/hub_server.hpp"
@@ -49,16 +50,6 @@ struct AtomicCounters {
       closed_idle{0}, closed_slow{0}, accept_pauses{0}, loop_turns{0}, peak_output_bytes{0};
 };
 
-// Says a repeated warning once per kWarnPeriod with the count of the ones held back.
-class RateLimitedWarning {
- public:
-  void operator()(const std::function<void(const std::string&)>& warn, const std::string& text);
-
- private:
-  bool said_once_ = false;
-  Clock::time_point last_said_;
-  std::uint64_t held_back_ = 0;
-};
 
 struct Hub::Impl {
   HubSettings settings;
@@ -73,7 +64,7 @@ struct Hub::Impl {
   bool accepting = true;
   Clock::time_point next_heartbeat;
   Clock::time_point accept_resumes_at;
-  RateLimitedWarning accept_warning;
+  base::WarningThrottle accept_warning{kWarnPeriod};  // says a repeated accept error once per period
 
   std::mutex completions_mutex;
   std::deque<BackendResult> completions;

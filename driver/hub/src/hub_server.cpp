@@ -20,25 +20,18 @@ using driver::ok;
 using driver::system_error;
 using std::chrono::milliseconds;
 
-void RateLimitedWarning::operator()(const std::function<void(const std::string&)>& warn, const std::string& text) {
-  const auto now = Clock::now();
-  if (said_once_ && now - last_said_ < kWarnPeriod) {
-    ++held_back_;
-    return;
-  }
-  std::string line = text;
-  if (held_back_ > 0) {
-    line += " (" + std::to_string(held_back_) + " more since the last report)";
-  }
+namespace {
+
+// A warning through the hub's own warn hook, or on stderr.
+void say_warning(const std::function<void(const std::string&)>& warn, const std::string& line) {
   if (warn) {
     warn(line);
   } else {
     std::cerr << "ldoem-hub: warn: " << line << "\n";
   }
-  said_once_ = true;
-  last_said_ = now;
-  held_back_ = 0;
 }
+
+}  // namespace
 
 void Hub::Impl::complete(BackendResult result) {
   {
@@ -177,8 +170,10 @@ void Hub::Impl::pause_accepting(int error) {
   accept_resumes_at = Clock::now() + settings.accept_retry;
   watch(EPOLL_CTL_MOD, listen_fd, kListenTag, 0);
   counters.accept_pauses.fetch_add(1);
-  accept_warning(settings.warn, std::string("accept: ") + std::strerror(error) + "; not accepting for " +
-                                    std::to_string(settings.accept_retry.count()) + " ms");
+  if (auto line = accept_warning.admit(std::string("accept: ") + std::strerror(error) + "; not accepting for " +
+                                       std::to_string(settings.accept_retry.count()) + " ms")) {
+    say_warning(settings.warn, *line);
+  }
 }
 
 void Hub::Impl::resume_accepting() {

@@ -24,7 +24,7 @@
 #include "ldoem/daemon/endpoint_faults.hpp"
 #include "ldoem/daemon/event_log.hpp"
 #include "ldoem/endpoints/scheduler.hpp"
-#include "ldoem/endpoints/warning_throttle.hpp"
+#include "ldoem/base/warning_throttle.hpp"
 #include "ldoem/endpoints/wire_tap.hpp"
 #include "ldoem/fault_injection/fault_injector.hpp"
 
@@ -125,7 +125,7 @@ class FaultWiring final : public endpoints::WireTap, public control_socket::Cont
   };
   std::map<control::ConnectionId, DelayedReplies> delayed_;  // delay_reply's held replies
   std::uint64_t delayed_dropped_ = 0;
-  endpoints::WarningThrottle delayed_warning_{std::chrono::seconds(10)};
+  base::WarningThrottle delayed_warning_{std::chrono::seconds(10)};
   plant::SceneWorld* world_ = nullptr;
   io::EventLoop* loop_ = nullptr;
   bool imports_off_loop_ = false;

@@ -14,7 +14,7 @@
 #include "ldoem/endpoints/host_endpoint.hpp"
 #include "ldoem/endpoints/host_limits.hpp"
 #include "ldoem/endpoints/output_queue.hpp"
-#include "ldoem/endpoints/warning_throttle.hpp"
+#include "ldoem/base/warning_throttle.hpp"
 #include "ldoem/io/tcp.hpp"
 #include "ldoem/protocol/tcp_framing.hpp"
 
@@ -90,8 +90,8 @@ class TcpEndpoint final : public HostEndpoint {
   bool listener_resting_ = false;
   bool dark_ = false;  // D11 power_cycle: off or booting (set_power)
   io::EventLoop::TimerId resume_timer_ = 0;
-  WarningThrottle rest_warning_{kWarnPeriod};     // out of descriptors
-  WarningThrottle refused_warning_{kWarnPeriod};  // --max-clients reached
+  base::WarningThrottle rest_warning_{kWarnPeriod};     // out of descriptors
+  base::WarningThrottle refused_warning_{kWarnPeriod};  // --max-clients reached
 
  public:
   std::uint64_t listener_rests() const { return listener_rests_; }  // accept() out of descriptors

@@ -1,6 +1,7 @@
 // A warning a host can trigger as often as it likes (a connect flood, descriptors running out)
 // is said at most once per period, with the number held back since it was last said: the log
-// stays readable and a flood cannot fill the disk or block on a full stderr (issue 11).
+// stays readable and a flood cannot fill the disk or block on a full stderr (issue 11). One
+// class for the daemon's endpoints and fault wiring and the hub's accept loop.
 #pragma once
 
 #include <chrono>
@@ -8,7 +9,7 @@
 #include <optional>
 #include <string>
 
-namespace ldoem::endpoints {
+namespace ldoem::base {
 
 class WarningThrottle {
  public:
@@ -36,4 +37,4 @@ class WarningThrottle {
   std::uint64_t held_back_ = 0;
 };
 
-}  // namespace ldoem::endpoints
+}  // namespace ldoem::base
