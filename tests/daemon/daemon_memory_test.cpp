@@ -238,10 +238,10 @@ struct RecordingTap final : endpoints::WireTap {
   bool corrupt_requests = false;
   endpoints::WireVerdict on_telegram(endpoints::WireTelegram& telegram) override {
     seen.push_back(telegram);
-    if (telegram.direction == endpoints::WireDirection::from_host && corrupt_requests) {
+    if (telegram.direction == protocol::WireDirection::host_to_device && corrupt_requests) {
       telegram.payload[1] = 0x7F;  // an unknown service (D2 reason 1)
     }
-    if (telegram.direction == endpoints::WireDirection::to_host && drop_replies) return endpoints::WireVerdict::drop;
+    if (telegram.direction == protocol::WireDirection::device_to_host && drop_replies) return endpoints::WireVerdict::drop;
     return endpoints::WireVerdict::pass;
   }
 };
@@ -253,10 +253,10 @@ TEST(DaemonWireTap, SeesEveryTelegramInAndOut) {
   d.daemon->device().set_wire_tap(&tap);
   EXPECT_EQ(d.reply_text(3, "GET_STATUS"), "GET_STATUS reply 0000 0001");
   ASSERT_EQ(tap.seen.size(), 2u);
-  EXPECT_EQ(tap.seen[0].direction, endpoints::WireDirection::from_host);
+  EXPECT_EQ(tap.seen[0].direction, protocol::WireDirection::host_to_device);
   EXPECT_EQ(tap.seen[0].connection, (control::ConnectionId{control::TransportKind::tcp, 3}));
   EXPECT_EQ(protocol::format_telegram(tap.seen[0].payload), "GET_STATUS");
-  EXPECT_EQ(tap.seen[1].direction, endpoints::WireDirection::to_host);
+  EXPECT_EQ(tap.seen[1].direction, protocol::WireDirection::device_to_host);
   EXPECT_EQ(protocol::format_telegram(tap.seen[1].payload), "GET_STATUS reply 0000 0001");
   EXPECT_FALSE(tap.seen[1].is_profile);
 }

@@ -15,7 +15,7 @@
 
 #include "fake_hub.hpp"
 #include "ldoem/hub/hub_protocol.hpp"
-#include "output_queue.hpp"
+#include "client_send_buffer.hpp"
 
 namespace ldoem::hub {
 namespace {
@@ -94,8 +94,8 @@ HubSettings small_settings() {
   return settings;
 }
 
-TEST(OutputQueue, KeepsEveryByteInOrderAcrossPartialSends) {
-  OutputQueue queue;
+TEST(ClientSendBuffer, KeepsEveryByteInOrderAcrossPartialSends) {
+  ClientSendBuffer queue;
   std::string expected;
   std::string received;
   for (int round = 0; round < 2000; ++round) {

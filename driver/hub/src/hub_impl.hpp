@@ -20,7 +20,7 @@
 #include "ldoem/hub/backend_handler.hpp"
 #include "ldoem/hub/hub_protocol.hpp"
 #include "ldoem/hub/hub_server.hpp"
-#include "output_queue.hpp"
+#include "client_send_buffer.hpp"
 
 namespace ldoem::hub {
 // epoll tags; client tags start above them and are never reused.
@@ -35,7 +35,7 @@ struct Client {
   int fd = -1;
   std::string frontend_id;  // FEMH id
   std::string input;
-  OutputQueue output;
+  ClientSendBuffer output;
   bool discarding_long_line = false;
   bool reading_paused = false;     // too many reply bytes waiting (HubSettings::pause_reading_above)
   std::uint32_t watched_events = 0;

@@ -82,7 +82,7 @@ void DeviceInstance::accept_input(std::function<void()> input) {
 void DeviceInstance::on_telegram(ConnectionId from, protocol::Bytes payload) {
   accept_input([this, from, payload = std::move(payload)]() mutable {
     if (tap_ != nullptr) {
-      endpoints::WireTelegram telegram{endpoints::WireDirection::from_host, from, scheduler_.now(), std::move(payload)};
+      endpoints::WireTelegram telegram{protocol::WireDirection::host_to_device, from, scheduler_.now(), std::move(payload)};
       if (tap_->on_telegram(telegram) == endpoints::WireVerdict::drop) return;
       payload = std::move(telegram.payload);
     }
@@ -153,7 +153,7 @@ void DeviceInstance::perform(SimTime at, const control::Actions& actions) {
       send_to_host(telegram.to, telegram.payload, is_profile);
       continue;
     }
-    endpoints::WireTelegram tapped{endpoints::WireDirection::to_host, telegram.to, at, telegram.payload, is_profile};
+    endpoints::WireTelegram tapped{protocol::WireDirection::device_to_host, telegram.to, at, telegram.payload, is_profile};
     if (tap_->on_telegram(tapped) == endpoints::WireVerdict::pass) {
       send_to_host(telegram.to, tapped.payload, is_profile);
     }

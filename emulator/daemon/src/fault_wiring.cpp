@@ -9,7 +9,7 @@
 namespace ldoem::daemon {
 
 using endpoints::LogLevel;
-using endpoints::WireDirection;
+using protocol::WireDirection;
 using endpoints::WireVerdict;
 using faults::FaultKind;
 using base::SimTime;
@@ -170,7 +170,7 @@ WireVerdict FaultWiring::on_telegram(endpoints::WireTelegram& telegram) {
   }();
   // Off or booting, the device hears and says nothing (its endpoints are dark as well).
   const bool dark = injector_->power() != fault_injection::Power::on;
-  if (telegram.direction == WireDirection::to_host) {
+  if (telegram.direction == WireDirection::device_to_host) {
     if (dark || silenced) return WireVerdict::drop;
     return to_host(telegram);
   }

@@ -27,10 +27,8 @@ void RecordingTap::on_connection_closed(control::ConnectionId connection, base::
 
 void RecordingTap::record(const endpoints::WireTelegram& telegram) {
   if (failed_) return;
-  const auto direction = telegram.direction == endpoints::WireDirection::from_host ? protocol::WireDirection::host_to_device
-                                                                                   : protocol::WireDirection::device_to_host;
   const capture::Written written = recorder_.record(telegram.at, wire_transport(telegram.connection.kind),
-                                                    telegram.connection.index, direction, telegram.payload);
+                                                    telegram.connection.index, telegram.direction, telegram.payload);
   if (!written) {
     failed_ = true;
     logger_.log(endpoints::LogLevel::error, "--record: " + written.error() + "; recording stopped, the device goes on");
@@ -40,7 +38,7 @@ void RecordingTap::record(const endpoints::WireTelegram& telegram) {
 }
 
 endpoints::WireVerdict RecordingTap::on_telegram(endpoints::WireTelegram& telegram) {
-  if (telegram.direction == endpoints::WireDirection::from_host) {
+  if (telegram.direction == protocol::WireDirection::host_to_device) {
     record(telegram);
     return next_ ? next_->on_telegram(telegram) : endpoints::WireVerdict::pass;
   }

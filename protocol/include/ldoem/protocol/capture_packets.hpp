@@ -16,10 +16,9 @@
 #include "ldoem/protocol/bytes.hpp"
 #include "ldoem/protocol/can_frame.hpp"
 #include "ldoem/protocol/pcapng.hpp"
+#include "ldoem/protocol/wire_direction.hpp"
 
 namespace ldoem::protocol {
-
-enum class WireDirection : std::uint8_t { host_to_device = 0, device_to_host = 1 };
 
 inline constexpr std::size_t kSocketCanHeaderBytes = 8;
 inline constexpr std::uint32_t kSocketCanExtendedFlag = 0x80000000;

@@ -15,18 +15,17 @@
 
 #include "ldoem/control/ports.hpp"
 #include "ldoem/protocol/bytes.hpp"
+#include "ldoem/protocol/wire_direction.hpp"
 #include "ldoem/base/sim_time.hpp"
 
 namespace ldoem::endpoints {
 
-enum class WireDirection : std::uint8_t { from_host, to_host };
-
 struct WireTelegram {
-  WireDirection direction = WireDirection::from_host;
+  protocol::WireDirection direction = protocol::WireDirection::host_to_device;
   control::ConnectionId connection;
   base::SimTime at{};
   protocol::Bytes payload;  // service WORD first, no framing; the tap may alter it
-  bool is_profile = false;  // to_host only: a 0x8301 profile of a running GET_PROFILE
+  bool is_profile = false;  // device_to_host only: a 0x8301 profile of a running GET_PROFILE
 };
 
 enum class WireVerdict : std::uint8_t { pass, drop };

@@ -1,4 +1,5 @@
-// The bytes queued for one hub client. Sent bytes are skipped with an offset and the buffer is
+// The bytes queued for one hub client (a byte stream of reply lines; the daemon's bounded
+// telegram queue is endpoints::OutputQueue). Sent bytes are skipped with an offset and the buffer is
 // compacted only once the sent part is at least half of it, so a reader that takes a few bytes
 // at a time costs linear time, not the quadratic time of erasing the front on every send.
 #pragma once
@@ -9,7 +10,7 @@
 
 namespace ldoem::hub {
 
-class OutputQueue {
+class ClientSendBuffer {
  public:
   void append(std::string_view bytes) { buffer_.append(bytes); }
   std::size_t pending() const { return buffer_.size() - sent_; }
