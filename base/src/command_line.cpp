@@ -95,7 +95,7 @@ std::string completion_script(const CLI::App& app, std::string_view program_name
       for (const std::string& name : option->get_lnames()) {
         if (name == "completion" || words.find("--" + name + " ") != std::string::npos) continue;
         words += "--" + name + " ";
-        if (option->get_type_size() != 0) value_options += (value_options.empty() ? "--" : "|--") + name;
+        if (option->get_type_size() != 0 && option->get_items_expected_max() != 0) value_options += (value_options.empty() ? "--" : "|--") + name;
       }
     }
   };
@@ -196,13 +196,21 @@ std::string brief_help(std::string_view program, std::string_view full_text, std
                        std::initializer_list<std::string_view> options) {
   const std::vector<std::string_view> lines = lines_of(full_text);
   std::string out;
-  if (!lines.empty()) append_wrapped(out, lines.front());
+  // The usage line: the first one saying "usage:" (CLI11 puts the description before it).
+  std::string_view usage = lines.empty() ? std::string_view{} : lines.front();
+  for (const std::string_view line : lines) {
+    if (line.starts_with("usage:") || line.starts_with("Usage:")) {
+      usage = line;
+      break;
+    }
+  }
+  append_wrapped(out, usage);
   append_wrapped(out, purpose);
   out += "\nMost used options:\n";
   for (const std::string_view option : options) {
     for (std::size_t i = 1; i < lines.size(); ++i) {
       const std::string_view line = lines[i];
-      if (!line.substr(indentation(line)).starts_with("-") || !describes(line, option)) continue;
+      if (indentation(line) == 0 || !describes(line, option)) continue;
       // The option's description, its continuation lines (indented past the option column)
       // included, joined into one paragraph and wrapped again at 80 columns: the full text
       // is wrapped wider.

@@ -46,12 +46,13 @@ else
   grep -q "^$name [0-9]" "$work/out" || fail "--version printed '$(cat "$work/out")'"
 fi
 
-# bad ARGS...: one line "NAME: ... (try --help)" on stderr, exit 2.
+# bad ARGS...: one line "NAME: ... (try --help)" on stderr, exit 2 (ldoem-ctl's unknown or
+# missing command lists the commands instead).
 bad() {
   run "$@"
   [ "$status" -eq 2 ] || fail "'$*' exited $status, expected 2"
   [ "$(wc -l <"$work/err")" -eq 1 ] || fail "'$*' printed $(wc -l <"$work/err") lines on stderr: $(head -n3 "$work/err")"
-  grep -q "^$name: .*(try --help)$" "$work/err" || fail "'$*' printed: $(head -n1 "$work/err")"
+  grep -q -e "^$name: .*(try --help)$" -e "^$name: .* command.* (commands: .*)$" "$work/err" || fail "'$*' printed: $(head -n1 "$work/err")"
 }
 
 bad --no-such-option
@@ -61,7 +62,7 @@ case $name in
   ldoem-scan) bad --out; bad --device tcp:127.0.0.1:1 --out s.ply --speed fast ;;
   ldoem-conformance) bad --tcp; bad --tcp 127.0.0.1:1 --timeout soon ;;
   ldoem-replay) bad --tcp; bad s.pcapng --tcp 127.0.0.1:0 --speed fast ;;
-  ldoem-ctl) bad --control; bad --control p inject-fault motor_stall --duration soon; bad --control p bogus ;;
+  ldoem-ctl) bad --control; bad --control p inject-fault motor_stall --duration soon; bad --control p bogus; bad --control p ;;
   ldoem-latency) bad --tcp; bad --tcp 127.0.0.1:1 --requests many ;;
 esac
 

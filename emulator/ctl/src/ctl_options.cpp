@@ -2,6 +2,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include "ldoem/base/command_line.hpp"
+#include "ldoem/base/numbers.hpp"
+
 #include <utility>
 
 namespace ldoem::ctl {
@@ -48,14 +51,26 @@ std::variant<CtlPlan, CtlExit> parse_ctl_options(const std::vector<std::string>&
              "  ldoem-ctl --control /tmp/ldoem.ctl events --count 5 --timeout 10\n"
              "  ldoem-ctl --control /tmp/ldoem.ctl move-object door --position 2,0.5,0 --rpy 0,0,90 --at 3\n"
              "Fault kinds and their bytes: docs/faults.md");
-  app.require_subcommand(1);
-  app.set_version_flag("--version", std::string("ldoem-ctl ") + LDOEM_VERSION);
+  // The command and --control are checked after parsing, so that --help-all, --version and
+  // --completion need neither, and a missing one is named in the tools' words.
+  app.require_subcommand(0, 1);
+  app.set_help_flag("-h,--help", "the most used options and the commands");
+  app.set_help_all_flag("--help-all", "this text, every command's options too");
+  app.set_version_flag("--version", std::string("ldoem-ctl ") + LDOEM_VERSION, "print the name and version");
+  std::string completion_shell;
+  app.add_option("--completion", completion_shell, "print a bash completion")->check(CLI::IsMember({"bash"}).description(""))
+      ->type_name("bash");
   CtlPlan plan;
   double timeout_s = 5.0;
-  app.add_option("--control", plan.control_path, "the daemon's control socket")->required()->type_name("PATH");
+  app.add_option("--control", plan.control_path, "the daemon's control socket (required)")->type_name("PATH");
   app.add_flag("--json", plan.json_output, "print the raw JSON lines");
-  app.add_option("--timeout", timeout_s, "seconds to wait for the reply, 0..86400 (events: to follow; 0 = forever)")
-      ->default_val(5.0)->check(CLI::Range(0.0, 86400.0).description(""))->type_name("SECONDS");
+  base::take_text(app, "--timeout", [&timeout_s](const std::string& value) -> std::optional<std::string> {
+       const auto seconds = base::parse_double(value);
+       if (!seconds || *seconds < 0.0 || *seconds > 86400.0) return "`" + value + "` is not a number of seconds in 0..86400";
+       timeout_s = *seconds;
+       return std::nullopt;
+     })
+      ->description("seconds to wait for the reply, 0..86400 (events: to follow; 0 = forever) [5]")->type_name("SECONDS");
   std::string scanner;
   app.add_option("--scanner", scanner, "the scanner a fault command acts on, by its scene name (several scanners "
                                        "in one daemon; default: the first)")->type_name("NAME");
@@ -137,7 +152,12 @@ std::variant<CtlPlan, CtlExit> parse_ctl_options(const std::vector<std::string>&
   try {
     app.parse(reversed);
   } catch (const CLI::CallForHelp&) {
-    return CtlExit{kExitOk, app.help()};
+    // A command's own help ("inject-fault --help") is short: all of it.
+    if (!app.get_subcommands().empty()) return CtlExit{kExitOk, app.help()};
+    return CtlExit{kExitOk, base::brief_help("ldoem-ctl", app.help(), "Talk to ldoem-emud's control socket: inject faults, query, move objects.",
+                                             {"--control", "--scanner", "--timeout", "--json", "inject-fault", "clear-fault",
+                                              "query-faults", "query-status", "power-cycle", "events", "move-object",
+                                              "add-object", "remove-object", "send", "quit", "--help", "--version"})};
   } catch (const CLI::CallForAllHelp&) {
     return CtlExit{kExitOk, app.help("", CLI::AppFormatMode::All)};
   } catch (const CLI::CallForVersion&) {
@@ -151,17 +171,30 @@ std::variant<CtlPlan, CtlExit> parse_ctl_options(const std::vector<std::string>&
       is_command = is_command || (word && command->get_name() == *word);
     }
     if (word && !is_command) {
-      return CtlExit{kExitUsage, "ldoem-ctl: unknown command `" + *word + "`; the commands: " + known};
+      return CtlExit{kExitUsage, "ldoem-ctl: unknown command '" + *word + "' (commands: " + known + ")"};
     }
-    return CtlExit{kExitUsage, std::string("ldoem-ctl: ") + error.what() + " (--help for usage)"};
+    const std::vector<std::string> extras = app.remaining();
+    if (!extras.empty() && extras.front().starts_with("-")) {
+      return CtlExit{kExitUsage, base::usage_error_line("ldoem-ctl", "unknown option `" + extras.front() + "`")};
+    }
+    return CtlExit{kExitUsage, base::usage_error_line("ldoem-ctl", error.what())};
   }
+  if (!completion_shell.empty()) return CtlExit{kExitOk, base::completion_script(app, "ldoem-ctl")};
+  if (app.get_subcommands().empty()) {
+    std::string known;
+    for (const CLI::App* command : std::as_const(app).get_subcommands([](const CLI::App*) { return true; })) {
+      known += (known.empty() ? "" : ", ") + command->get_name();
+    }
+    return CtlExit{kExitUsage, "ldoem-ctl: no command given (commands: " + known + ")"};
+  }
+  if (plan.control_path.empty()) return CtlExit{kExitUsage, base::usage_error_line("ldoem-ctl", "--control PATH is required")};
   plan.timeout = std::chrono::milliseconds(static_cast<long long>(timeout_s * 1000.0));
   auto request = [](const std::string& command, json args) {
     json line{{"execute", command}};
     if (!args.empty()) line["arguments"] = std::move(args);
     return line;
   };
-  auto usage = [](const std::string& text) { return CtlExit{kExitUsage, "ldoem-ctl: " + text + " (--help for usage)"}; };
+  auto usage = [](const std::string& text) { return CtlExit{kExitUsage, base::usage_error_line("ldoem-ctl", text)}; };
 
   if (inject->parsed()) {
     arguments["kind"] = kind;
