@@ -26,6 +26,21 @@ std::optional<json> service_count(const std::string& text, const char* count_key
   }
 }
 
+// "2,0.5,0" -> three numbers. Read here rather than by CLI11, whose help would show the value as
+// "X,Y,Z x 3".
+std::optional<std::vector<double>> three_numbers(const std::string& text) {
+  std::vector<double> numbers;
+  std::size_t start = 0;
+  for (std::size_t comma = 0; comma != std::string::npos; start = comma + 1) {
+    comma = text.find(',', start);
+    const auto number = base::parse_double(std::string_view(text).substr(start, comma == std::string::npos ? comma : comma - start));
+    if (!number) return std::nullopt;
+    numbers.push_back(*number);
+  }
+  if (numbers.size() != 3) return std::nullopt;
+  return numbers;
+}
+
 // The first word that is neither an option nor the value of one of the top-level options: the
 // command the user meant, so that a misspelt one is named ("unknown command `bogus`").
 std::optional<std::string> command_word(const std::vector<std::string>& args) {
@@ -125,12 +140,12 @@ std::variant<CtlPlan, CtlExit> parse_ctl_options(const std::vector<std::string>&
   // D12 runtime changes (docs/dynamic-scenes.md "Runtime changes").
   auto* move = app.add_subcommand("move-object", "put a scene object at a new pose (now or at --at)");
   std::string move_name;
-  std::vector<double> position, rpy;
+  std::string position_text, rpy_text;
   std::optional<double> move_at;
   bool keep_velocity = false;
   move->add_option("name", move_name, "the object's name: in the scene")->required()->type_name("NAME");
-  move->add_option("--position", position, "in metres")->required()->delimiter(',')->expected(3)->type_name("X,Y,Z");
-  move->add_option("--rpy", rpy, "in degrees (default 0,0,0)")->delimiter(',')->expected(3)->type_name("ROLL,PITCH,YAW");
+  move->add_option("--position", position_text, "in metres (required)")->type_name("X,Y,Z");
+  move->add_option("--rpy", rpy_text, "in degrees (default 0,0,0)")->type_name("ROLL,PITCH,YAW");
   move->add_option("--at", move_at, "device time (default: now)")->type_name("SECONDS");
   move->add_flag("--keep-velocity", keep_velocity, "a dynamics body keeps its velocity (default: at rest)");
   auto* add = app.add_subcommand("add-object", "add an object, given as one entry of a scene's objects list");
@@ -219,8 +234,14 @@ std::variant<CtlPlan, CtlExit> parse_ctl_options(const std::vector<std::string>&
   } else if (power->parsed()) {
     plan.request = request("power-cycle", off_s ? json{{"off_s", *off_s}} : json::object());
   } else if (move->parsed()) {
-    json args{{"name", move_name}, {"position_m", position}};
-    if (!rpy.empty()) args["rpy_deg"] = rpy;
+    const auto position = three_numbers(position_text);
+    if (!position) return usage("--position wants X,Y,Z in metres, e.g. 2,0.5,0");
+    json args{{"name", move_name}, {"position_m", *position}};
+    if (!rpy_text.empty()) {
+      const auto rpy = three_numbers(rpy_text);
+      if (!rpy) return usage("--rpy wants ROLL,PITCH,YAW in degrees, e.g. 0,0,90");
+      args["rpy_deg"] = *rpy;
+    }
     if (move_at) args["at_s"] = *move_at;
     if (keep_velocity) args["keep_velocity"] = true;
     plan.request = request("move-object", args);
