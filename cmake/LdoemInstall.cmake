@@ -31,14 +31,15 @@ foreach(program ${ldoem_programs})
   endif()
   install(TARGETS ${program} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime)
   set(generated)
-  # Man pages from each program's --help, at build time, so they never drift from it; the
-  # version is the project's, which each program's --version prints too.
+  # Man pages from each program's --help-all (the full text; --help is one screen of it), at
+  # build time, so they never drift from it; the version is the project's, which each
+  # program's --version prints too.
   if(LDOEM_HELP2MAN)
     # gzip -9n, as Debian keeps man pages (and without a time stamp: the same bytes each build).
     set(page ${PROJECT_BINARY_DIR}/man/${program}.1.gz)
     add_custom_command(OUTPUT ${page}
       COMMAND ${CMAKE_COMMAND} -E make_directory ${PROJECT_BINARY_DIR}/man
-      COMMAND ${LDOEM_HELP2MAN} --no-info --no-discard-stderr --section 1 --source ldoem
+      COMMAND ${LDOEM_HELP2MAN} --no-info --no-discard-stderr --help-option=--help-all --section 1 --source ldoem
               --version-string "${PROJECT_VERSION}" --name "${${program}_summary}"
               --output ${PROJECT_BINARY_DIR}/man/${program}.1 $<TARGET_FILE:${program}>
       COMMAND gzip -9nf ${PROJECT_BINARY_DIR}/man/${program}.1
@@ -46,16 +47,14 @@ foreach(program ${ldoem_programs})
     install(FILES ${page} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1 COMPONENT runtime)
     list(APPEND generated ${page})
   endif()
-  # A bash completion from `--completion bash`, where the program has one (base/command_line.hpp).
-  if(NOT program STREQUAL "ldoem-ctl")
-    set(completion ${PROJECT_BINARY_DIR}/completions/${program})
-    add_custom_command(OUTPUT ${completion}
-      COMMAND ${CMAKE_COMMAND} -E make_directory ${PROJECT_BINARY_DIR}/completions
-      COMMAND sh -c "\"$1\" --completion bash >\"$2\"" sh $<TARGET_FILE:${program}> ${completion}
-      DEPENDS ${program} VERBATIM COMMENT "Bash completion ${program}")
-    install(FILES ${completion} DESTINATION ${CMAKE_INSTALL_DATADIR}/bash-completion/completions COMPONENT runtime)
-    list(APPEND generated ${completion})
-  endif()
+  # A bash completion from `--completion bash` (base/command_line.hpp).
+  set(completion ${PROJECT_BINARY_DIR}/completions/${program})
+  add_custom_command(OUTPUT ${completion}
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${PROJECT_BINARY_DIR}/completions
+    COMMAND sh -c "\"$1\" --completion bash >\"$2\"" sh $<TARGET_FILE:${program}> ${completion}
+    DEPENDS ${program} VERBATIM COMMENT "Bash completion ${program}")
+  install(FILES ${completion} DESTINATION ${CMAKE_INSTALL_DATADIR}/bash-completion/completions COMPONENT runtime)
+  list(APPEND generated ${completion})
   if(generated)
     add_custom_target(${program}_man_and_completion DEPENDS ${generated})
     add_dependencies(ldoem_man_and_completions ${program}_man_and_completion)

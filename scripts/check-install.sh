@@ -36,10 +36,9 @@ for file in usr/share/ldoem/scenes/corridor.yaml etc/ldoem/hub.yaml \
             usr/include/ldoem/driver/scanner.hpp usr/include/ldoem/protocol/messages.hpp; do
   [ -e "$root/$file" ] || { echo "check-install: /$file is not installed" >&2; exit 1; }
 done
-# Every program with its man page; each but ldoem-ctl (no --completion yet) with its completion.
+# Every program with its man page and its bash completion.
 for program in ldoem-emud ldoem-hub ldoem-scan ldoem-conformance ldoem-ctl ldoem-replay; do
   for file in "usr/bin/$program" "usr/share/man/man1/$program.1.gz" "usr/share/bash-completion/completions/$program"; do
-    [ "$file" = usr/share/bash-completion/completions/ldoem-ctl ] && continue
     [ -s "$root/$file" ] || { echo "check-install: /$file is not installed" >&2; exit 1; }
   done
 done

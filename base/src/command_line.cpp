@@ -9,6 +9,7 @@ CommandLine::CommandLine(std::string program, HelpPrecedence precedence)
     : app_("", program), program_(std::move(program)), precedence_(precedence) {
   app_.set_help_flag();  // the tool prints its own usage text instead of CLI11's
   answer_first("-h,--help", help_);
+  answer_first("--help-all", help_all_);
   answer_first("--version", version_);
   app_.add_option("--completion", completion_shell_)->check(CLI::IsMember({"bash"}))->group("");
   app_.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
@@ -78,26 +79,38 @@ std::string version_line(std::string_view program) {
 std::string usage_error_line(std::string_view program, std::string_view reason) {
   std::string line = std::string(program) + ": " + std::string(reason);
   if (reason.find("--help") == std::string_view::npos) {
-    line += " (try " + std::string(program) + " --help)";
+    line += " (try --help)";
   }
   return line + "\n";
 }
 
-std::string CommandLine::completion_script() const {
+std::string CommandLine::completion_script() const { return base::completion_script(app_, program_); }
+
+std::string completion_script(const CLI::App& app, std::string_view program_name) {
+  const std::string program(program_name);
   std::string words;
   std::string value_options;  // after one of these, complete a file name
-  for (const CLI::Option* option : app_.get_options()) {
-    for (const std::string& name : option->get_lnames()) {
-      if (name == "completion") continue;
-      words += (words.empty() ? "--" : " --") + name;
-      if (option->get_type_size() != 0) value_options += (value_options.empty() ? "--" : "|--") + name;
+  const auto add_options = [&](const CLI::App& from) {
+    for (const CLI::Option* option : from.get_options()) {
+      for (const std::string& name : option->get_lnames()) {
+        if (name == "completion" || words.find("--" + name + " ") != std::string::npos) continue;
+        words += "--" + name + " ";
+        if (option->get_type_size() != 0 && option->get_items_expected_max() != 0) value_options += (value_options.empty() ? "--" : "|--") + name;
+      }
     }
+  };
+  add_options(app);
+  for (const CLI::App* command : app.get_subcommands([](const CLI::App*) { return true; })) {
+    words += command->get_name() + " ";
+    add_options(*command);
   }
-  std::string function = "_" + program_;
+  if (!words.empty()) words.pop_back();
+  if (value_options.empty()) value_options = "--completion";
+  std::string function = "_" + program;
   for (char& c : function) {
     if (c == '-') c = '_';
   }
-  return "# bash completion for " + program_ + "; load it with: source <(" + program_ + " --completion bash)\n" +
+  return "# bash completion for " + program + "; load it with: source <(" + program + " --completion bash)\n" +
          function + "() {\n" +
          "  local current=${COMP_WORDS[COMP_CWORD]} previous=${COMP_WORDS[COMP_CWORD-1]}\n" +
          "  case $previous in\n" +
@@ -105,7 +118,132 @@ std::string CommandLine::completion_script() const {
          "    *) COMPREPLY=($(compgen -W \"" + words + "\" -- \"$current\")) ;;\n" +
          "  esac\n" +
          "}\n" +
-         "complete -o filenames -F " + function + " " + program_ + "\n";
+         "complete -o filenames -F " + function + " " + program + "\n";
+}
+
+namespace {
+
+constexpr std::size_t kColumns = 80;
+
+std::size_t indentation(std::string_view line) {
+  const std::size_t first = line.find_first_not_of(' ');
+  return first == std::string_view::npos ? line.size() : first;
+}
+
+// Where a wrapped line goes on: under the description of an option line ("  --x N   text"),
+// else under the usage line's first argument, else four columns in.
+std::size_t continuation_column(std::string_view line) {
+  const std::size_t text = indentation(line);
+  const std::size_t gap = line.find("  ", text);
+  if (gap != std::string_view::npos) {
+    const std::size_t description = line.find_first_not_of(' ', gap);
+    if (description != std::string_view::npos && description <= 40) return description;
+  }
+  const std::string_view words = line.substr(text);
+  if (words.starts_with("usage:") || words.starts_with("Usage:")) {
+    const std::size_t argument = line.find(' ', line.find(' ', text) + 1);
+    if (argument != std::string_view::npos && argument < 40) return argument + 1;
+  }
+  return text + 4;
+}
+
+void append_wrapped(std::string& out, std::string_view line) {
+  const std::string indent(continuation_column(line), ' ');
+  std::string rest(line);
+  while (rest.size() > kColumns) {
+    std::size_t cut = rest.rfind(' ', kColumns);
+    if (cut == std::string::npos || cut <= indentation(rest)) break;  // one word wider than the screen
+    out += rest.substr(0, cut) + "\n";
+    rest = indent + rest.substr(rest.find_first_not_of(' ', cut));
+  }
+  out += rest + "\n";
+}
+
+// The lines of `text`, without their line ends.
+std::vector<std::string_view> lines_of(std::string_view text) {
+  std::vector<std::string_view> lines;
+  while (!text.empty()) {
+    const std::size_t end = text.find('\n');
+    lines.push_back(text.substr(0, end));
+    text = end == std::string_view::npos ? std::string_view{} : text.substr(end + 1);
+  }
+  return lines;
+}
+
+// Whether `line` describes `option`: its first word, or one of its comma-separated spellings
+// ("--verbose, -v", CLI11's "-h,--help"), is the option.
+bool describes(std::string_view line, std::string_view option) {
+  std::string_view words = line.substr(indentation(line));
+  if (words.starts_with(option)) {
+    const std::string_view after = words.substr(option.size());
+    if (after.empty() || after.front() == ' ' || after.front() == ',' || after.front() == '=') return true;
+  }
+  for (std::size_t comma = words.find(','); comma != std::string_view::npos && comma < words.find("  ");
+       comma = words.find(',', comma + 1)) {
+    std::string_view next = words.substr(comma + 1);
+    next.remove_prefix(std::min(next.find_first_not_of(' '), next.size()));
+    if (next.starts_with(option) &&
+        (next.size() == option.size() || next[option.size()] == ' ' || next[option.size()] == ',')) {
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+std::string brief_help(std::string_view program, std::string_view full_text, std::string_view purpose,
+                       std::initializer_list<std::string_view> options) {
+  const std::vector<std::string_view> lines = lines_of(full_text);
+  std::string out;
+  // The usage line: the first one saying "usage:" (CLI11 puts the description before it).
+  std::string_view usage = lines.empty() ? std::string_view{} : lines.front();
+  for (const std::string_view line : lines) {
+    if (line.starts_with("usage:") || line.starts_with("Usage:")) {
+      usage = line;
+      break;
+    }
+  }
+  append_wrapped(out, usage);
+  append_wrapped(out, purpose);
+  out += "\nMost used options:\n";
+  for (const std::string_view option : options) {
+    for (std::size_t i = 1; i < lines.size(); ++i) {
+      const std::string_view line = lines[i];
+      if (indentation(line) == 0 || !describes(line, option)) continue;
+      // The option's description, its continuation lines (indented past the option column)
+      // included, joined into one paragraph and wrapped again at 80 columns: the full text
+      // is wrapped wider.
+      const std::size_t column = continuation_column(line);
+      std::string entry(line.substr(0, std::min(column, line.size())));
+      std::string paragraph(column < line.size() ? line.substr(column) : std::string_view{});
+      for (std::size_t j = i + 1; j < lines.size() && indentation(lines[j]) > indentation(line) + 1 &&
+                                  indentation(lines[j]) < lines[j].size();
+           ++j) {
+        paragraph += " " + std::string(lines[j].substr(indentation(lines[j])));
+      }
+      const std::string indent(column, ' ');
+      std::size_t start = 0;
+      while (start < paragraph.size()) {
+        std::size_t end = paragraph.size();
+        if (entry.size() + end - start > kColumns) {
+          const std::size_t room = kColumns > entry.size() ? kColumns - entry.size() : 0;
+          const std::size_t cut = paragraph.rfind(' ', start + room);
+          end = cut != std::string::npos && cut > start ? cut : paragraph.find(' ', start + room);
+          if (end == std::string::npos) end = paragraph.size();
+        }
+        out += entry + paragraph.substr(start, end - start) + "\n";
+        entry = indent;
+        start = paragraph.find_first_not_of(' ', end);
+        if (start == std::string::npos) start = paragraph.size();
+      }
+      if (paragraph.empty()) out += entry + "\n";
+      break;
+    }
+  }
+  const std::string name(program);
+  out += "\nAll options: " + name + " --help-all; the manual: man " + name + "\n";
+  return out;
 }
 
 CLI::Option* take_text(CLI::App& app, const std::string& name,

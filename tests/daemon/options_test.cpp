@@ -111,6 +111,7 @@ TEST(Options, HelpAndVersion_WinOverEverythingElse) {
   EXPECT_EQ(parse({"--bogus", "--help"}).has_value(), false);  // parsed left to right: the bogus option first
   EXPECT_EQ(parse({"--help"})->kind, CommandKind::help);
   EXPECT_EQ(parse({"-h"})->kind, CommandKind::help);
+  EXPECT_EQ(parse({"--help-all"})->kind, CommandKind::help_all);
   EXPECT_EQ(parse({"--version"})->kind, CommandKind::version);
 }
 

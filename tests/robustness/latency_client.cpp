@@ -13,6 +13,7 @@
 //   best case (scripts/bench-jitter.sh). Prints p50, p99 and max in ms.
 // Output: key=value lines, one per measurement. Exit 0, 1 on a transport failure, 2 on usage.
 #include <memory>
+#include <iostream>
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -25,6 +26,8 @@
 
 #include <poll.h>
 
+#include "ldoem/base/command_line.hpp"
+#include "ldoem/base/numbers.hpp"
 #include "ldoem/endpoints/isotp_channel.hpp"
 #include "ldoem/io/can_socket.hpp"
 #include "ldoem/io/tcp.hpp"
@@ -269,10 +272,29 @@ int measure_cadence(Link& link, double seconds, const std::string& transport) {
   return 0;
 }
 
-int usage() {
-  std::fprintf(stderr, "usage: ldoem-latency (--tcp HOST:PORT | --can IF) [--requests N] [--profiles SECONDS] [--format HEX]"
-                       " [--cadence SECONDS]\n");
+int usage(const std::string& reason) {
+  std::cerr << ldoem::base::usage_error_line("ldoem-latency", reason);
   return 2;
+}
+
+std::string usage_text() {
+  return "usage: ldoem-latency (--tcp HOST:PORT | --can IF) [--requests N] [--profiles SECONDS]\n"
+         "                     [--format HEX] [--cadence SECONDS]\n"
+         "How fast ldoem-emud answers and streams, as a host sees it (scripts/bench-latency.sh).\n"
+         "\n"
+         "Options:\n"
+         "  --tcp HOST:PORT       the daemon's TCP endpoint\n"
+         "  --can IF              its CAN interface (ids 6C0:6C1)\n"
+         "  --requests N          N GET_STATUS round trips; prints the median and p99 in us\n"
+         "  --profiles SECONDS    profile telegrams that arrive in SECONDS wall seconds\n"
+         "  --format HEX          GET_PROFILE's format mask [39ff]\n"
+         "  --cadence SECONDS     each profile's lag behind its TSTART; p50, p99, max in ms\n"
+         "  --help, -h            the most used options\n"
+         "  --help-all            this text\n"
+         "  --version             print the name and version\n"
+         "  --completion bash     print a bash completion\n"
+         "\n"
+         "Output: key=value lines, one per measurement. Exit 0, 1 on a transport failure, 2 on usage.\n";
 }
 
 }  // namespace
@@ -282,22 +304,40 @@ int main(int argc, char** argv) {
   int requests = 0;
   double profile_seconds = 0;
   double cadence_seconds = 0;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string_view option = argv[i];
-    const std::string value = argv[i + 1];
-    if (option == "--tcp") tcp = value;
-    else if (option == "--can") can = value;
-    else if (option == "--requests") requests = std::atoi(value.c_str());
-    else if (option == "--profiles") profile_seconds = std::atof(value.c_str());
-    else if (option == "--format") format = value;
-    else if (option == "--cadence") cadence_seconds = std::atof(value.c_str());
-    else return usage();
+  ldoem::base::CommandLine command_line("ldoem-latency");
+  CLI::App& app = command_line.app();
+  app.add_option("--tcp", tcp);
+  app.add_option("--can", can);
+  app.add_option("--format", format);
+  ldoem::base::take_text(app, "--requests", [&requests](const std::string& value) -> std::optional<std::string> {
+    const auto count = ldoem::base::parse_integer<int>(value);
+    if (!count || *count < 0) return "`" + value + "` is not a count";
+    requests = *count;
+    return std::nullopt;
+  });
+  for (auto [name, slot] : {std::pair{"--profiles", &profile_seconds}, {"--cadence", &cadence_seconds}}) {
+    ldoem::base::take_text(app, name, [slot = slot](const std::string& value) -> std::optional<std::string> {
+      const auto seconds = ldoem::base::parse_double(value);
+      if (!seconds || *seconds < 0) return "`" + value + "` is not a number of seconds";
+      *slot = *seconds;
+      return std::nullopt;
+    });
   }
-  if (argc % 2 == 0 || tcp.empty() == can.empty()) return usage();
+  const std::vector<std::string_view> args(argv + 1, argv + argc);
+  if (auto problem = command_line.parse(args)) return usage(*problem);
+  if (command_line.help_all_requested()) return std::cout << usage_text(), 0;
+  if (command_line.help_requested()) {
+    std::cout << ldoem::base::brief_help("ldoem-latency", usage_text(), "Measure ldoem-emud's reply latency and profile rate.",
+                                         {"--tcp", "--can", "--requests", "--profiles", "--cadence", "--help", "--version"});
+    return 0;
+  }
+  if (command_line.version_requested()) return std::cout << ldoem::base::version_line("ldoem-latency"), 0;
+  if (command_line.completion_requested()) return std::cout << command_line.completion_script(), 0;
+  if (tcp.empty() == can.empty()) return usage("give one of --tcp HOST:PORT and --can IF");
   std::unique_ptr<Link> link;
   if (!tcp.empty()) {
     const auto colon = tcp.rfind(':');
-    if (colon == std::string::npos) return usage();
+    if (colon == std::string::npos) return usage("--tcp: `" + tcp + "` is not HOST:PORT");
     auto connection = ldoem::io::TcpConnection::connect(tcp.substr(0, colon),
                                                         static_cast<std::uint16_t>(std::atoi(tcp.c_str() + colon + 1)));
     if (!connection) {

@@ -1,7 +1,8 @@
 #!/bin/sh
 # The command-line contract of one tool, checked from outside as a user meets it:
-# --help and -h print the recorded usage text (golden/TOOL.help, taken from the tool before its
-# options moved to CLI11) and exit 0; each bad command line of this tool's table exits 2 with
+# --help-all prints the recorded full usage text (golden/TOOL.help, first taken from the tool
+# before its options moved to CLI11; what help2man reads) and exit 0, -h the same brief screen
+# as --help (its size is help_fits.sh's); each bad command line of this tool's table exits 2 with
 # one line "TOOL: ..." on stderr; `--completion bash` prints a bash completion; ldoem-hub ends
 # with 128+15 on SIGTERM. Every run is bounded by timeout(1).
 # Usage: cli_contract.sh TOOL_PATH GOLDEN_DIR [SOURCE_DIR]
@@ -33,13 +34,17 @@ expect_exit() {
   fi
 }
 
-for help in --help -h; do
-  expect_exit 0 "$help"
-  if ! cmp -s "$work/out" "$golden_dir/$name.help"; then
-    fail "$help differs from $golden_dir/$name.help:"
-    diff "$golden_dir/$name.help" "$work/out" | head -n 20
-  fi
-done
+expect_exit 0 --help-all
+if ! cmp -s "$work/out" "$golden_dir/$name.help"; then
+  fail "--help-all differs from $golden_dir/$name.help:"
+  diff "$golden_dir/$name.help" "$work/out" | head -n 20
+fi
+grep -q -- "--completion" "$work/out" || fail "--help-all does not name --completion"
+expect_exit 0 --help
+mv "$work/out" "$work/brief"
+expect_exit 0 -h
+cmp -s "$work/out" "$work/brief" || fail "-h and --help differ"
+grep -q -- "--help-all" "$work/brief" || fail "--help does not point to --help-all"
 
 expect_exit 0 --completion bash
 grep -q "^complete -o filenames -F _" "$work/out" || fail "--completion bash printed no completion"

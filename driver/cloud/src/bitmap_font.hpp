@@ -1,5 +1,5 @@
 // A 5x7 bitmap font of the project's own drawing, for the labels of the render (internal): the
-// digits, A-Z (lower case is drawn as upper case) and the punctuation the labels use; any other
+// digits, A-Z, a-z and the punctuation the labels use; any other
 // character is drawn as '?'. No font file is read, so the pictures need nothing installed.
 #pragma once
 

@@ -169,9 +169,11 @@ ColourScale make_scale(bool by_intensity, std::vector<double>& values) {
 double tick_step(double extent) { return extent < 2.0 ? 0.5 : (extent < 6.0 ? 1.0 : (extent < 15.0 ? 2.0 : 5.0)); }
 
 void draw_axes(image::RgbImage& picture, const Camera& camera, const Vec3& low, const Vec3& high) {
-  // Three edges of the cloud's box (its central 98 %), as in a 3D plot: x along the floor on the
-  // left (+y) side, y across the floor at the near end, z up the near left corner; each ticked
-  // and labelled in metres of the scanner frame.
+  // Three edges of the cloud's box (its central 98 %) meeting at its far left floor corner, as
+  // in a 3D plot: x along the floor's left (+y) edge, y across the floor at the far end, z up
+  // the far left corner; each ticked and labelled in metres of the scanner frame. The far end
+  // is in view and beside the data; the near end of the box, under and behind the camera's
+  // look, mostly is not.
   struct Axis {
     Vec3 start;
     Vec3 direction;
@@ -181,31 +183,48 @@ void draw_axes(image::RgbImage& picture, const Camera& camera, const Vec3& low, 
   };
   const std::array<Axis, 3> axes{{
       {{0, high.y, low.z}, {1, 0, 0}, low.x, high.x, "x", {235, 95, 85}},
-      {{low.x, 0, low.z}, {0, 1, 0}, low.y, high.y, "y", {110, 215, 110}},
-      {{low.x, high.y, 0}, {0, 0, 1}, low.z, high.z, "z", {110, 160, 250}},
+      {{high.x, 0, low.z}, {0, 1, 0}, low.y, high.y, "y", {110, 215, 110}},
+      {{high.x, high.y, 0}, {0, 0, 1}, low.z, high.z, "z", {110, 160, 250}},
   }};
+  const auto in_view = [&picture](const auto& point) {
+    return point && point->u >= 0 && point->v >= 0 && point->u < picture.width && point->v < picture.height;
+  };
   for (const Axis& axis : axes) {
     const auto a = camera.project(axis.start + axis.direction * axis.from);
     const auto b = camera.project(axis.start + axis.direction * axis.to);
     if (!a || !b) continue;
     detail::draw_line(picture, a->u, a->v, b->u, b->v, axis.colour);
     const double step = tick_step(axis.to - axis.from);
+    std::optional<std::pair<int, int>> last_tick;  // the last one in view: x's name goes there
     for (double value = std::ceil(axis.from / step) * step; value <= axis.to + 1e-9; value += step) {
       const auto tick = camera.project(axis.start + axis.direction * value);
-      if (!tick) continue;
+      if (!in_view(tick)) continue;
       const int u = static_cast<int>(tick->u);
       const int v = static_cast<int>(tick->v);
+      if (!last_tick) last_tick = std::pair{u, v};
       detail::fill_rect(picture, u - 2, v - 2, u + 3, v + 3, axis.colour);
       const std::string label = number_text(value, 1);
-      // x and y labels below their tick, z labels to the left of it.
-      if (axis.name[0] == 'z') {
-        detail::draw_text(picture, u - 8 - detail::text_width(label, kScale), v - 7, label, axis.colour, kScale);
-      } else {
+      // z and x labels to the left of their tick (outside the box), y labels below it.
+      if (axis.name[0] == 'y') {
         detail::draw_text(picture, u - detail::text_width(label, kScale) / 2, v + 8, label, axis.colour, kScale);
+      } else {
+        detail::draw_text(picture, u - 16 - detail::text_width(label, kScale), v - 7, label, axis.colour, kScale);
       }
     }
     const std::string name = std::string(axis.name) + " (m)";
-    detail::draw_text(picture, static_cast<int>(b->u) + 10, static_cast<int>(b->v) - 20, name, axis.colour, kScale);
+    if (axis.name[0] == 'x') {
+      // Its far end is where y and z begin: the name goes at the nearest tick in view instead.
+      if (last_tick) {
+        detail::draw_text(picture, last_tick->first - 8 - detail::text_width(name, kScale), last_tick->second - 30, name,
+                          axis.colour, kScale);
+      }
+    } else if (axis.name[0] == 'z') {
+      // Left of its top end: the wall's top edge is right of it.
+      detail::draw_text(picture, static_cast<int>(b->u) - 16 - detail::text_width(name, kScale), static_cast<int>(b->v) - 7,
+                        name, axis.colour, kScale);
+    } else {
+      detail::draw_text(picture, static_cast<int>(b->u) + 10, static_cast<int>(b->v) - 20, name, axis.colour, kScale);
+    }
   }
 }
 

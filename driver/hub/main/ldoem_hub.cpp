@@ -43,8 +43,12 @@ int main(int argc, char** argv) {
     std::cout << ldoem::base::version_line("ldoem-hub");
     return kExitOk;
   }
-  if (command_line->help) {
+  if (command_line->help_all) {
     std::cout << hub_usage("ldoem-hub");
+    return 0;
+  }
+  if (command_line->help) {
+    std::cout << hub_brief_usage("ldoem-hub");
     return kExitOk;
   }
   if (command_line->completion_script) {

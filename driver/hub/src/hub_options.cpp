@@ -62,12 +62,13 @@ base::Expected<HubCommandLine, std::string> parse_hub_command_line(const std::ve
     return Unexpected(*problem);
   }
   line.help = command_line.help_requested();
+  line.help_all = command_line.help_all_requested();
   line.version = command_line.version_requested();
   if (line.version) return line;
   if (command_line.completion_requested()) {
     line.completion_script = command_line.completion_script();
   }
-  if (!line.help && !line.completion_script && line.config_path.empty()) {
+  if (!line.help && !line.help_all && !line.completion_script && line.config_path.empty()) {
     return Unexpected(std::string("--config FILE is required"));
   }
   return line;
@@ -93,7 +94,10 @@ Options:
   --max-in-flight N    requests one client may have queued or running (default 16; more
                        answer ERR busy), so no client fills a device's queue
   --queue N            requests queued per device (default 256; more answer ERR busy)
-  --help               this text
+  --help               the most used options
+  --help-all           this text
+  --version            print the name and version
+  --completion bash    print a bash completion (source <(ldoem-hub --completion bash))
 
 Exit codes: 0 stopped normally, 1 runtime failure (cannot listen), 2 usage or configuration
 error, 128+N after signal N (SIGINT, SIGTERM).
@@ -104,6 +108,11 @@ Examples:
   printf '1 left INITIALIZE\n2 left STATUS\n' | nc -q1 127.0.0.1 49200
 )";
   return text;
+}
+
+std::string hub_brief_usage(std::string_view program) {
+  return base::brief_help(program, hub_usage(program), "Serve LD-OEM scanners to many clients over one line protocol (docs/hub.md).",
+                          {"--config", "--listen", "--max-age-ms", "--max-clients", "--help", "--version"});
 }
 
 }  // namespace ldoem::hub

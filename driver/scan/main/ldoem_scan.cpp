@@ -127,8 +127,12 @@ int main(int argc, char** argv) {
     std::cout << base::version_line("ldoem-scan");
     return scan::kExitOk;
   }
-  if (options->help) {
+  if (options->help_all) {
     std::cout << scan::scan_usage("ldoem-scan");
+    return scan::kExitOk;
+  }
+  if (options->help) {
+    std::cout << scan::scan_brief_usage("ldoem-scan");
     return scan::kExitOk;
   }
   if (options->completion_script) {

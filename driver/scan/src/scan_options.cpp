@@ -274,12 +274,13 @@ OptionsResult parse_scan_options(const std::vector<std::string_view>& args) {
     return usage_error(*problem);
   }
   options.help = command_line.help_requested();
+  options.help_all = command_line.help_all_requested();
   options.version = command_line.version_requested();
   if (options.version) return options;
   if (command_line.completion_requested()) {
     options.completion_script = command_line.completion_script();
   }
-  if (options.help || options.completion_script) {
+  if (options.help || options.help_all || options.completion_script) {
     return options;
   }
   if (auto problem = check_combination(options)) {
@@ -366,7 +367,10 @@ Output:
   --reconnect-interval SECONDS the first pause between two attempts (default 0.5, 0.001..60)
   --reconnect-backoff F        each next pause F times the last, at most 30 s or the interval
                                (default 1: evenly spaced; 1..10)
-  --help                       this text
+  --help                       the most used options
+  --help-all                   this text
+  --version                    print the name and version
+  --completion bash            print a bash completion
 
 The cloud is written to a temporary file beside FILE and renamed only when complete: a failed
 scan leaves no partial cloud under FILE.
@@ -383,6 +387,13 @@ Examples:
              --out scan.ply
 )";
   return text;
+}
+
+std::string scan_brief_usage(std::string_view program) {
+  return base::brief_help(program, scan_usage(program), "Take a 3D scan with an LD-OEM and its tilt stepper; write a .ply or .pcd cloud.",
+                          {"--device", "--lpt", "--hub", "--hub-device", "--out", "--horizontal-apex", "--vertical-apex",
+                           "--vertical-resolution", "--speed", "--format", "--preview", "--render", "--fit", "--timeout",
+                           "--help", "--version"});
 }
 
 }  // namespace ldoem::scan

@@ -2,6 +2,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include "ldoem/base/command_line.hpp"
+#include "ldoem/base/numbers.hpp"
+
 #include <utility>
 
 namespace ldoem::ctl {
@@ -21,6 +24,21 @@ std::optional<json> service_count(const std::string& text, const char* count_key
   } catch (const std::exception&) {
     return std::nullopt;
   }
+}
+
+// "2,0.5,0" -> three numbers. Read here rather than by CLI11, whose help would show the value as
+// "X,Y,Z x 3".
+std::optional<std::vector<double>> three_numbers(const std::string& text) {
+  std::vector<double> numbers;
+  std::size_t start = 0;
+  for (std::size_t comma = 0; comma != std::string::npos; start = comma + 1) {
+    comma = text.find(',', start);
+    const auto number = base::parse_double(std::string_view(text).substr(start, comma == std::string::npos ? comma : comma - start));
+    if (!number) return std::nullopt;
+    numbers.push_back(*number);
+  }
+  if (numbers.size() != 3) return std::nullopt;
+  return numbers;
 }
 
 // The first word that is neither an option nor the value of one of the top-level options: the
@@ -48,14 +66,26 @@ std::variant<CtlPlan, CtlExit> parse_ctl_options(const std::vector<std::string>&
              "  ldoem-ctl --control /tmp/ldoem.ctl events --count 5 --timeout 10\n"
              "  ldoem-ctl --control /tmp/ldoem.ctl move-object door --position 2,0.5,0 --rpy 0,0,90 --at 3\n"
              "Fault kinds and their bytes: docs/faults.md");
-  app.require_subcommand(1);
-  app.set_version_flag("--version", std::string("ldoem-ctl ") + LDOEM_VERSION);
+  // The command and --control are checked after parsing, so that --help-all, --version and
+  // --completion need neither, and a missing one is named in the tools' words.
+  app.require_subcommand(0, 1);
+  app.set_help_flag("-h,--help", "the most used options and the commands");
+  app.set_help_all_flag("--help-all", "this text, every command's options too");
+  app.set_version_flag("--version", std::string("ldoem-ctl ") + LDOEM_VERSION, "print the name and version");
+  std::string completion_shell;
+  app.add_option("--completion", completion_shell, "print a bash completion")->check(CLI::IsMember({"bash"}).description(""))
+      ->type_name("bash");
   CtlPlan plan;
   double timeout_s = 5.0;
-  app.add_option("--control", plan.control_path, "the daemon's control socket")->required()->type_name("PATH");
+  app.add_option("--control", plan.control_path, "the daemon's control socket (required)")->type_name("PATH");
   app.add_flag("--json", plan.json_output, "print the raw JSON lines");
-  app.add_option("--timeout", timeout_s, "seconds to wait for the reply, 0..86400 (events: to follow; 0 = forever)")
-      ->default_val(5.0)->check(CLI::Range(0.0, 86400.0).description(""))->type_name("SECONDS");
+  base::take_text(app, "--timeout", [&timeout_s](const std::string& value) -> std::optional<std::string> {
+       const auto seconds = base::parse_double(value);
+       if (!seconds || *seconds < 0.0 || *seconds > 86400.0) return "`" + value + "` is not a number of seconds in 0..86400";
+       timeout_s = *seconds;
+       return std::nullopt;
+     })
+      ->description("seconds to wait for the reply, 0..86400 (events: to follow; 0 = forever) [5]")->type_name("SECONDS");
   std::string scanner;
   app.add_option("--scanner", scanner, "the scanner a fault command acts on, by its scene name (several scanners "
                                        "in one daemon; default: the first)")->type_name("NAME");
@@ -110,12 +140,12 @@ std::variant<CtlPlan, CtlExit> parse_ctl_options(const std::vector<std::string>&
   // D12 runtime changes (docs/dynamic-scenes.md "Runtime changes").
   auto* move = app.add_subcommand("move-object", "put a scene object at a new pose (now or at --at)");
   std::string move_name;
-  std::vector<double> position, rpy;
+  std::string position_text, rpy_text;
   std::optional<double> move_at;
   bool keep_velocity = false;
   move->add_option("name", move_name, "the object's name: in the scene")->required()->type_name("NAME");
-  move->add_option("--position", position, "in metres")->required()->delimiter(',')->expected(3)->type_name("X,Y,Z");
-  move->add_option("--rpy", rpy, "in degrees (default 0,0,0)")->delimiter(',')->expected(3)->type_name("ROLL,PITCH,YAW");
+  move->add_option("--position", position_text, "in metres (required)")->type_name("X,Y,Z");
+  move->add_option("--rpy", rpy_text, "in degrees (default 0,0,0)")->type_name("ROLL,PITCH,YAW");
   move->add_option("--at", move_at, "device time (default: now)")->type_name("SECONDS");
   move->add_flag("--keep-velocity", keep_velocity, "a dynamics body keeps its velocity (default: at rest)");
   auto* add = app.add_subcommand("add-object", "add an object, given as one entry of a scene's objects list");
@@ -137,7 +167,12 @@ std::variant<CtlPlan, CtlExit> parse_ctl_options(const std::vector<std::string>&
   try {
     app.parse(reversed);
   } catch (const CLI::CallForHelp&) {
-    return CtlExit{kExitOk, app.help()};
+    // A command's own help ("inject-fault --help") is short: all of it.
+    if (!app.get_subcommands().empty()) return CtlExit{kExitOk, app.help()};
+    return CtlExit{kExitOk, base::brief_help("ldoem-ctl", app.help(), "Talk to ldoem-emud's control socket: inject faults, query, move objects.",
+                                             {"--control", "--scanner", "--timeout", "--json", "inject-fault", "clear-fault",
+                                              "query-faults", "query-status", "power-cycle", "events", "move-object",
+                                              "add-object", "remove-object", "send", "quit", "--help", "--version"})};
   } catch (const CLI::CallForAllHelp&) {
     return CtlExit{kExitOk, app.help("", CLI::AppFormatMode::All)};
   } catch (const CLI::CallForVersion&) {
@@ -151,17 +186,30 @@ std::variant<CtlPlan, CtlExit> parse_ctl_options(const std::vector<std::string>&
       is_command = is_command || (word && command->get_name() == *word);
     }
     if (word && !is_command) {
-      return CtlExit{kExitUsage, "ldoem-ctl: unknown command `" + *word + "`; the commands: " + known};
+      return CtlExit{kExitUsage, "ldoem-ctl: unknown command '" + *word + "' (commands: " + known + ")"};
     }
-    return CtlExit{kExitUsage, std::string("ldoem-ctl: ") + error.what() + " (--help for usage)"};
+    const std::vector<std::string> extras = app.remaining();
+    if (!extras.empty() && extras.front().starts_with("-")) {
+      return CtlExit{kExitUsage, base::usage_error_line("ldoem-ctl", "unknown option `" + extras.front() + "`")};
+    }
+    return CtlExit{kExitUsage, base::usage_error_line("ldoem-ctl", error.what())};
   }
+  if (!completion_shell.empty()) return CtlExit{kExitOk, base::completion_script(app, "ldoem-ctl")};
+  if (app.get_subcommands().empty()) {
+    std::string known;
+    for (const CLI::App* command : std::as_const(app).get_subcommands([](const CLI::App*) { return true; })) {
+      known += (known.empty() ? "" : ", ") + command->get_name();
+    }
+    return CtlExit{kExitUsage, "ldoem-ctl: no command given (commands: " + known + ")"};
+  }
+  if (plan.control_path.empty()) return CtlExit{kExitUsage, base::usage_error_line("ldoem-ctl", "--control PATH is required")};
   plan.timeout = std::chrono::milliseconds(static_cast<long long>(timeout_s * 1000.0));
   auto request = [](const std::string& command, json args) {
     json line{{"execute", command}};
     if (!args.empty()) line["arguments"] = std::move(args);
     return line;
   };
-  auto usage = [](const std::string& text) { return CtlExit{kExitUsage, "ldoem-ctl: " + text + " (--help for usage)"}; };
+  auto usage = [](const std::string& text) { return CtlExit{kExitUsage, base::usage_error_line("ldoem-ctl", text)}; };
 
   if (inject->parsed()) {
     arguments["kind"] = kind;
@@ -186,8 +234,14 @@ std::variant<CtlPlan, CtlExit> parse_ctl_options(const std::vector<std::string>&
   } else if (power->parsed()) {
     plan.request = request("power-cycle", off_s ? json{{"off_s", *off_s}} : json::object());
   } else if (move->parsed()) {
-    json args{{"name", move_name}, {"position_m", position}};
-    if (!rpy.empty()) args["rpy_deg"] = rpy;
+    const auto position = three_numbers(position_text);
+    if (!position) return usage("--position wants X,Y,Z in metres, e.g. 2,0.5,0");
+    json args{{"name", move_name}, {"position_m", *position}};
+    if (!rpy_text.empty()) {
+      const auto rpy = three_numbers(rpy_text);
+      if (!rpy) return usage("--rpy wants ROLL,PITCH,YAW in degrees, e.g. 0,0,90");
+      args["rpy_deg"] = *rpy;
+    }
     if (move_at) args["at_s"] = *move_at;
     if (keep_velocity) args["keep_velocity"] = true;
     plan.request = request("move-object", args);

@@ -29,8 +29,12 @@ int run_emud(int argc, char** argv) {
     std::cerr << ldoem::base::usage_error_line("ldoem-emud", command.error().message);
     return kExitUsageError;
   }
-  if (command->kind == CommandKind::help) {
+  if (command->kind == CommandKind::help_all) {
     std::cout << usage_text("ldoem-emud");
+    return 0;
+  }
+  if (command->kind == CommandKind::help) {
+    std::cout << brief_usage_text("ldoem-emud");
     return kExitOk;
   }
   if (command->kind == CommandKind::version) {

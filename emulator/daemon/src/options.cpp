@@ -380,6 +380,9 @@ Expected<Command, UsageError> parse_command_line(std::span<const std::string_vie
   if (command_line.help_requested()) {
     return Command{CommandKind::help, {}, {}};
   }
+  if (command_line.help_all_requested()) {
+    return Command{CommandKind::help_all, {}, {}};
+  }
   if (command_line.version_requested()) {
     return Command{CommandKind::version, {}, {}};
   }
@@ -441,8 +444,10 @@ std::string usage_text(std::string_view program_name) {
          "  --control PATH        control socket (JSON lines, QMP-shaped, mode 0600) for\n"
          "                        faults and status; docs/faults.md, ldoem-ctl [off]\n"
          "  --event-log FILE      write the fault and state events, one JSON line each [off]\n"
-         "  --help, -h            this text\n"
-         "  --version             print the version\n"
+         "  --help, -h            the most used options\n"
+         "  --help-all            this text\n"
+         "  --version             print the name and version\n"
+         "  --completion bash     print a bash completion\n"
          "\n"
          "On start the daemon prints one line per endpoint on stdout (\"tcp 127.0.0.1:49152\",\n"
          "\"serial /dev/pts/4\", \"lpt /dev/pts/5\", \"can vcan0 6C0:6C1\"), then \"ready\".\n"
@@ -465,6 +470,13 @@ std::string usage_text(std::string_view program_name) {
          "  " + p + " --scene scenes/minimal.yaml --no-can --serial pty:/tmp/ldoem-serial --no-flash\n"
          "  " + p + " --scene scenes/minimal.yaml --can vcan0 --can-ids 6C0:6C1 --can-ids 6C2:6C3\n"
          "  " + p + " --scene scenes/faults/motor-stall-mid-stream.yaml --no-can --tcp 127.0.0.1:49152 --control /tmp/ldoem.ctl\n";
+}
+
+std::string brief_usage_text(std::string_view program_name) {
+  return base::brief_help(program_name, usage_text(program_name),
+                          "Emulate a SICK LD-OEM laser scanner at the byte level (CAN, TCP, serial, LPT).",
+                          {"--scene", "--can", "--no-can", "--tcp", "--serial", "--lpt", "--flash", "--no-flash",
+                           "--time-scale", "--log-level", "--record", "--control", "--help", "--version"});
 }
 
 }  // namespace ldoem::daemon

@@ -20,8 +20,12 @@ int main(int argc, char** argv) {
     std::cout << *options->completion_script;
     return 0;
   }
-  if (options->help) {
+  if (options->help_all) {
     std::cout << replay::replay_usage_text();
+    return 0;
+  }
+  if (options->help) {
+    std::cout << replay::replay_brief_usage_text();
     return 0;
   }
   if (options->version) {

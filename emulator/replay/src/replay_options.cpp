@@ -113,8 +113,9 @@ base::Expected<ReplayOptions, ReplayUsageError> parse_replay_options(std::span<c
     return options;
   }
   options.help = command_line.help_requested();
+  options.help_all = command_line.help_all_requested();
   options.version = command_line.version_requested();
-  if (options.help || options.version) return options;
+  if (options.help || options.help_all || options.version) return options;
   if (captures.size() > 1) return usage("more than one CAPTURE given: `" + captures[1] + "`");
   if (captures.empty()) return usage("no CAPTURE given (try --help)");
   options.capture = captures.front();
@@ -142,7 +143,10 @@ std::string replay_usage_text() {
          "  --port N              the device's TCP port in CAPTURE [the port of the STX \"USP\" frames]\n"
          "  --timeout S           stop (exit 0) after S wall seconds, at most 1e9 [none]\n"
          "  --log-level L         error|warn|info|debug; info logs every request and answer [warn]\n"
-         "  --help, -h            this text\n"
+         "  --help, -h            the most used options\n"
+         "  --help-all            this text\n"
+         "  --version             print the name and version\n"
+         "  --completion bash     print a bash completion\n"
          "\n"
          "An unexpected request (not in the recording) is logged with a diagnostic on stderr and\n"
          "answered SERVICE_FAILURE (D2): the reason decode_request gives, or 3 for a valid request.\n"
@@ -153,6 +157,12 @@ std::string replay_usage_text() {
          "Examples:\n"
          "  ldoem-replay scan.pcapng --tcp 127.0.0.1:49152 --lpt pty:/tmp/ldoem-lpt\n"
          "  ldoem-replay candump-2026-11-25.log --can vcan0 --speed 2\n";
+}
+
+std::string replay_brief_usage_text() {
+  return base::brief_help("ldoem-replay", replay_usage_text(), "Serve a recorded LD-OEM conversation as a device (docs/replay.md).",
+                          {"--tcp", "--serial", "--can", "--lpt", "--speed", "--transport", "--timeout", "--log-level",
+                           "--help", "--version"});
 }
 
 }  // namespace ldoem::replay

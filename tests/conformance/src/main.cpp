@@ -23,8 +23,12 @@ int main(int argc, char** argv) {
     std::cout << ldoem::base::version_line("ldoem-conformance");
     return kExitAllPassed;
   }
-  if (options->help) {
+  if (options->help_all) {
     std::cout << usage_text("ldoem-conformance");
+    return 0;
+  }
+  if (options->help) {
+    std::cout << brief_usage_text("ldoem-conformance");
     return kExitAllPassed;
   }
   if (options->completion_script) {

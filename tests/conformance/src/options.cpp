@@ -114,7 +114,7 @@ struct Parser {
       if (std::holds_alternative<driver::LptEndpoint>(*endpoint)) return usage("an lpt: endpoint carries no telegrams");
       options.endpoint = *endpoint;
     }
-    if (!options.endpoint && !options.list && !options.help) {
+    if (!options.endpoint && !options.list && !options.help && !options.help_all) {
       return usage("no endpoint: give --can IF, --tcp HOST:PORT or --serial TTY (try --help)");
     }
     return std::monostate{};
@@ -155,6 +155,7 @@ Expected<Options, UsageError> parse_options(std::span<const std::string_view> ar
   }
   if (auto problem = command_line.parse(arguments)) return usage(*problem);
   parser.options.help = command_line.help_requested();
+  parser.options.help_all = command_line.help_all_requested();
   parser.options.version = command_line.version_requested();
   if (parser.options.version) return parser.options;
   if (command_line.completion_requested()) parser.options.completion_script = command_line.completion_script();
@@ -223,7 +224,10 @@ std::string usage_text(std::string_view program_name) {
          "                        repeatable\n"
          "  --mask-times          = --mask '*clock_ms' --mask 'profile.sector*.tstart' --mask 'profile.sector*.tend'\n"
          "  --mask-counters       = --mask profile.sent --mask profile.count\n"
-         "  --help, -h            this text\n"
+         "  --help, -h            the most used options\n"
+         "  --help-all            this text\n"
+         "  --version             print the name and version\n"
+         "  --completion bash     print a bash completion\n"
          "\n"
          "Output: one line per case, `PASS NAME` or `FAIL NAME: why` followed by an indented hex\n"
          "diff (expected / received / carets under differing bytes, `..` = not asserted), or\n"
@@ -244,6 +248,13 @@ std::string usage_text(std::string_view program_name) {
          "  " + p + " --tcp 192.168.1.10 --target device --timeout 10\n"
          "  " + p + " --tcp 192.168.1.10 --target device --record real-ld.pcapng\n"
          "  " + p + " --tcp 127.0.0.1:49152 --against real-ld.pcapng --mask-times --mask-counters\n";
+}
+
+std::string brief_usage_text(std::string_view program_name) {
+  return base::brief_help(program_name, usage_text(program_name),
+                          "Check a device against the LD-OEM host protocol (docs/conformance.md).",
+                          {"--can", "--ids", "--tcp", "--serial", "--target", "--time-scale", "--timeout", "--filter",
+                           "--exclude", "--list", "--record", "--against", "--help", "--version"});
 }
 
 }  // namespace ldoem::conformance

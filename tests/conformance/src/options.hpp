@@ -35,6 +35,7 @@ struct Options {
   std::vector<std::string> excludes;  // globs over case names left out after the filters
   bool list = false;
   bool help = false;
+  bool help_all = false;  // --help-all: the full usage text; --help prints the brief one
   bool version = false;  // --version: print base::version_line and exit 0
   bool verbose = false;               // print every telegram sent and received on stderr
   std::optional<std::string> vectors_file;  // instead of the compiled-in copy
@@ -60,6 +61,8 @@ struct UsageError {
 [[nodiscard]] base::Expected<Options, UsageError> parse_options(std::span<const std::string_view> arguments);
 
 std::string usage_text(std::string_view program_name);
+// What --help prints: a screen of usage_text (base::brief_help).
+std::string brief_usage_text(std::string_view program_name);
 
 // "tcp", "can" or "serial": the first part of every case name.
 std::string transport_prefix(const driver::Endpoint& endpoint);

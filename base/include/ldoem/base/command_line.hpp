@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include <functional>
+#include <initializer_list>
 #include <optional>
 #include <span>
 #include <string>
@@ -36,8 +37,12 @@ class CommandLine {
   // the one-line reason, e.g. "--speed: `3` is not a motor speed of 5..20 Hz (spec 6)".
   [[nodiscard]] std::optional<std::string> parse(std::span<const std::string_view> args);
 
-  // -h or --help was given: the tool prints its usage and exits 0, whatever else was given.
+  // -h or --help was given: the tool prints its brief usage (brief_help) and exits 0, whatever
+  // else was given.
   bool help_requested() const { return help_; }
+
+  // --help-all was given: the tool prints its full usage text (what help2man reads) and exits 0.
+  bool help_all_requested() const { return help_all_; }
 
   // --version was given (every tool has it): the tool prints version_line(program) and exits 0.
   bool version_requested() const { return version_; }
@@ -55,16 +60,30 @@ class CommandLine {
   std::string program_;
   HelpPrecedence precedence_;
   bool help_ = false;
+  bool help_all_ = false;
   bool version_ = false;
   std::vector<std::pair<std::vector<std::string>, bool*>> first_answers_;
   std::string completion_shell_;
 };
 
+// What --help prints: a screen (at most 40 lines of at most 80 columns) taken from the tool's
+// full text, so both say the same: its usage line, `purpose`, the lines of the named `options`
+// (each with its continuation lines, in the order given), and a last line pointing to
+// --help-all and the man page. Lines wider than 80 columns are wrapped. An option the full text
+// does not describe is left out.
+std::string brief_help(std::string_view program, std::string_view full_text, std::string_view purpose,
+                       std::initializer_list<std::string_view> options);
+
+// A bash completion for `program` from a CLI11 app: its long option names and its subcommands,
+// and file names after an option that takes a value. CommandLine::completion_script uses it;
+// ldoem-ctl, whose subcommands CommandLine does not model, calls it directly.
+std::string completion_script(const CLI::App& app, std::string_view program);
+
 // "ldoem-scan 0.9.0\n": what --version prints, the project's version (CMake's PROJECT_VERSION).
 std::string version_line(std::string_view program);
 
 // What every tool prints for a bad command line, one line for stderr (exit code 2):
-// "ldoem-scan: --speed: `3` is not ... (try ldoem-scan --help)\n". The hint is left out where the
+// "ldoem-scan: --speed: `3` is not ... (try --help)\n". The hint is left out where the
 // reason gives one already.
 std::string usage_error_line(std::string_view program, std::string_view reason);
 

@@ -21,6 +21,7 @@ inline constexpr int kExitSignalBase = 128;
 
 struct HubCommandLine {
   bool help = false;
+  bool help_all = false;  // --help-all: the full usage text; --help prints the brief one
   bool version = false;  // --version: print base::version_line and exit 0
   std::string config_path;
   std::optional<ListenAddress> listen;               // overrides the file's `listen`
@@ -38,5 +39,7 @@ struct HubCommandLine {
 base::Expected<HubCommandLine, std::string> parse_hub_command_line(const std::vector<std::string_view>& args);
 
 std::string hub_usage(std::string_view program);
+// What --help prints: a screen of hub_usage (base::brief_help).
+std::string hub_brief_usage(std::string_view program);
 
 }  // namespace ldoem::hub

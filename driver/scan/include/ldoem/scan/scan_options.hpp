@@ -26,6 +26,7 @@ enum class CloudEncoding : std::uint8_t { ascii, binary };
 
 struct ScanOptions {
   bool help = false;
+  bool help_all = false;  // --help-all: the full usage text; --help prints the brief one
   bool version = false;  // --version: print base::version_line and exit 0
   std::optional<driver::Endpoint> device;  // direct: --device
   std::optional<hub::ListenAddress> hub;   // through a hub: --hub with --hub-device
@@ -66,5 +67,7 @@ std::optional<cloud::CloudFileFormat> output_format(std::string_view path, Cloud
 base::Expected<AcquisitionPlan, std::string> make_plan(const ScanOptions& options);
 
 std::string scan_usage(std::string_view program);
+// What --help prints: a screen of scan_usage (base::brief_help).
+std::string scan_brief_usage(std::string_view program);
 
 }  // namespace ldoem::scan

@@ -97,7 +97,7 @@ struct Options {
   bool operator==(const Options&) const = default;
 };
 
-enum class CommandKind : std::uint8_t { run, help, version, completion };
+enum class CommandKind : std::uint8_t { run, help, help_all, version, completion };
 
 struct Command {
   CommandKind kind = CommandKind::run;
@@ -121,6 +121,8 @@ struct UsageError {
 [[nodiscard]] base::Expected<TcpOption, UsageError> parse_tcp_option(std::string_view text);
 
 std::string usage_text(std::string_view program_name);
+// What --help prints: a screen of usage_text (base::brief_help).
+std::string brief_usage_text(std::string_view program_name);
 // Where the flash files go unless --flash or a scanner's absolute flash_file says otherwise:
 // --flash-dir, else default_flash_folder(), never the scene's folder (a scene in a clone or in
 // /usr/share stays untouched).

@@ -23,6 +23,7 @@ struct ReplayOptions {
   std::optional<protocol::WireTransport> transport;  // which recorded transport; default: busiest
   std::optional<std::uint16_t> capture_tcp_port;     // --port: the device's port in the capture; default: detected
   bool help = false;
+  bool help_all = false;  // --help-all: the full usage text; --help prints the brief one
   bool version = false;  // --version: print base::version_line and exit 0
   std::optional<std::string> completion_script;  // --completion bash (base/command_line.hpp)
 };
@@ -35,5 +36,7 @@ struct ReplayUsageError {
     std::span<const std::string_view> arguments);
 
 std::string replay_usage_text();
+// What --help prints: a screen of replay_usage_text (base::brief_help).
+std::string replay_brief_usage_text();
 
 }  // namespace ldoem::replay
