@@ -36,7 +36,7 @@ Options parsed(std::vector<std::string_view> arguments) {
 const char* const kTwoScannersYaml =
     "scanners:\n"
     "  - {name: left, endpoints: {tcp: \"tcp:127.0.0.1:0\", serial: \"serial:pty:/tmp/l\"}, flash_file: left.img}\n"
-    "  - {name: right, endpoints: {tcp: \"tcp:127.0.0.1:40002\", can: \"can:vcan1:6D0:6D1\", lpt: \"lpt:gpio:chip1\"}}\n";
+    "  - {name: right, endpoints: {tcp: \"tcp:127.0.0.1:40002\", can: \"can:vcan0:6D0:6D1\", lpt: \"lpt:gpio:chip1\"}}\n";
 
 TEST(ScannerOptions, OneScannerKeepsTheCommandLine) {
   const Options options = parsed({"--scene", "dir/cell.yaml", "--no-can", "--tcp", "tcp:127.0.0.1:0"});
@@ -62,13 +62,13 @@ TEST(ScannerOptions, AOneEntryListFillsInWhatTheCommandLineLeavesOut) {
 }
 
 TEST(ScannerOptions, SeveralScannersTakeTheirEndpointsFromTheScene) {
-  const auto all = scanner_options(parsed({"--scene", "dir/cell.yaml", "--can", "can:vcan1"}), load(kTwoScannersYaml));
+  const auto all = scanner_options(parsed({"--scene", "dir/cell.yaml", "--can", "can:vcan0"}), load(kTwoScannersYaml));
   ASSERT_TRUE(all.has_value()) << all.error().message;
   ASSERT_EQ(all->size(), 2u);
   const Options& left = (*all)[0];
   const Options& right = (*all)[1];
-  EXPECT_EQ(left.can_interface, std::optional<std::string>("vcan1"));  // one bus for all
-  EXPECT_EQ(right.can_interface, std::optional<std::string>("vcan1"));
+  EXPECT_EQ(left.can_interface, std::optional<std::string>("vcan0"));  // one bus for all
+  EXPECT_EQ(right.can_interface, std::optional<std::string>("vcan0"));
   EXPECT_TRUE(left.can_id_pairs.empty());  // its flash's: 6C0:6C1
   ASSERT_EQ(right.can_id_pairs.size(), 1u);
   EXPECT_EQ(right.can_id_pairs[0].request_id, 0x6D0);
@@ -81,6 +81,14 @@ TEST(ScannerOptions, SeveralScannersTakeTheirEndpointsFromTheScene) {
   const auto memory = scanner_options(parsed({"--scene", "dir/cell.yaml", "--no-flash"}), load(kTwoScannersYaml));
   ASSERT_TRUE(memory.has_value());
   EXPECT_TRUE((*memory)[1].flash_path.empty());
+}
+
+// The daemon has one bus: a scanner's can: endpoint on another interface is an error naming both.
+TEST(ScannerOptions, ACanEndpointOnAnotherBusIsRefused) {
+  const auto other = scanner_options(parsed({"--scene", "dir/cell.yaml", "--can", "can:vcan1"}), load(kTwoScannersYaml));
+  ASSERT_FALSE(other.has_value());
+  EXPECT_EQ(other.error().message,
+            "scanners[1].endpoints.can: names vcan0 but the daemon's bus is --can can:vcan1 (one bus for all scanners)");
 }
 
 TEST(ScannerOptions, FlashDir_HoldsEveryScannersFlashUnderItsUsualName) {
@@ -104,7 +112,7 @@ TEST(ScannerOptions, SeveralScannersRefuseOneDevicesOptions) {
   const scene::Scene scene = load(kTwoScannersYaml);
   const std::vector<std::pair<std::vector<std::string_view>, std::string>> cases{
       {{"--tcp", "tcp:h:1"}, "--tcp: names one scanner's endpoint"},
-      {{"--can", "can:vcan1:6C0:6C1"}, "--can can:IF:REQ:RESP: names one scanner's endpoint"},
+      {{"--can", "can:vcan0:6C0:6C1"}, "--can can:IF:REQ:RESP: names one scanner's endpoint"},
       {{"--serial", "serial:pty:/tmp/x"}, "--serial: names one scanner's endpoint"},
       {{"--lpt", "lpt:pty:/tmp/x"}, "--lpt: names one scanner's endpoint"},
       {{"--flash", "f"}, "--flash: with several scanners"},
