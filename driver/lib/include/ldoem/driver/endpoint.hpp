@@ -1,6 +1,6 @@
 // Endpoint strings: the one place where a user's `can:vcan0` or `lpt:pty:/tmp/ldoem-lpt`
 // becomes a typed value (design.md convention 2). The grammar is base/'s (base/endpoint.hpp,
-// docs/endpoints.md), shared with the emulator; the driver always CONNECTS. Opening happens in
+// docs/endpoints.md), shared by every tool; the driver always CONNECTS. Opening happens in
 // open_transport (transport.hpp) and open_lpt_port (lpt_port.hpp).
 #pragma once
 
