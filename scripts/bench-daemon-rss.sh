@@ -19,7 +19,7 @@ emud=$build/emulator/daemon/ldoem-emud
 printf '| scene | profile bytes streamed | peak RSS (MiB) |\n|---|---|---|\n'
 for scene in "$@"; do
   out=$(mktemp)
-  "$emud" --scene "$scene" --no-can --tcp 127.0.0.1:0 --no-flash --virtual-time --timeout $((seconds + 20)) >"$out" 2>&1 &
+  "$emud" --scene "$scene" --no-can --tcp tcp:127.0.0.1:0 --no-flash --virtual-time --timeout $((seconds + 20)) >"$out" 2>&1 &
   pid=$!
   for _ in $(seq 100); do grep -q '^ready' "$out" && break; sleep 0.1; done
   port=$(sed -n 's/^tcp 127.0.0.1:\([0-9]*\)$/\1/p' "$out")

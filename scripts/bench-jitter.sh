@@ -58,7 +58,7 @@ write_wall_scene "$scene"
 row() {
   local machine=$1 mode=$2 args=() granted=-
   [ "$mode" = --realtime ] && args=(--realtime)
-  start_daemon "$scene" --no-can --tcp 127.0.0.1:0 --time-scale 1 "${args[@]}"
+  start_daemon "$scene" --no-can --tcp tcp:127.0.0.1:0 --time-scale 1 "${args[@]}"
   if [ "$mode" = --realtime ]; then
     # The daemon says it right after "ready" (main.cpp asks once the scene is built).
     for _ in $(seq 1 40); do grep -q 'realtime: ' "$work/daemon.err" && break; sleep 0.05; done

@@ -93,9 +93,9 @@ if [ "${LDOEM_IN_UML:-0}" = 1 ]; then
       for variant in $(variants_of_round "$round"); do
         emud=$(emud_of $variant)
         if [ $mode = virtual ]; then
-          measure $variant-can-virtual "--can vcan0" --can vcan0 --virtual-time
+          measure $variant-can-virtual "--can vcan0" --can can:vcan0 --virtual-time
         else
-          measure $variant-can-scale1 "--can vcan0" --can vcan0 --time-scale 1
+          measure $variant-can-scale1 "--can vcan0" --can can:vcan0 --time-scale 1
         fi
       done
     done
@@ -112,10 +112,10 @@ for mode in virtual scale1; do
   for round in $(seq 1 "$rounds"); do
     for variant in $(variants_of_round "$round"); do
       emud=$(emud_of $variant)
-      start_daemon "$scene" --no-can --tcp 127.0.0.1:0 $time_arguments
+      start_daemon "$scene" --no-can --tcp tcp:127.0.0.1:0 $time_arguments
       "$client" --tcp "127.0.0.1:$tcp_port" --requests "$requests" | sed "s/^/label=$variant-tcp-$mode-requests /" >> "$results"
       stop_daemon
-      start_daemon "$scene" --no-can --tcp 127.0.0.1:0 $time_arguments
+      start_daemon "$scene" --no-can --tcp tcp:127.0.0.1:0 $time_arguments
       "$client" --tcp "127.0.0.1:$tcp_port" --profiles "$seconds" | sed "s/^/label=$variant-tcp-$mode-profiles /" >> "$results"
       stop_daemon
     done

@@ -97,7 +97,7 @@ if [ -n "$baseline" ]; then
       [ $variant = baseline ] && emud=$baseline
       [ $variant = dormant ] && scene=$work/corridor-dormant.yaml
       rm -f "$work/lpt"
-      start_daemon "$scene" --no-can --tcp 127.0.0.1:0 --lpt "pty:$work/lpt" --virtual-time
+      start_daemon "$scene" --no-can --tcp tcp:127.0.0.1:0 --lpt "lpt:pty:$work/lpt" --virtual-time
       ready_cpu_ns=$(daemon_cpu_ns)
       started_ns=$(date +%s%N)
       "$scan" --device "tcp:127.0.0.1:$tcp_port" --lpt "lpt:pty:$work/lpt" --horizontal-apex 20 \
@@ -144,10 +144,10 @@ results=$work/results.txt
 : > "$results"
 for round in $(seq 1 "$rounds"); do
   for variant in without with; do
-    start_daemon "$work/$variant.yaml" --no-can --tcp 127.0.0.1:0 --virtual-time
+    start_daemon "$work/$variant.yaml" --no-can --tcp tcp:127.0.0.1:0 --virtual-time
     "$client" --tcp "127.0.0.1:$tcp_port" --requests "$requests" | sed "s/^/variant=$variant round=$round /" >> "$results"
     stop_daemon
-    start_daemon "$work/$variant.yaml" --no-can --tcp 127.0.0.1:0 --virtual-time
+    start_daemon "$work/$variant.yaml" --no-can --tcp tcp:127.0.0.1:0 --virtual-time
     "$client" --tcp "127.0.0.1:$tcp_port" --profiles "$seconds" | sed "s/^/variant=$variant round=$round /" >> "$results"
     stop_daemon
   done

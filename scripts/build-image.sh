@@ -180,7 +180,7 @@ tar -C "$root" --sort=name --numeric-owner --mtime="@$epoch" \
 
 podman import --quiet \
   --change 'ENTRYPOINT ["/usr/bin/ldoem-emud"]' \
-  --change 'CMD ["--scene", "/usr/share/ldoem/scenes/corridor.yaml", "--no-can", "--tcp", "0.0.0.0:49152", "--flash-dir", "/var/lib/ldoem"]' \
+  --change 'CMD ["--scene", "/usr/share/ldoem/scenes/corridor.yaml", "--no-can", "--tcp", "tcp:0.0.0.0:49152", "--flash-dir", "/var/lib/ldoem"]' \
   --change 'USER 10001:10001' \
   --change 'WORKDIR /var/lib/ldoem' \
   --change 'VOLUME /var/lib/ldoem' \

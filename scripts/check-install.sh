@@ -61,7 +61,7 @@ flags=$(PKG_CONFIG_PATH="$work/prefix/$libdir/pkgconfig" pkg-config --cflags --l
 c++ -o "$work/consumer-pc" examples/consumer/main.cpp $flags
 
 step "consumer against the installed ldoem-emud"
-"$root/usr/bin/ldoem-emud" --scene "$root/usr/share/ldoem/scenes/minimal.yaml" --no-can --tcp 127.0.0.1:0 \
+"$root/usr/bin/ldoem-emud" --scene "$root/usr/share/ldoem/scenes/minimal.yaml" --no-can --tcp tcp:127.0.0.1:0 \
   --no-flash --timeout 120 >"$work/emud.out" 2>"$work/emud.err" &
 daemon_pid=$!
 for _ in $(seq 200); do grep -qx ready "$work/emud.out" && break; sleep 0.05; done

@@ -62,10 +62,10 @@ class Daemons:
         lpt = os.path.join(folder, "lpt")
         if os.path.lexists(lpt):  # a previous run's link into a pty that is gone
             os.unlink(lpt)
-        self.start("emud-hub", [emud, *common, "--no-can", "--tcp", "127.0.0.1:0", "--lpt", f"pty:{lpt}"])
-        self.start("emud-tcp", [emud, *common, "--no-can", "--tcp", "127.0.0.1:0"])
+        self.start("emud-hub", [emud, *common, "--no-can", "--tcp", "tcp:127.0.0.1:0", "--lpt", f"lpt:pty:{lpt}"])
+        self.start("emud-tcp", [emud, *common, "--no-can", "--tcp", "tcp:127.0.0.1:0"])
         if can:
-            self.start("emud-can", [emud, *common, "--can", "vcan0"])
+            self.start("emud-can", [emud, *common, "--can", "can:vcan0"])
         self.ports = {}
         for name in self.processes:
             wait_for(self.logs[name], r"^ready$", self.processes[name], name)

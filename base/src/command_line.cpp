@@ -78,7 +78,8 @@ std::string version_line(std::string_view program) {
 
 std::string usage_error_line(std::string_view program, std::string_view reason) {
   std::string line = std::string(program) + ": " + std::string(reason);
-  if (reason.find("--help") == std::string_view::npos) {
+  // A reason that points at a document (docs/endpoints.md) has its hint already.
+  if (reason.find("--help") == std::string_view::npos && reason.find("(docs/") == std::string_view::npos) {
     line += " (try --help)";
   }
   return line + "\n";
@@ -250,6 +251,9 @@ CLI::Option* take_text(CLI::App& app, const std::string& name,
                        std::function<std::optional<std::string>(const std::string&)> accept) {
   return app.add_option_function<std::string>(name, [name, accept = std::move(accept)](const std::string& value) {
     if (auto problem = accept(value)) {
+      // A reason that names the option already (an endpoint's old spelling) is taken whole.
+      const bool named = problem->starts_with(name + " ") || problem->starts_with(name + ":");
+      if (named) throw CLI::ValidationError(*problem);
       throw CLI::ValidationError(name, *problem);
     }
   });

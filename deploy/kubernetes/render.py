@@ -77,7 +77,7 @@ def scanner_container(image, bind, port, lpt_port):
     # ldoem-emud is exec'd, so it gets SIGTERM and saves the flash (exit 143).
     command = (f"socat TCP-LISTEN:{lpt_port},bind={bind},reuseaddr,fork,nodelay FILE:/run/ldoem/lpt,raw,echo=0 & "
                f"exec /usr/bin/ldoem-emud --scene /etc/ldoem/scene/scene.yaml --flash-dir /var/lib/ldoem "
-               f"--no-can --tcp {bind}:{port} --lpt pty:/run/ldoem/lpt")
+               f"--no-can --tcp tcp:{bind}:{port} --lpt lpt:pty:/run/ldoem/lpt")
     probe = ["/usr/local/bin/ldoem-healthcheck", f"127.0.0.1:{port}"]
     return {
         "name": "ldoem-emud",

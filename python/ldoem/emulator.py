@@ -103,13 +103,13 @@ class Emulator:
         self.event_log_path = work / "events.log"
         command = [self.emud, "--scene", str(scene), "--no-flash", "--control", str(self.control_path),
                    "--event-log", str(self.event_log_path)]
-        command += ["--can", self.can_interface] if "can" in self.transports else ["--no-can"]
+        command += ["--can", f"can:{self.can_interface}"] if "can" in self.transports else ["--no-can"]
         if "tcp" in self.transports:
-            command += ["--tcp", self.tcp_listen or "127.0.0.1:0"]
+            command += ["--tcp", f"tcp:{self.tcp_listen or '127.0.0.1:0'}"]
         if "serial" in self.transports:
-            command += ["--serial", f"pty:{self.serial_link or work / 'serial'}"]
+            command += ["--serial", f"serial:pty:{self.serial_link or work / 'serial'}"]
         if "lpt" in self.transports:
-            command += ["--lpt", f"pty:{self.lpt_link or work / 'lpt'}"]
+            command += ["--lpt", f"lpt:pty:{self.lpt_link or work / 'lpt'}"]
         if self.virtual_time:
             command.append("--virtual-time")
         if self.seed is not None:

@@ -118,8 +118,9 @@ PythonProfile to_python(const protocol::Profile& profile) {
   return out;
 }
 
-driver::Endpoint endpoint_or_raise(const std::string& text) {
-  auto endpoint = driver::parse_endpoint(text);
+driver::Endpoint endpoint_or_raise(const std::string& text, base::EndpointExpect expect) {
+  // The grammar of every tool, connecting side (docs/endpoints.md).
+  auto endpoint = base::parse_endpoint(text, base::EndpointUse{base::EndpointSide::connect, expect});
   if (!endpoint) throw py::value_error(driver::describe(endpoint.error()));
   return *endpoint;
 }

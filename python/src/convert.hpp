@@ -48,8 +48,9 @@ py::dict status_dict(const protocol::StatusBlock& status);
 
 PythonProfile to_python(const protocol::Profile& profile);
 
-// parse_endpoint, or ValueError with its one-line message.
-driver::Endpoint endpoint_or_raise(const std::string& text);
+// base::parse_endpoint on the connecting side for `expect` (the scanner: can:, tcp: or serial:;
+// the stepper: lpt:), or ValueError with its one-line message (an old spelling names the new one).
+driver::Endpoint endpoint_or_raise(const std::string& text, base::EndpointExpect expect);
 
 void register_profile_dtype(py::module_& module);
 

@@ -47,8 +47,8 @@ py::object scan(const std::string& device, std::optional<std::string> lpt, doubl
                 std::uint16_t speed_hz, bool half_step, double step_rate_hz, double timeout_s, std::uint32_t retries,
                 bool info) {
   scan::ScanOptions options;
-  options.device = endpoint_or_raise(device);
-  if (lpt) options.lpt = endpoint_or_raise(*lpt);
+  options.device = endpoint_or_raise(device, base::EndpointExpect::scanner);
+  if (lpt) options.lpt = endpoint_or_raise(*lpt, base::EndpointExpect::lpt);
   options.horizontal_apex_deg = horizontal_apex_deg;
   options.horizontal_resolution_deg = horizontal_resolution_deg;
   options.vertical_apex_deg = vertical_apex_deg;

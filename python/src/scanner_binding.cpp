@@ -45,9 +45,9 @@ class PyScanner {
  public:
   PyScanner(const std::string& endpoint, std::optional<std::string> lpt, double request_timeout_s,
             double rotate_timeout_s, std::uint32_t reconnect_attempts, double reconnect_interval_s, bool connect)
-      : state_(std::make_shared<InterruptState>()), endpoint_(endpoint_or_raise(endpoint)) {
+      : state_(std::make_shared<InterruptState>()), endpoint_(endpoint_or_raise(endpoint, base::EndpointExpect::scanner)) {
     if (lpt) {
-      lpt_endpoint_ = endpoint_or_raise(*lpt);
+      lpt_endpoint_ = endpoint_or_raise(*lpt, base::EndpointExpect::lpt);
       if (!std::holds_alternative<driver::LptEndpoint>(*lpt_endpoint_)) throw py::value_error("lpt: expects an lpt: endpoint");
     }
     driver::ScannerOptions options;

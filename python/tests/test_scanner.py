@@ -71,6 +71,14 @@ def test_a_bad_endpoint_is_a_value_error_with_libldoems_message():
         ldoem.Scanner("can:vcan0:800:6C1")
 
 
+def test_an_old_spelling_is_a_value_error_naming_the_new_one():
+    # docs/endpoints.md: the grammar of every tool; a spelling from before it names the new one.
+    with pytest.raises(ValueError, match=r"`pty:/tmp/x` is the old spelling; write lpt:pty:/tmp/x"):
+        ldoem.Scanner("tcp:127.0.0.1:1", lpt="pty:/tmp/x")
+    with pytest.raises(ValueError, match=r"write tcp:127.0.0.1:49152"):
+        ldoem.Scanner("127.0.0.1:49152")
+
+
 def test_a_refused_connection_is_an_ldoem_error_with_its_kind():
     with socket.socket() as probe:
         probe.bind(("127.0.0.1", 0))

@@ -49,7 +49,7 @@ _hf_expect() {
 _hf_emud_run() {  # _hf_emud_run MEM_MIB ARGS...: the daemon for 0.3 s at most after start-up
   local mem=$1
   shift
-  _hf_run 20 "$mem" "$(_hf_emud)" --no-can --tcp 127.0.0.1:0 --timeout 0.3 "$@"
+  _hf_run 20 "$mem" "$(_hf_emud)" --no-can --tcp tcp:127.0.0.1:0 --timeout 0.3 "$@"
 }
 
 hostile_case_d05_tilt_step_1e9() {
@@ -198,7 +198,7 @@ hostile_case_replay_bad_block_900mib() {
   printf '\x0a\x0d\x0d\x0a\x1c\x00\x00\x00\x4d\x3c\x2b\x1a\x01\x00\x00\x00\xff\xff\xff\xff\xff\xff\xff\xff\x1c\x00\x00\x00' >"$dir/x.pcapng"
   printf '\x06\x00\x00\x00\x0d\x00\x00\x00' >>"$dir/x.pcapng"
   truncate -s 900M "$dir/x.pcapng"
-  _hf_run 60 2048 "$(_hf_build)/emulator/replay/ldoem-replay" --tcp 127.0.0.1:0 --timeout 1 "$dir/x.pcapng"
+  _hf_run 60 2048 "$(_hf_build)/emulator/replay/ldoem-replay" --tcp tcp:127.0.0.1:0 --timeout 1 "$dir/x.pcapng"
   local ok=FAIL
   [ "$_hf_rc" = 2 ] && [[ $_hf_msg == *'block at byte 28'* ]] && [ "$_hf_mib" -lt 100 ] && ok=ok
   _hf_row replay 'a 900 MiB capture with a bad block at byte 28' "$ok" && rc=0 || rc=1
@@ -218,7 +218,7 @@ emud, scene, mesh = sys.argv[1:4]
 GET_STATUS = bytes.fromhex("0255535000000002010203")
 with tempfile.TemporaryDirectory() as folder:
     control = os.path.join(folder, "ctl.sock")
-    daemon = subprocess.Popen([emud, "--scene", scene, "--no-can", "--tcp", "127.0.0.1:0", "--no-flash",
+    daemon = subprocess.Popen([emud, "--scene", scene, "--no-can", "--tcp", "tcp:127.0.0.1:0", "--no-flash",
                                "--control", control, "--timeout", "50"], stdout=subprocess.PIPE,
                               stderr=subprocess.DEVNULL, text=True)
     try:

@@ -27,7 +27,7 @@ hostile_row() {
 }
 
 # hostile_start [--nofile N] [--fsize BYTES] [--as MIB] [--control] [--no-wait] SCENE ARGS...
-# Starts ldoem-emud on SCENE (--no-can --tcp 127.0.0.1:0 --no-flash --timeout 300, then ARGS)
+# Starts ldoem-emud on SCENE (--no-can --tcp tcp:127.0.0.1:0 --no-flash --timeout 300, then ARGS)
 # under the limits given, waits up to 30 s for "ready". Sets H_PID, H_PORT (empty when it did
 # not start), H_ERR (its stderr file), H_OUT (its stdout file), H_CONTROL (the control socket's
 # path, with --control). Returns 1 when it did not start (it may have exited: see H_ERR; with
@@ -66,7 +66,7 @@ if fsize:
     resource.setrlimit(resource.RLIMIT_FSIZE, (fsize, fsize))
 if as_mib: resource.setrlimit(resource.RLIMIT_AS, (as_mib << 20, as_mib << 20))
 os.execv(sys.argv[4], sys.argv[4:])' "$nofile" "$fsize" "$as_mib" \
-    "$HOSTILE_EMUD" --scene "$scene" --no-can --tcp 127.0.0.1:0 --no-flash --timeout 300 "${extra[@]}" "$@" \
+    "$HOSTILE_EMUD" --scene "$scene" --no-can --tcp tcp:127.0.0.1:0 --no-flash --timeout 300 "${extra[@]}" "$@" \
     >"$H_OUT" 2>"$H_ERR" &
   H_PID=$!
   HOSTILE_PIDS+=("$H_PID")

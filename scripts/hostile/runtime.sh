@@ -141,7 +141,7 @@ print(f"{len(data)} {blocks} {'yes' if offset == len(data) else 'no'}")
 PY
 )
   replay_status=0
-  timeout 30 "$HOSTILE_REPLAY" "$HOSTILE_WORK/r.pcapng" --tcp 127.0.0.1:0 --timeout 0.3 >/dev/null 2>&1 || replay_status=$?
+  timeout 30 "$HOSTILE_REPLAY" "$HOSTILE_WORK/r.pcapng" --tcp tcp:127.0.0.1:0 --timeout 0.3 >/dev/null 2>&1 || replay_status=$?
   [[ "$whole" == *yes ]] || ok=1
   [ "$errors" -eq 1 ] || ok=1
   [ "$answered" = yes ] || ok=1

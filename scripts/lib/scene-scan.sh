@@ -35,8 +35,8 @@ scene_scan_parse_args() {
     fi
   done
   case "$transport" in
-    can) endpoint_args=(--can vcan0) ;;
-    tcp) endpoint_args=(--no-can --tcp 127.0.0.1:0) ;;
+    can) endpoint_args=(--can can:vcan0) ;;
+    tcp) endpoint_args=(--no-can --tcp tcp:127.0.0.1:0) ;;
     *) echo "$tool: --transport must be can or tcp" >&2; exit 2 ;;
   esac
 }
@@ -65,7 +65,7 @@ scene_scan_start_daemon() {
   trap 'exit 130' INT
   trap 'exit 143' TERM
   # --timeout: a daemon whose script was killed with SIGKILL still ends by itself.
-  "$emud" --scene "$1" "${endpoint_args[@]}" --lpt "pty:$lpt_path" --no-flash \
+  "$emud" --scene "$1" "${endpoint_args[@]}" --lpt "lpt:pty:$lpt_path" --no-flash \
     "${clock_args[@]}" "${seed_args[@]}" --timeout 3600 >"$work_dir/daemon.out" 2>"$work_dir/daemon.err" &
   daemon_pid=$!
   local deadline=$((SECONDS + ready_timeout_s))

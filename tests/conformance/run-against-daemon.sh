@@ -54,9 +54,9 @@ trap 'exit 143' TERM
 
 daemon_args=(--scene "$scene" --no-flash --time-scale "$time_scale" "${clock[@]}")
 case "$transport" in
-  tcp) daemon_args+=(--no-can --tcp 127.0.0.1:0) ;;
-  serial) daemon_args+=(--no-can --serial "pty:$work/serial") ;;
-  can) daemon_args+=(--can "$can_if") ;;
+  tcp) daemon_args+=(--no-can --tcp tcp:127.0.0.1:0) ;;
+  serial) daemon_args+=(--no-can --serial "serial:pty:$work/serial") ;;
+  can) daemon_args+=(--can "can:$can_if") ;;
   *) echo "run-against-daemon.sh: --transport must be tcp, serial or can" >&2; exit 2 ;;
 esac
 
@@ -84,9 +84,9 @@ case "$transport" in
       echo "clock_slip_proxy ${address##*:} $slip_ms"
       address=$(sed -n 's/^tcp \(.*\)$/\1/p' "$work/proxy.out" | head -n 1)
     fi
-    suite_args=(--tcp "$address") ;;
-  serial) suite_args=(--serial "$work/serial") ;;
-  can) suite_args=(--can "$can_if") ;;
+    suite_args=(--tcp "tcp:$address") ;;
+  serial) suite_args=(--serial "serial:pty:$work/serial") ;;
+  can) suite_args=(--can "can:$can_if") ;;
 esac
 
 echo "ldoem-emud ${daemon_args[*]}"

@@ -67,7 +67,7 @@ def start(folder, extra):
     control = os.path.join(folder, "ctl.sock")
     if os.path.exists(control):
         os.unlink(control)
-    daemon = subprocess.Popen([emud, "--scene", scene, "--no-can", "--tcp", "127.0.0.1:0", "--no-flash",
+    daemon = subprocess.Popen([emud, "--scene", scene, "--no-can", "--tcp", "tcp:127.0.0.1:0", "--no-flash",
                                "--control", control, "--timeout", str(LIMIT_S)] + extra,
                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     port = None

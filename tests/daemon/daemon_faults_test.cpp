@@ -30,7 +30,7 @@ struct FaultDaemon {
 
   explicit FaultDaemon(const std::string& scene_text) : daemon(DaemonProcess::start(arguments(scene_text))) {}
   std::vector<std::string> arguments(const std::string& scene_text) const {
-    return {"--scene", dir.write("scene.yaml", scene_text), "--no-can", "--tcp", "127.0.0.1:0", "--no-flash",
+    return {"--scene", dir.write("scene.yaml", scene_text), "--no-can", "--tcp", "tcp:127.0.0.1:0", "--no-flash",
             "--virtual-time", "--control", control_path, "--event-log", event_log};
   }
   bool ready() { return daemon && daemon->wait_ready(); }
@@ -45,7 +45,7 @@ std::string reply_text(TcpHost& host, std::string_view request, std::chrono::mil
 TEST(DaemonFaults, ControlSocketIsOffByDefault) {
   TempDir dir;
   auto daemon = DaemonProcess::start({"--scene", dir.write("scene.yaml", minimal_scene_text()), "--no-can", "--tcp",
-                                      "127.0.0.1:0", "--no-flash", "--virtual-time"});
+                                      "tcp:127.0.0.1:0", "--no-flash", "--virtual-time"});
   ASSERT_TRUE(daemon && daemon->wait_ready()) << (daemon ? daemon->stderr_text() : "");
   for (const auto& entry : std::filesystem::directory_iterator(dir.path(""))) {
     EXPECT_NE(entry.path().extension(), ".sock") << entry.path();
@@ -97,8 +97,8 @@ TEST(DaemonFaults, TwoScanners_TheScannerArgumentPutsTheFaultOnThatScannerOnly) 
   TempDir dir;
   const std::string control_path = dir.path("ctl.sock");
   const std::string scene = dir.write("two.yaml", minimal_scene_text() +
-                                                      "scanners:\n  - {name: a, endpoints: {tcp: 0}}\n"
-                                                      "  - {name: b, pivot_pose: {position_m: [0, 1, 0]}, endpoints: {tcp: 0}}\n");
+                                                      "scanners:\n  - {name: a, endpoints: {tcp: \"tcp:127.0.0.1:0\"}}\n"
+                                                      "  - {name: b, pivot_pose: {position_m: [0, 1, 0]}, endpoints: {tcp: \"tcp:127.0.0.1:0\"}}\n");
   auto daemon = DaemonProcess::start(
       {"--scene", scene, "--no-can", "--no-flash", "--virtual-time", "--control", control_path});
   ASSERT_TRUE(daemon && daemon->wait_ready()) << (daemon ? daemon->stderr_text() : "");

@@ -43,8 +43,8 @@ class DaemonGpio : public ::testing::Test {
     for (const int line : {kDirLine, kClkLine, kModeLine}) ASSERT_TRUE(pull(line, false));
     std::this_thread::sleep_for(kEdgeGap);
     const std::string scene = dir_.write("scene.yaml", minimal_scene_text());
-    auto started = DaemonProcess::start({"--scene", scene, "--lpt", "gpio:" + chip_.label, "--no-can", "--tcp",
-                                     "127.0.0.1:0", "--no-flash", "--virtual-time", "--timeout", "120"});
+    auto started = DaemonProcess::start({"--scene", scene, "--lpt", "lpt:gpio:" + chip_.label, "--no-can", "--tcp",
+                                     "tcp:127.0.0.1:0", "--no-flash", "--virtual-time", "--timeout", "120"});
     if (started) process_.emplace(std::move(*started));
     ASSERT_TRUE(process_ && process_->wait_ready()) << (process_ ? process_->stderr_text() : "did not start");
     ASSERT_TRUE(process_->endpoints().contains("lpt")) << process_->stdout_text();

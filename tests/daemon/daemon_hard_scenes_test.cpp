@@ -44,7 +44,7 @@ TEST_P(HardSceneInDaemon, EveryEffectOn_ProfilesStayInsideTheLimits) {
   const std::string scene_path = dir.write("scene.yaml", with_every_effect(kHardScenes / GetParam()));
   const auto scene = scene::load_scene(scene_path);
   ASSERT_TRUE(scene.has_value()) << scene.error().message();
-  auto daemon = DaemonProcess::start({"--scene", scene_path, "--no-can", "--tcp", "127.0.0.1:0", "--virtual-time",
+  auto daemon = DaemonProcess::start({"--scene", scene_path, "--no-can", "--tcp", "tcp:127.0.0.1:0", "--virtual-time",
                                       "--no-flash", "--timeout", "120"});
   ASSERT_TRUE(daemon && daemon->wait_ready()) << (daemon ? daemon->stderr_text() : "no process");
   auto host = TcpHost::connect(daemon->tcp_port());

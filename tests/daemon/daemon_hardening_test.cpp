@@ -28,7 +28,7 @@ std::string read_file(const std::string& path) {
 
 std::optional<DaemonProcess> start_daemon(const TempDir& dir, std::vector<std::string> extra) {
   std::vector<std::string> arguments{"--scene", dir.write("scene.yaml", minimal_scene_text()), "--no-can", "--tcp",
-                                     "127.0.0.1:0", "--virtual-time", "--timeout", "120"};
+                                     "tcp:127.0.0.1:0", "--virtual-time", "--timeout", "120"};
   arguments.insert(arguments.end(), extra.begin(), extra.end());
   return DaemonProcess::start(arguments);
 }
@@ -89,7 +89,7 @@ TEST(DaemonFlash, MissingFlash_IsAFirstPowerUpNotAnError) {
 // without end. Now the daemon switches ECHO off before it writes, and the host gets one reply.
 TEST(DaemonSerial, HostSwitchingEchoOn_GetsOneReplyNotAFeedbackLoop) {
   TempDir dir;
-  auto process = start_daemon(dir, {"--no-flash", "--serial", "pty:" + dir.path("serial")});
+  auto process = start_daemon(dir, {"--no-flash", "--serial", "serial:pty:" + dir.path("serial")});
   ASSERT_TRUE(process && process->wait_ready()) << (process ? process->stderr_text() : "");
   const int fd = ::open(dir.path("serial").c_str(), O_RDWR | O_NOCTTY | O_CLOEXEC);
   ASSERT_GE(fd, 0);

@@ -52,7 +52,7 @@ std::string tcp_ask(TcpHost& host, std::string_view request, std::chrono::millis
 }
 
 std::vector<std::string> tcp_and_serial(const TempDir& dir) {
-  return {"--no-can", "--tcp", "127.0.0.1:0", "--serial", "pty:" + dir.path("serial")};
+  return {"--no-can", "--tcp", "tcp:127.0.0.1:0", "--serial", "serial:pty:" + dir.path("serial")};
 }
 
 // While off: the established connection hears nothing, not even a FIN; a new connection is
@@ -133,7 +133,7 @@ TEST(DaemonPower, PowerCycle_ServesAgainBootSecondsAfterPowerOn_InThePowerUpStat
 
 TEST(DaemonPower, TcpReset_IsARstNotAFin) {
   PowerDaemon d(minimal_scene_text() + "faults:\n  - {kind: tcp_reset, on: {service: GET_SIGNAL, nth: 1}}\n",
-                {"--no-can", "--tcp", "127.0.0.1:0"}, true);
+                {"--no-can", "--tcp", "tcp:127.0.0.1:0"}, true);
   ASSERT_TRUE(d.ready()) << d.diagnostics();
   auto host = TcpHost::connect(d.process->tcp_port());
   ASSERT_TRUE(host);
@@ -155,7 +155,7 @@ const std::string kStallOnMeasure =
     minimal_scene_text() + "faults:\n  - {kind: motor_stall, on: {service: TRANS_MEASURE, nth: 1}}\n";
 
 TEST(DaemonPower, TransMeasureWithAStalledMotor_IsRefusedReasonThree_Tcp) {
-  PowerDaemon d(kStallOnMeasure, {"--no-can", "--tcp", "127.0.0.1:0"}, true);
+  PowerDaemon d(kStallOnMeasure, {"--no-can", "--tcp", "tcp:127.0.0.1:0"}, true);
   ASSERT_TRUE(d.ready()) << d.diagnostics();
   auto host = TcpHost::connect(d.process->tcp_port());
   ASSERT_TRUE(host);
@@ -164,7 +164,7 @@ TEST(DaemonPower, TransMeasureWithAStalledMotor_IsRefusedReasonThree_Tcp) {
 
 TEST(DaemonPower, TransMeasureWithAStalledMotor_IsRefusedReasonThree_Serial) {
   TempDir links;
-  PowerDaemon d(kStallOnMeasure, {"--no-can", "--serial", "pty:" + links.path("serial")}, true);
+  PowerDaemon d(kStallOnMeasure, {"--no-can", "--serial", "serial:pty:" + links.path("serial")}, true);
   ASSERT_TRUE(d.ready()) << d.diagnostics();
   SerialHost serial(links.path("serial"));
   ASSERT_GE(serial.fd, 0);

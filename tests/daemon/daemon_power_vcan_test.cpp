@@ -47,7 +47,7 @@ const protocol::Bytes kGetStatus{0x02, 0x01, 0x02};  // a single frame
 
 TEST(DaemonPowerVcan, WhileOff_NoFrameAtAll_NotEvenFlowControl_StatusSaysOff) {
   LDOEM_REQUIRE_VCAN0();
-  PowerDaemon d(minimal_scene_text(), {"--can", "vcan0"}, false);  // real time: off for 10 min
+  PowerDaemon d(minimal_scene_text(), {"--can", "can:vcan0"}, false);  // real time: off for 10 min
   ASSERT_TRUE(d.ready()) << d.diagnostics();
   RawCanHost host;
   host.send(kGetStatus);
@@ -64,7 +64,7 @@ TEST(DaemonPowerVcan, WhileOff_NoFrameAtAll_NotEvenFlowControl_StatusSaysOff) {
 
 TEST(DaemonPowerVcan, WhileBooting_NoFrame_StatusSaysBooting) {
   LDOEM_REQUIRE_VCAN0();
-  PowerDaemon d(scene_with_scanner("boot_s: 60"), {"--can", "vcan0"}, false);
+  PowerDaemon d(scene_with_scanner("boot_s: 60"), {"--can", "can:vcan0"}, false);
   ASSERT_TRUE(d.ready()) << d.diagnostics();
   RawCanHost host;
   ASSERT_TRUE(d.power_cycle(0.2));
@@ -78,7 +78,7 @@ TEST(DaemonPowerVcan, WhileBooting_NoFrame_StatusSaysBooting) {
 
 TEST(DaemonPowerVcan, PowerCycle_ServesAgainBootSecondsAfterPowerOn) {
   LDOEM_REQUIRE_VCAN0();
-  PowerDaemon d(scene_with_scanner("boot_s: 2"), {"--can", "vcan0"}, true);
+  PowerDaemon d(scene_with_scanner("boot_s: 2"), {"--can", "can:vcan0"}, true);
   ASSERT_TRUE(d.ready()) << d.diagnostics();
   IsoTpHost host(CanIdPair{0x6C0, 0x6C1});
   EXPECT_EQ(host.exchange(telegram("TRANS_ROTATE 0000")), std::optional<Bytes>(telegram("TRANS_ROTATE reply 0000 0002")));
@@ -93,7 +93,7 @@ TEST(DaemonPowerVcan, PowerCycle_ServesAgainBootSecondsAfterPowerOn) {
 TEST(DaemonPowerVcan, TransMeasureWithAStalledMotor_IsRefusedReasonThree) {
   LDOEM_REQUIRE_VCAN0();
   PowerDaemon d(minimal_scene_text() + "faults:\n  - {kind: motor_stall, on: {service: TRANS_MEASURE, nth: 1}}\n",
-                {"--can", "vcan0"}, true);
+                {"--can", "can:vcan0"}, true);
   ASSERT_TRUE(d.ready()) << d.diagnostics();
   IsoTpHost host(CanIdPair{0x6C0, 0x6C1});
   auto ask = [&](std::string_view request) {

@@ -49,7 +49,7 @@ Flags wait_for_end(const std::filesystem::path& path) {
 }
 
 std::optional<DaemonProcess> start(const TempDir& dir, const std::string& scene_text) {
-  return DaemonProcess::start({"--scene", dir.write("scene.yaml", scene_text), "--no-can", "--tcp", "127.0.0.1:0",
+  return DaemonProcess::start({"--scene", dir.write("scene.yaml", scene_text), "--no-can", "--tcp", "tcp:127.0.0.1:0",
                                "--no-flash", "--virtual-time", "--record", dir.path("r.pcapng")});
 }
 

@@ -35,11 +35,11 @@ Options parsed(std::vector<std::string_view> arguments) {
 
 const char* const kTwoScannersYaml =
     "scanners:\n"
-    "  - {name: left, endpoints: {tcp: \"127.0.0.1:0\", serial: \"pty:/tmp/l\"}, flash_file: left.img}\n"
-    "  - {name: right, endpoints: {tcp: 40002, can_ids: \"6D0:6D1\", lpt: \"gpio:chip1\"}}\n";
+    "  - {name: left, endpoints: {tcp: \"tcp:127.0.0.1:0\", serial: \"serial:pty:/tmp/l\"}, flash_file: left.img}\n"
+    "  - {name: right, endpoints: {tcp: \"tcp:127.0.0.1:40002\", can: \"can:vcan0:6D0:6D1\", lpt: \"lpt:gpio:chip1\"}}\n";
 
 TEST(ScannerOptions, OneScannerKeepsTheCommandLine) {
-  const Options options = parsed({"--scene", "dir/cell.yaml", "--no-can", "--tcp", "127.0.0.1:0"});
+  const Options options = parsed({"--scene", "dir/cell.yaml", "--no-can", "--tcp", "tcp:127.0.0.1:0"});
   const auto all = scanner_options(options, load("scanner: {}"));
   ASSERT_TRUE(all.has_value());
   ASSERT_EQ(all->size(), 1u);
@@ -47,7 +47,7 @@ TEST(ScannerOptions, OneScannerKeepsTheCommandLine) {
 }
 
 TEST(ScannerOptions, AOneEntryListFillsInWhatTheCommandLineLeavesOut) {
-  const scene::Scene scene = load("scanners:\n  - {name: a, endpoints: {tcp: 40001, serial: \"pty:/tmp/s\"}, flash_file: a.img}\n");
+  const scene::Scene scene = load("scanners:\n  - {name: a, endpoints: {tcp: \"tcp:127.0.0.1:40001\", serial: \"serial:pty:/tmp/s\"}, flash_file: a.img}\n");
   const auto filled = scanner_options(parsed({"--scene", "dir/cell.yaml", "--no-can"}), scene);
   ASSERT_TRUE(filled.has_value()) << filled.error().message;
   EXPECT_EQ((*filled)[0].tcp, (TcpOption{"127.0.0.1", 40001}));
@@ -55,20 +55,20 @@ TEST(ScannerOptions, AOneEntryListFillsInWhatTheCommandLineLeavesOut) {
   EXPECT_EQ((*filled)[0].flash_path, default_flash_folder() / "a.img");  // never beside the scene
   // The command line wins over the scene.
   const auto given =
-      scanner_options(parsed({"--scene", "dir/cell.yaml", "--no-can", "--tcp", "h:5", "--flash", "f"}), scene);
+      scanner_options(parsed({"--scene", "dir/cell.yaml", "--no-can", "--tcp", "tcp:h:5", "--flash", "f"}), scene);
   ASSERT_TRUE(given.has_value());
   EXPECT_EQ((*given)[0].tcp, (TcpOption{"h", 5}));
   EXPECT_EQ((*given)[0].flash_path, std::filesystem::path("f"));
 }
 
 TEST(ScannerOptions, SeveralScannersTakeTheirEndpointsFromTheScene) {
-  const auto all = scanner_options(parsed({"--scene", "dir/cell.yaml", "--can", "vcan1"}), load(kTwoScannersYaml));
+  const auto all = scanner_options(parsed({"--scene", "dir/cell.yaml", "--can", "can:vcan0"}), load(kTwoScannersYaml));
   ASSERT_TRUE(all.has_value()) << all.error().message;
   ASSERT_EQ(all->size(), 2u);
   const Options& left = (*all)[0];
   const Options& right = (*all)[1];
-  EXPECT_EQ(left.can_interface, std::optional<std::string>("vcan1"));  // one bus for all
-  EXPECT_EQ(right.can_interface, std::optional<std::string>("vcan1"));
+  EXPECT_EQ(left.can_interface, std::optional<std::string>("vcan0"));  // one bus for all
+  EXPECT_EQ(right.can_interface, std::optional<std::string>("vcan0"));
   EXPECT_TRUE(left.can_id_pairs.empty());  // its flash's: 6C0:6C1
   ASSERT_EQ(right.can_id_pairs.size(), 1u);
   EXPECT_EQ(right.can_id_pairs[0].request_id, 0x6D0);
@@ -83,6 +83,14 @@ TEST(ScannerOptions, SeveralScannersTakeTheirEndpointsFromTheScene) {
   EXPECT_TRUE((*memory)[1].flash_path.empty());
 }
 
+// The daemon has one bus: a scanner's can: endpoint on another interface is an error naming both.
+TEST(ScannerOptions, ACanEndpointOnAnotherBusIsRefused) {
+  const auto other = scanner_options(parsed({"--scene", "dir/cell.yaml", "--can", "can:vcan1"}), load(kTwoScannersYaml));
+  ASSERT_FALSE(other.has_value());
+  EXPECT_EQ(other.error().message,
+            "scanners[1].endpoints.can: names vcan0 but the daemon's bus is --can can:vcan1 (one bus for all scanners)");
+}
+
 TEST(ScannerOptions, FlashDir_HoldsEveryScannersFlashUnderItsUsualName) {
   const auto all = scanner_options(parsed({"--scene", "dir/cell.yaml", "--no-can", "--flash-dir", "/state"}),
                                    load(kTwoScannersYaml));
@@ -90,12 +98,12 @@ TEST(ScannerOptions, FlashDir_HoldsEveryScannersFlashUnderItsUsualName) {
   EXPECT_EQ((*all)[0].flash_path, std::filesystem::path("/state/left.img"));
   EXPECT_EQ((*all)[1].flash_path, std::filesystem::path("/state/cell.yaml.right.flash"));
   const auto absolute = scanner_options(parsed({"--scene", "dir/cell.yaml", "--no-can", "--flash-dir", "/state"}),
-                                        load("scanners:\n  - {name: a, flash_file: /abs/a.img, endpoints: {tcp: 0}}\n"
-                                             "  - {name: b, endpoints: {tcp: 0}}\n"));
+                                        load("scanners:\n  - {name: a, flash_file: /abs/a.img, endpoints: {tcp: \"tcp:127.0.0.1:0\"}}\n"
+                                             "  - {name: b, endpoints: {tcp: \"tcp:127.0.0.1:0\"}}\n"));
   ASSERT_TRUE(absolute.has_value()) << absolute.error().message;
   EXPECT_EQ((*absolute)[0].flash_path, std::filesystem::path("/abs/a.img"));
   const auto one = scanner_options(parsed({"--scene", "dir/cell.yaml", "--no-can", "--flash-dir", "/state"}),
-                                   load("scanners:\n  - {name: a, flash_file: a.img, endpoints: {tcp: 0}}\n"));
+                                   load("scanners:\n  - {name: a, flash_file: a.img, endpoints: {tcp: \"tcp:127.0.0.1:0\"}}\n"));
   ASSERT_TRUE(one.has_value()) << one.error().message;
   EXPECT_EQ((*one)[0].flash_path, std::filesystem::path("/state/a.img"));
 }
@@ -103,10 +111,10 @@ TEST(ScannerOptions, FlashDir_HoldsEveryScannersFlashUnderItsUsualName) {
 TEST(ScannerOptions, SeveralScannersRefuseOneDevicesOptions) {
   const scene::Scene scene = load(kTwoScannersYaml);
   const std::vector<std::pair<std::vector<std::string_view>, std::string>> cases{
-      {{"--tcp", "h:1"}, "--tcp: names one scanner's endpoint"},
-      {{"--can-ids", "6C0:6C1"}, "--can-ids: names one scanner's endpoint"},
-      {{"--serial", "pty:/tmp/x"}, "--serial: names one scanner's endpoint"},
-      {{"--lpt", "pty:/tmp/x"}, "--lpt: names one scanner's endpoint"},
+      {{"--tcp", "tcp:h:1"}, "--tcp: names one scanner's endpoint"},
+      {{"--can", "can:vcan0:6C0:6C1"}, "--can can:IF:REQ:RESP: names one scanner's endpoint"},
+      {{"--serial", "serial:pty:/tmp/x"}, "--serial: names one scanner's endpoint"},
+      {{"--lpt", "lpt:pty:/tmp/x"}, "--lpt: names one scanner's endpoint"},
       {{"--flash", "f"}, "--flash: with several scanners"},
       {{"--record", "r.pcapng"}, "--record: records one scanner"},
   };
@@ -125,8 +133,8 @@ constexpr double kApart_m = 3.0;
 constexpr double kHousingRadius_m = 0.06;  // HousingConfig's default
 const char* const kFacingYaml =
     "scanners:\n"
-    "  - {name: left, pivot_pose: {position_m: [0, 0, 0]}, endpoints: {tcp: 0}}\n"
-    "  - {name: right, pivot_pose: {position_m: [3, 0, 0], rpy_deg: [0, 0, 180]}, endpoints: {tcp: 0}}\n"
+    "  - {name: left, pivot_pose: {position_m: [0, 0, 0]}, endpoints: {tcp: \"tcp:127.0.0.1:0\"}}\n"
+    "  - {name: right, pivot_pose: {position_m: [3, 0, 0], rpy_deg: [0, 0, 180]}, endpoints: {tcp: \"tcp:127.0.0.1:0\"}}\n"
     "objects:\n"
     "  - {name: north, box: {size_m: [20, 0.2, 6]}, pose: {position_m: [1.5, 2.1, 0]}}\n"
     "  - {name: south, box: {size_m: [20, 0.2, 6]}, pose: {position_m: [1.5, -2.1, 0]}}\n"
@@ -226,7 +234,7 @@ TEST(DaemonScanners, OneEntryListStreamsTheSameBytesAsTheScannerSection) {
   std::vector<std::string> frames;
   for (const std::string& scene : {single, listed}) {
     auto process = DaemonProcess::start({"--scene", scene, "--no-can", "--no-flash", "--virtual-time", "--tcp",
-                                         "127.0.0.1:0", "--timeout", "120"});
+                                         "tcp:127.0.0.1:0", "--timeout", "120"});
     ASSERT_TRUE(process);
     ASSERT_TRUE(process->wait_ready()) << process->stderr_text();
     EXPECT_EQ(process->stdout_text().find("scanner "), std::string::npos);  // one scanner: lines as before
@@ -248,7 +256,7 @@ TEST(DaemonScanners, OneEntryListStreamsTheSameBytesAsTheScannerSection) {
 
 TEST(DaemonScanners, AScannerWithoutHostTransport_ExitsTwoNamingIt) {
   TempDir dir;
-  const std::string scene = dir.write("cell.yaml", "scanners:\n  - {name: a, endpoints: {tcp: 0}}\n  - {name: b}\n");
+  const std::string scene = dir.write("cell.yaml", "scanners:\n  - {name: a, endpoints: {tcp: \"tcp:127.0.0.1:0\"}}\n  - {name: b}\n");
   auto process = DaemonProcess::start({"--scene", scene, "--no-can", "--no-flash"});
   ASSERT_TRUE(process);
   EXPECT_EQ(process->wait(), std::optional<int>(2));
@@ -264,7 +272,7 @@ TEST(DaemonScanners, AScannerWithoutHostTransport_ExitsTwoNamingIt) {
 TEST(DaemonScanners, SeveralScannersWithADevicesOption_ExitTwoWithOneLine) {
   TempDir dir;
   const std::string scene = dir.write("facing.yaml", kFacingYaml);
-  auto process = DaemonProcess::start({"--scene", scene, "--no-can", "--tcp", "127.0.0.1:0", "--no-flash"});
+  auto process = DaemonProcess::start({"--scene", scene, "--no-can", "--tcp", "tcp:127.0.0.1:0", "--no-flash"});
   ASSERT_TRUE(process);
   EXPECT_EQ(process->wait(), std::optional<int>(2));
   EXPECT_NE(process->stderr_text().find("--tcp: names one scanner's endpoint; with 2 scanners"), std::string::npos)
@@ -276,8 +284,8 @@ TEST(DaemonScanners, SeveralScannersWithADevicesOption_ExitTwoWithOneLine) {
 TEST(DaemonScanners, FlashDir_SigtermSavesEveryScannersFlashThere) {
   TempDir dir;
   const std::string scene =
-      dir.write("cell.yaml", "scanners:\n  - {name: a, endpoints: {tcp: 0}}\n"
-                             "  - {name: b, flash_file: b.img, endpoints: {tcp: 0}}\n");
+      dir.write("cell.yaml", "scanners:\n  - {name: a, endpoints: {tcp: \"tcp:127.0.0.1:0\"}}\n"
+                             "  - {name: b, flash_file: b.img, endpoints: {tcp: \"tcp:127.0.0.1:0\"}}\n");
   const std::filesystem::path state = dir.path("state");
   std::filesystem::create_directory(state);
   auto process = DaemonProcess::start({"--scene", scene, "--no-can", "--flash-dir", state.string()});
@@ -299,7 +307,7 @@ TEST(DaemonScanners, FlashDirThatIsNoFolder_ExitsTwoBeforeStarting) {
   TempDir dir;
   const std::string scene = dir.write("cell.yaml", "scanner: {}\n");
   auto process = DaemonProcess::start(
-      {"--scene", scene, "--no-can", "--tcp", "127.0.0.1:0", "--flash-dir", dir.path("missing")});
+      {"--scene", scene, "--no-can", "--tcp", "tcp:127.0.0.1:0", "--flash-dir", dir.path("missing")});
   ASSERT_TRUE(process);
   EXPECT_EQ(process->wait(), std::optional<int>(2));
   EXPECT_NE(process->stderr_text().find("--flash-dir " + dir.path("missing") + ": not a folder"), std::string::npos)
@@ -310,7 +318,7 @@ TEST(DaemonScanners, FlashInAFolderThatDoesNotExist_ExitsTwoBeforeStarting) {
   TempDir dir;
   const std::string scene = dir.write("cell.yaml", "scanner: {}\n");
   const std::string flash = dir.path("missing") + "/cell.flash";
-  auto process = DaemonProcess::start({"--scene", scene, "--no-can", "--tcp", "127.0.0.1:0", "--flash", flash});
+  auto process = DaemonProcess::start({"--scene", scene, "--no-can", "--tcp", "tcp:127.0.0.1:0", "--flash", flash});
   ASSERT_TRUE(process);
   EXPECT_EQ(process->wait(), std::optional<int>(2));
   EXPECT_NE(process->stderr_text().find("--flash " + flash + ": the folder " + dir.path("missing") + " does not exist"),
@@ -327,7 +335,7 @@ TEST(DaemonScanners, FlashFolderRemovedWhileRunning_SigtermExitsOneNamingTheFile
   const std::filesystem::path state = dir.path("state");
   std::filesystem::create_directory(state);
   const std::string flash = (state / "cell.flash").string();
-  auto process = DaemonProcess::start({"--scene", scene, "--no-can", "--tcp", "127.0.0.1:0", "--flash", flash});
+  auto process = DaemonProcess::start({"--scene", scene, "--no-can", "--tcp", "tcp:127.0.0.1:0", "--flash", flash});
   ASSERT_TRUE(process);
   ASSERT_TRUE(process->wait_ready()) << process->stderr_text();
   std::filesystem::remove_all(state);
@@ -341,8 +349,8 @@ TEST(DaemonScanners, FlashFolderRemovedWhileRunning_SigtermExitsOneNamingTheFile
 // One scanner's folder replaced by a file: its flash is lost (exit 1), the next one's is saved.
 TEST(DaemonScanners, OneScannersFlashFolderReplacedByAFile_TheOthersIsStillSaved) {
   TempDir dir;
-  const std::string scene = dir.write("cell.yaml", "scanners:\n  - {name: a, flash_file: gone/a.img, endpoints: {tcp: 0}}\n"
-                                                   "  - {name: b, flash_file: b.img, endpoints: {tcp: 0}}\n");
+  const std::string scene = dir.write("cell.yaml", "scanners:\n  - {name: a, flash_file: gone/a.img, endpoints: {tcp: \"tcp:127.0.0.1:0\"}}\n"
+                                                   "  - {name: b, flash_file: b.img, endpoints: {tcp: \"tcp:127.0.0.1:0\"}}\n");
   const std::filesystem::path gone = dir.path("gone");
   std::filesystem::create_directory(gone);
   auto process = DaemonProcess::start({"--scene", scene, "--no-can", "--flash-dir", dir.path("")});
@@ -372,7 +380,7 @@ TEST(DaemonScanners, FlashFolderRemovedWhileRunning_FlashWritesAreAnsweredAsErro
   std::filesystem::create_directory(state);
   const std::string flash = (state / "cell.flash").string();
   auto process = DaemonProcess::start(
-      {"--scene", scene, "--no-can", "--tcp", "127.0.0.1:0", "--flash", flash, "--timeout", "60"});
+      {"--scene", scene, "--no-can", "--tcp", "tcp:127.0.0.1:0", "--flash", flash, "--timeout", "60"});
   ASSERT_TRUE(process);
   ASSERT_TRUE(process->wait_ready()) << process->stderr_text();
   auto host = TcpHost::connect(process->tcp_port());

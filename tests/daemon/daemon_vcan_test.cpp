@@ -26,7 +26,7 @@ struct CanDaemon {
   std::optional<DaemonProcess> process;
   explicit CanDaemon(std::vector<std::string> extra = {}) {
     const std::string scene = dir.write("scene.yaml", minimal_scene_text());
-    std::vector<std::string> arguments{"--scene", scene, "--can", "vcan0", "--no-flash", "--timeout", "120"};
+    std::vector<std::string> arguments{"--scene", scene, "--can", "can:vcan0", "--no-flash", "--timeout", "120"};
     arguments.insert(arguments.end(), extra.begin(), extra.end());
     if (auto started = DaemonProcess::start(arguments)) process.emplace(std::move(*started));
   }
@@ -73,7 +73,7 @@ TEST(DaemonVcan, GetProfileOverIsoTp_ArrivesWholeAndDecodes) {
 
 TEST(DaemonVcan, SecondHostOnAnotherIdPair_IsItsOwnConnection) {
   LDOEM_REQUIRE_VCAN0();
-  CanDaemon daemon({"--can-ids", "6C0:6C1", "--can-ids", "6C2:6C3"});
+  CanDaemon daemon({"--can", "can:vcan0:6C0:6C1", "--can", "can:vcan0:6C2:6C3"});
   ASSERT_TRUE(daemon.process && daemon.process->wait_ready()) << daemon.process->stderr_text();
   IsoTpHost first(CanIdPair{0x6C0, 0x6C1});
   IsoTpHost second(CanIdPair{0x6C2, 0x6C3});
@@ -94,7 +94,7 @@ TEST(DaemonVcan, TwoScannersOnOneBus_EachAnswersOnItsOwnPairFromItsOwnPlace) {
                                                       "  - {name: near}\n"
                                                       "  - {name: far, pivot_pose: {position_m: [-1, 1, 0]}}\n");
   auto process = DaemonProcess::start(
-      {"--scene", scene, "--can", "vcan0", "--no-flash", "--time-scale", "4", "--timeout", "120"});
+      {"--scene", scene, "--can", "can:vcan0", "--no-flash", "--time-scale", "4", "--timeout", "120"});
   ASSERT_TRUE(process && process->wait_ready()) << (process ? process->stderr_text() : "");
   EXPECT_NE(process->stdout_text().find("scanner near\ncan vcan0 6C0:6C1\nscanner far\ncan vcan0 6C2:6C3\n"),
             std::string::npos)
@@ -138,7 +138,7 @@ TEST(DaemonVcan, BusTimingAt125k_SlowsProfilesSoRevolutionsAreSkipped) {
   LDOEM_REQUIRE_VCAN0();
   TempDir dir;
   const std::string scene = dir.write("scene.yaml", "effects: [bus_timing]\n" + minimal_scene_text());
-  auto process = DaemonProcess::start({"--scene", scene, "--can", "vcan0", "--no-flash", "--virtual-time", "--timeout", "120"});
+  auto process = DaemonProcess::start({"--scene", scene, "--can", "can:vcan0", "--no-flash", "--virtual-time", "--timeout", "120"});
   ASSERT_TRUE(process && process->wait_ready()) << (process ? process->stderr_text() : "");
   IsoTpHost host(CanIdPair{0x6C0, 0x6C1});
   EXPECT_EQ(host.exchange(telegram("SET_CONFIG 0002 0001 06c0 06c1 0000 0000")),

@@ -12,14 +12,14 @@ using namespace std::chrono_literals;
 
 void over_tcp(std::chrono::milliseconds stop) {
   TempDir dir;
-  auto daemon = start_real_time_daemon(dir, {"--no-can", "--tcp", "127.0.0.1:0"});
+  auto daemon = start_real_time_daemon(dir, {"--no-can", "--tcp", "tcp:127.0.0.1:0"});
   ASSERT_TRUE(daemon && daemon->wait_ready()) << (daemon ? daemon->stderr_text() : "");
   expect_stop_is_skipped(*daemon, driver::TcpEndpoint{"127.0.0.1", daemon->tcp_port()}, stop);
 }
 
 void over_serial(std::chrono::milliseconds stop) {
   TempDir dir;
-  auto daemon = start_real_time_daemon(dir, {"--no-can", "--serial", "pty:" + dir.path("serial")});
+  auto daemon = start_real_time_daemon(dir, {"--no-can", "--serial", "serial:pty:" + dir.path("serial")});
   ASSERT_TRUE(daemon && daemon->wait_ready()) << (daemon ? daemon->stderr_text() : "");
   expect_stop_is_skipped(*daemon, driver::SerialEndpoint{dir.path("serial")}, stop);
 }

@@ -12,7 +12,7 @@ using namespace std::chrono_literals;
 
 void over_vcan(std::chrono::milliseconds stop) {
   TempDir dir;
-  auto daemon = start_real_time_daemon(dir, {"--can", "vcan0"});
+  auto daemon = start_real_time_daemon(dir, {"--can", "can:vcan0"});
   ASSERT_TRUE(daemon && daemon->wait_ready()) << (daemon ? daemon->stderr_text() : "");
   expect_stop_is_skipped(*daemon, driver::CanEndpoint{"vcan0"}, stop);
 }

@@ -8,7 +8,7 @@ emud, scene = sys.argv[1:3]
 def limit():
     resource.setrlimit(resource.RLIMIT_NOFILE, (64, 64))
 with tempfile.TemporaryFile() as err:
-    daemon = subprocess.Popen([emud, "--scene", scene, "--no-can", "--tcp", "127.0.0.1:0", "--no-flash",
+    daemon = subprocess.Popen([emud, "--scene", scene, "--no-can", "--tcp", "tcp:127.0.0.1:0", "--no-flash",
                                "--timeout", "60"], stdout=subprocess.PIPE, stderr=err, preexec_fn=limit, text=True)
     port = None
     for line in daemon.stdout:

@@ -20,7 +20,7 @@ TEST(FlashFolder, WithoutFlashOptions_TheFlashGoesToXdgStateHomeNotBesideTheScen
   const std::string scene = scenes.write("scene.yaml", minimal_scene_text());
   auto process = DaemonProcess::start_program(
       "env", {"-u", "STATE_DIRECTORY", "-u", "XDG_STATE_HOME", "HOME=" + home.path(""), LDOEM_EMUD_PATH, "--scene",
-              scene, "--no-can", "--tcp", "127.0.0.1:0", "--virtual-time", "--timeout", "120"});
+              scene, "--no-can", "--tcp", "tcp:127.0.0.1:0", "--virtual-time", "--timeout", "120"});
   ASSERT_TRUE(process);
   ASSERT_TRUE(process->wait_ready()) << process->stderr_text();
   process->signal(SIGTERM);

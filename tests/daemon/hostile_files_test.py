@@ -27,7 +27,7 @@ def run(args, rlimit_mib=None, timeout=LIMIT_S):
     def limit():
         if rlimit_mib:
             resource.setrlimit(resource.RLIMIT_AS, (rlimit_mib << 20, rlimit_mib << 20))
-    base = [emud, "--no-can", "--tcp", "127.0.0.1:0", "--timeout", "0.3"]
+    base = [emud, "--no-can", "--tcp", "tcp:127.0.0.1:0", "--timeout", "0.3"]
     try:
         done = subprocess.run(base + args, capture_output=True, text=True, timeout=timeout, preexec_fn=limit)
         return done.returncode, done.stderr

@@ -22,7 +22,7 @@ class Daemon:
 
     def __init__(self, emud, scene, extra=(), preexec=None, control=None, expect_start=True):
         self.err = tempfile.TemporaryFile()
-        args = [emud, "--scene", scene, "--no-can", "--tcp", "127.0.0.1:0", "--no-flash", "--timeout", "120"]
+        args = [emud, "--scene", scene, "--no-can", "--tcp", "tcp:127.0.0.1:0", "--no-flash", "--timeout", "120"]
         if control:
             args += ["--control", control]
         self.proc = subprocess.Popen(args + list(extra), stdout=subprocess.PIPE, stderr=self.err,
@@ -251,7 +251,7 @@ def pcapng_whole(path):
 def case_record_files(emud, scene, _):
     with tempfile.TemporaryDirectory() as tmp:
         record = os.path.join(tmp, "r.pcapng")
-        run = subprocess.run([emud, "--scene", scene, "--no-can", "--tcp", "127.0.0.1:0", "--no-flash",
+        run = subprocess.run([emud, "--scene", scene, "--no-can", "--tcp", "tcp:127.0.0.1:0", "--no-flash",
                               "--timeout", "3", "--record", record, "--record-max-mb", "1",
                               "--record-files", "10000000"], capture_output=True, text=True, timeout=60)
         print(f"--record-files 10000000: exit {run.returncode} {run.stderr.strip()}")
@@ -323,7 +323,7 @@ def case_record_full_disk(emud, scene, replay):
                         data = f.read()
                     with open(path, "wb") as f:
                         f.write(data[:-cut])
-                run = subprocess.run([replay, path, "--tcp", "127.0.0.1:0", "--timeout", "0.3"],
+                run = subprocess.run([replay, path, "--tcp", "tcp:127.0.0.1:0", "--timeout", "0.3"],
                                      capture_output=True, text=True, timeout=60)
                 print(f"ldoem-replay of the {name} file: exit {run.returncode}; "
                       + " | ".join(run.stderr.strip().splitlines()[:2]))

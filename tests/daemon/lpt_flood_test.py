@@ -24,8 +24,8 @@ def rss_kib(pid):
 def flood(folder, scene, label):
     link = os.path.join(folder, "lpt")
     with tempfile.TemporaryFile() as err:
-        daemon = subprocess.Popen([emud, "--scene", scene, "--no-can", "--tcp", "127.0.0.1:0", "--no-flash",
-                                   "--virtual-time", "--lpt", "pty:" + link, "--timeout", "120"],
+        daemon = subprocess.Popen([emud, "--scene", scene, "--no-can", "--tcp", "tcp:127.0.0.1:0", "--no-flash",
+                                   "--virtual-time", "--lpt", "lpt:pty:" + link, "--timeout", "120"],
                                   stdout=subprocess.PIPE, stderr=err, text=True,
                                   # Under ASan, freed memory waits in a 256 MiB quarantine by default.
                                   env=dict(os.environ, ASAN_OPTIONS="quarantine_size_mb=4"))

@@ -58,9 +58,9 @@ TEST(Options, SceneOnly_GivesEveryDefault) {
 }
 
 TEST(Options, EveryValueOption_IsStored) {
-  const Options options = run_options({"--scene=s.yaml", "--can", "vcan1", "--can-ids", "6C0:6C1", "--can-ids",
-                                       "0x6C2:0x6C3", "--tcp", "127.0.0.1:0", "--serial", "pty:/tmp/s", "--lpt",
-                                       "pty:/tmp/l", "--flash", "/tmp/f", "--time-scale", "2.5", "--seed", "42",
+  const Options options = run_options({"--scene=s.yaml", "--can", "can:vcan1:6C0:6C1", "--can",
+                                       "can:vcan1:0x6C2:0x6C3", "--tcp", "tcp:127.0.0.1:0", "--serial", "serial:pty:/tmp/s", "--lpt",
+                                       "lpt:pty:/tmp/l", "--flash", "/tmp/f", "--time-scale", "2.5", "--seed", "42",
                                        "--log-level", "debug", "--count-profiles", "3", "--timeout", "1.5",
                                        "--virtual-time"});
   EXPECT_EQ(options.scene_path, "s.yaml");
@@ -92,18 +92,18 @@ TEST(Options, RecordOptions_AreStoredAndChecked) {
 }
 
 TEST(Options, TcpWithoutPort_UsesServicePort49152) {
-  EXPECT_EQ(run_options({"--scene", "s", "--tcp", "0.0.0.0"}).tcp, (std::optional<TcpOption>(TcpOption{"0.0.0.0", 49152})));
+  EXPECT_EQ(run_options({"--scene", "s", "--tcp", "tcp:0.0.0.0"}).tcp, (std::optional<TcpOption>(TcpOption{"0.0.0.0", 49152})));
 }
 
 TEST(Options, NoCanAndNoFlash_AreApplied) {
-  const Options options = run_options({"--scene", "s", "--no-can", "--tcp", "127.0.0.1", "--no-flash"});
+  const Options options = run_options({"--scene", "s", "--no-can", "--tcp", "tcp:127.0.0.1", "--no-flash"});
   EXPECT_FALSE(options.can_interface.has_value());
   EXPECT_EQ(options.flash_mode, FlashMode::memory);
   EXPECT_TRUE(options.flash_path.empty());
 }
 
 TEST(Options, LptGpio_IsParsed) {
-  EXPECT_EQ(run_options({"--scene", "s", "--lpt", "gpio:ldoem-lpt"}).lpt,
+  EXPECT_EQ(run_options({"--scene", "s", "--lpt", "lpt:gpio:ldoem-lpt"}).lpt,
             (std::optional<LptOption>(LptOption{LptBackend::gpio, "ldoem-lpt"})));
 }
 
@@ -129,23 +129,37 @@ TEST(Options, BadCommandLines_AreUsageErrorsNamingTheOption) {
       {{"--scene", "s", "--time-scale", "-1"}, "--time-scale: must be a number from 1e-6 to 1e6"},
       {{"--scene", "s", "--time-scale", "fast"}, "--time-scale: must be a number from 1e-6 to 1e6"},
       {{"--scene", "s", "--time-scale", "inf"}, "--time-scale: must be a number from 1e-6 to 1e6"},
-      {{"--scene", "s", "--can-ids", "6C0"}, "--can-ids: expects REQUEST:RESPONSE"},
-      {{"--scene", "s", "--can-ids", "800:6C1"}, "--can-ids: identifiers are 11-bit"},
-      {{"--scene", "s", "--can-ids", "6C0:6C0"}, "--can-ids: request and response identifiers must differ"},
-      {{"--scene", "s", "--can-ids", "6C0:6C1", "--can-ids", "6C1:6C2"}, "--can-ids: every identifier"},
-      {{"--scene", "s", "--no-can", "--can", "vcan0", "--tcp", "h"}, "--no-can: conflicts with --can"},
-      {{"--scene", "s", "--no-can", "--can-ids", "6C0:6C1", "--tcp", "h"}, "--can-ids: needs CAN"},
+      {{"--scene", "s", "--can", "can:vcan0:6C0"}, "--can: endpoint `can:vcan0:6C0`: missing field"},
+      {{"--scene", "s", "--can", "can:vcan0:800:6C1"}, "--can: endpoint `can:vcan0:800:6C1`: out of range"},
+      {{"--scene", "s", "--can", "can:vcan0:6C0:6C0"}, "--can: endpoint `can:vcan0:6C0:6C0`: out of range: request and"},
+      {{"--scene", "s", "--can", "can:vcan0:6C0:6C1", "--can", "can:vcan0:6C1:6C2"}, "--can: every identifier"},
+      {{"--scene", "s", "--can", "can:vcan0:6C0:6C1", "--can", "can:vcan1:6C2:6C3"}, "--can: every --can names the same"},
+      {{"--scene", "s", "--can", "can:isotp:vcan0"}, "--can: endpoint `can:isotp:vcan0`: wrong side"},
+      // Issue 24: every spelling from before docs/endpoints.md names the new one.
+      {{"--scene", "s", "--can-ids", "6C0:6C1"},
+       "--can-ids 6C0:6C1 is the old spelling; write --can can:IF:6C0:6C1 (docs/endpoints.md)"},
+      {{"--scene", "s", "--can", "vcan0"}, "--can vcan0 is the old spelling; write --can can:vcan0 (docs/endpoints.md)"},
+      {{"--scene", "s", "--tcp", "127.0.0.1:49152"},
+       "--tcp 127.0.0.1:49152 is the old spelling; write --tcp tcp:127.0.0.1:49152 (docs/endpoints.md)"},
+      {{"--scene", "s", "--serial", "pty:/x"}, "--serial pty:/x is the old spelling; write --serial serial:pty:/x (docs/endpoints.md)"},
+      {{"--scene", "s", "--lpt", "pty:/x"}, "--lpt pty:/x is the old spelling; write --lpt lpt:pty:/x (docs/endpoints.md)"},
+      {{"--scene", "s", "--lpt", "gpio:c"}, "--lpt gpio:c is the old spelling; write --lpt lpt:gpio:c (docs/endpoints.md)"},
+      {{"--scene", "s", "--no-can", "--can", "can:vcan0", "--tcp", "tcp:h"}, "--no-can: conflicts with --can"},
+      {{"--scene", "s", "--no-can", "--can", "can:vcan0:6C0:6C1", "--tcp", "tcp:h"}, "--no-can: conflicts with --can"},
       {{"--scene", "s", "--flash", "f", "--no-flash"}, "--no-flash: conflicts with --flash"},
-      {{"--scene", "s", "--reset-flash", "--no-flash", "--tcp", "h"}, "--reset-flash: conflicts with --no-flash"},
+      {{"--scene", "s", "--reset-flash", "--no-flash", "--tcp", "tcp:h"}, "--reset-flash: conflicts with --no-flash"},
       {{"--scene", "s", "--realtime", "--virtual-time"}, "--realtime: conflicts with --virtual-time"},
       {{"--scene", "s", "--flash-dir", "d", "--flash", "f"}, "--flash-dir: conflicts with --flash"},
-      {{"--scene", "s", "--no-flash", "--flash-dir", "d", "--tcp", "h"}, "--flash-dir: conflicts with --no-flash"},
+      {{"--scene", "s", "--no-flash", "--flash-dir", "d", "--tcp", "tcp:h"}, "--flash-dir: conflicts with --no-flash"},
       {{"--scene", "s", "--flash-dir", ""}, "--flash-dir: expects a folder"},
-      {{"--scene", "s", "--tcp", ":49152"}, "--tcp: expects HOST[:PORT]"},
-      {{"--scene", "s", "--tcp", "h:70000"}, "--tcp: port must be 0..65535"},
-      {{"--scene", "s", "--serial", "/dev/ttyS0"}, "--serial: expects pty:PATH"},
-      {{"--scene", "s", "--lpt", "parport:/dev/parport0"}, "--lpt: expects pty:PATH or gpio:CHIP"},
-      {{"--scene", "s", "--lpt", "pty:"}, "--lpt: expects pty:PATH or gpio:CHIP"},
+      {{"--scene", "s", "--tcp", ":49152"}, "--tcp: endpoint `:49152`: unknown scheme: expected tcp:HOST[:PORT]"},
+      {{"--scene", "s", "--tcp", "tcp::49152"}, "--tcp: endpoint `tcp::49152`: missing field: no host"},
+      {{"--scene", "s", "--tcp", "tcp:h:70000"}, "--tcp: endpoint `tcp:h:70000`: out of range: port must be 0..65535"},
+      {{"--scene", "s", "--tcp", "can:vcan0"}, "--tcp: endpoint `can:vcan0`: wrong kind: expected tcp:HOST[:PORT]"},
+      {{"--scene", "s", "--serial", "serial:/dev/ttyS0"}, "--serial: endpoint `serial:/dev/ttyS0`: wrong side"},
+      {{"--scene", "s", "--lpt", "parport:/dev/parport0"}, "--lpt: endpoint `parport:/dev/parport0`: unknown scheme"},
+      {{"--scene", "s", "--lpt", "lpt:/dev/parport0"}, "--lpt: endpoint `lpt:/dev/parport0`: wrong side"},
+      {{"--scene", "s", "--lpt", "lpt:pty:"}, "--lpt: endpoint `lpt:pty:`: missing field"},
       {{"--scene", "s", "--seed", "-3"}, "--seed: must be an unsigned integer"},
       {{"--scene", "s", "--log-level", "verbose"}, "--log-level: must be error, warn, info or debug"},
       {{"--scene", "s", "--count-profiles", "0"}, "--count-profiles: must be an integer > 0"},
@@ -220,13 +234,13 @@ TEST(Options, DefaultFlashFolder_IsTheUnitsStateDirectoryElseXdgStateHome) {
 
 TEST(Options, UsageText_ListsEveryOptionExitCodesAndExamples) {
   const std::string text = usage_text("ldoem-emud");
-  for (const char* needle : {"--scene", "--can ", "--no-can", "--can-ids", "--tcp", "--serial", "--lpt pty:",
-                             "--lpt gpio:", "--flash", "--flash-dir", "--no-flash", "--time-scale", "--virtual-time", "--seed",
-                             "--log-level", "--count-profiles", "--timeout", "--help", "--version", "[vcan0]",
+  for (const char* needle : {"--scene", "--can can:IF[:REQ:RESP]", "--no-can", "--tcp tcp:HOST", "--serial serial:pty:", "--serial", "--lpt lpt:pty:",
+                             "--lpt lpt:gpio:", "--flash", "--flash-dir", "--no-flash", "--time-scale", "--virtual-time", "--seed",
+                             "--log-level", "--count-profiles", "--timeout", "--help", "--version", "[can:vcan0",
                              "--reset-flash", "--inter-byte-timeout", "--tcp-silent-timeout", "--tcp-idle-timeout",
                              "--max-clients N", "[64]",
                              "[STATE/<scene>.flash", "49152", "128+N", "  2  ", "Examples:",
-                             "ldoem-emud --scene scenes/corridor.yaml --can vcan0 --lpt pty:/tmp/ldoem-lpt"}) {
+                             "ldoem-emud --scene scenes/corridor.yaml --can can:vcan0 --lpt lpt:pty:/tmp/ldoem-lpt"}) {
     EXPECT_NE(text.find(needle), std::string::npos) << needle;
   }
 }

@@ -22,7 +22,7 @@ failures_inside = 0
 for mib in range(64, 513, 32):
     def limit(m=mib):
         resource.setrlimit(resource.RLIMIT_AS, (m << 20, m << 20))
-    run = subprocess.run([emud, "--scene", scene, "--no-can", "--tcp", "127.0.0.1:0", "--no-flash",
+    run = subprocess.run([emud, "--scene", scene, "--no-can", "--tcp", "tcp:127.0.0.1:0", "--no-flash",
                           "--timeout", "0.3"], preexec_fn=limit, capture_output=True, text=True, timeout=60)
     last = run.stderr.strip().splitlines()[-1] if run.stderr.strip() else ""
     print(f"RLIMIT_AS {mib} MiB: exit {run.returncode} {last}")

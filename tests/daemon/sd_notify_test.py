@@ -36,7 +36,7 @@ def check(name, got):
 
 emud, hub, scene = sys.argv[1:4]
 with tempfile.TemporaryDirectory() as folder:
-    got, _ = messages_from([emud, "--scene", scene, "--no-can", "--tcp", "127.0.0.1:0", "--no-flash",
+    got, _ = messages_from([emud, "--scene", scene, "--no-can", "--tcp", "tcp:127.0.0.1:0", "--no-flash",
                             "--timeout", "30"], 1.5, folder)
     check("ldoem-emud", got)
     config = os.path.join(folder, "hub.yaml")

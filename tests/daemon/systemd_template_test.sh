@@ -29,7 +29,7 @@ fi
 # Out of the box a 3D scan works (issue 24): the shipped hub.yaml names ldoem-emud@corridor's
 # LPT pty, and the hub runs as the emulator's dynamic user, so that it may open that pty.
 unit="$source_dir/packaging/systemd/ldoem-emud@.service"
-lpt=$(sed -n 's/^Environment="LDOEM_EMUD_ARGS=.*--lpt pty:\([^ "]*\).*/\1/p' "$unit" | sed 's/%i/corridor/')
+lpt=$(sed -n 's/^Environment="LDOEM_EMUD_ARGS=.*--lpt lpt:pty:\([^ "]*\).*/\1/p' "$unit" | sed 's/%i/corridor/')
 if [ -z "$lpt" ] || ! grep -q "^    lpt: lpt:pty:$lpt\$" "$source_dir/packaging/etc/hub.yaml"; then
   echo "packaging/etc/hub.yaml does not name the LPT pty of ldoem-emud@corridor (${lpt:-none})"; exit 1
 fi

@@ -16,11 +16,11 @@ struct GoodRow {
 std::vector<GoodRow> good_rows() {
   return {
       {"can:vcan0", CanEndpoint{"vcan0", 0x6C0, 0x6C1, false}},
-      {"can:vcan0:6C0:6C1", CanEndpoint{"vcan0", 0x6C0, 0x6C1, false}},
-      {"can:can1:123:7ff", CanEndpoint{"can1", 0x123, 0x7FF, false}},
-      {"can:vcan0:0x6C2:0x6C3", CanEndpoint{"vcan0", 0x6C2, 0x6C3, false}},
+      {"can:vcan0:6C0:6C1", CanEndpoint{"vcan0", 0x6C0, 0x6C1, false, true}},
+      {"can:can1:123:7ff", CanEndpoint{"can1", 0x123, 0x7FF, false, true}},
+      {"can:vcan0:0x6C2:0x6C3", CanEndpoint{"vcan0", 0x6C2, 0x6C3, false, true}},
       {"can:isotp:vcan0", CanEndpoint{"vcan0", 0x6C0, 0x6C1, true}},
-      {"can:isotp:vcan0:100:101", CanEndpoint{"vcan0", 0x100, 0x101, true}},
+      {"can:isotp:vcan0:100:101", CanEndpoint{"vcan0", 0x100, 0x101, true, true}},
       {"tcp:127.0.0.1:49152", TcpEndpoint{"127.0.0.1", 49152}},
       {"tcp:127.0.0.1", TcpEndpoint{"127.0.0.1", 49152}},
       {"tcp:scanner.lab:5000", TcpEndpoint{"scanner.lab", 5000}},
@@ -29,8 +29,8 @@ std::vector<GoodRow> good_rows() {
       {"serial:/dev/ttyUSB0", SerialEndpoint{"/dev/ttyUSB0", 115200}},
       {"serial:/dev/ttyUSB0:115200", SerialEndpoint{"/dev/ttyUSB0", 115200}},
       {"serial:/dev/ttyS1:9600", SerialEndpoint{"/dev/ttyS1", 9600}},
-      {"serial:pty:/tmp/ldoem-serial", SerialEndpoint{"/tmp/ldoem-serial", 115200}},
-      {"serial:pty:/tmp/ldoem-serial:57600", SerialEndpoint{"/tmp/ldoem-serial", 57600}},
+      {"serial:pty:/tmp/ldoem-serial", SerialEndpoint{"/tmp/ldoem-serial", 115200, true}},
+      {"serial:pty:/tmp/ldoem-serial:57600", SerialEndpoint{"/tmp/ldoem-serial", 57600, true}},
       {"lpt:/dev/parport0", LptEndpoint{LptBackend::ppdev, "/dev/parport0"}},
       {"lpt:pty:/tmp/ldoem-lpt", LptEndpoint{LptBackend::pty, "/tmp/ldoem-lpt"}},
       {"lpt:gpio:ldoem-lpt", LptEndpoint{LptBackend::gpio, "ldoem-lpt"}},
@@ -70,7 +70,7 @@ TEST(ParseEndpoint, InvalidStrings_GiveTypedErrors) {
   const std::vector<BadRow> rows = {
       {"", EndpointErrorKind::empty},
       {"udp:1.2.3.4", EndpointErrorKind::unknown_scheme},
-      {"vcan0", EndpointErrorKind::unknown_scheme},
+      {"vcan0", EndpointErrorKind::old_spelling},  // write can:vcan0 (docs/endpoints.md)
       {"CAN:vcan0", EndpointErrorKind::unknown_scheme},
       {"can:", EndpointErrorKind::missing_field},
       {"can:isotp:", EndpointErrorKind::missing_field},

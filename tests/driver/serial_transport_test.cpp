@@ -167,7 +167,7 @@ TEST(SerialTransport, MissingDevice_IsSystemErrorNamingThePath) {
   ASSERT_FALSE(transport);
   EXPECT_EQ(transport.error().kind, ErrorKind::system);
   EXPECT_EQ(describe(transport.error()),
-            "open serial:/nonexistent/ttyLDOEM:115200: system error: No such file or directory");
+            "open serial:/nonexistent/ttyLDOEM: system error: No such file or directory");
 }
 
 TEST(SerialTransport, HangUp_IsConnectionClosed) {

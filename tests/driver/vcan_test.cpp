@@ -8,6 +8,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <future>
 #include <thread>
 
@@ -215,6 +216,11 @@ TEST(CanIsoTpTransport, MissingInterface_IsAnErrorNamingTheEndpoint) {
   auto transport = CanIsoTpTransport::open(CanEndpoint{"nocan9", 0x6C0, 0x6C1, false});
   ASSERT_FALSE(transport);
   EXPECT_EQ(transport.error().object, "can:nocan9");
+  // A kernel without CAN says so and what to do (issue 24), not only strerror.
+  if (transport.error().system_errno == EAFNOSUPPORT) {
+    EXPECT_NE(describe(transport.error()).find("modprobe vcan"), std::string::npos) << describe(transport.error());
+    EXPECT_NE(describe(transport.error()).find("docs/uml-harness.md"), std::string::npos);
+  }
 }
 
 }  // namespace

@@ -55,7 +55,7 @@ TEST(KernelIsoTp, IsotpsendAndIsotprecv_GetEveryReplyIncludingLongProfiles) {
   LDOEM_REQUIRE_KERNEL_ISOTP();
   TempDir dir;
   auto daemon = ChildProcess::start(LDOEM_EMUD_PATH,
-                                    {"--scene", std::string(LDOEM_SOURCE_DIR) + "/scenes/minimal.yaml", "--can", "vcan0",
+                                    {"--scene", std::string(LDOEM_SOURCE_DIR) + "/scenes/minimal.yaml", "--can", "can:vcan0",
                                      "--no-flash", "--virtual-time", "--timeout", "120"},
                                     dir.path("daemon"));
   ASSERT_TRUE(daemon && daemon->wait_for_line("ready", false, std::chrono::seconds(20))) << daemon->stderr_text();

@@ -75,14 +75,14 @@ ScanRun scan_corridor(const TempDir& dir, const std::string& name, Route route, 
   ScanRun run;
   const std::string lpt = lpt_path(dir, name);
   std::vector<std::string> daemon_args{"--scene", std::string(LDOEM_SOURCE_DIR) + "/scenes/corridor.yaml",
-                                       "--lpt",   "pty:" + lpt,
+                                       "--lpt",   "lpt:pty:" + lpt,
                                        "--no-flash", "--timeout", kDaemonSelfStopS};
   if (settings.scanners_scene) {
     daemon_args = {"--scene", *settings.scanners_scene, "--no-flash", "--timeout", kDaemonSelfStopS, "--no-can"};
   } else if (uses_can(route)) {
-    daemon_args.insert(daemon_args.end(), {"--can", "vcan0"});
+    daemon_args.insert(daemon_args.end(), {"--can", "can:vcan0"});
   } else {
-    daemon_args.insert(daemon_args.end(), {"--no-can", "--tcp", "127.0.0.1:0"});
+    daemon_args.insert(daemon_args.end(), {"--no-can", "--tcp", "tcp:127.0.0.1:0"});
   }
   daemon_args.insert(daemon_args.end(), settings.clock_args.begin(), settings.clock_args.end());
   daemon_args.insert(daemon_args.end(), settings.extra_daemon_args.begin(), settings.extra_daemon_args.end());
@@ -90,11 +90,11 @@ ScanRun scan_corridor(const TempDir& dir, const std::string& name, Route route, 
   if (settings.replay_capture) {
     // The same endpoints, a recorded device behind them.
     program = LDOEM_REPLAY_PATH;
-    daemon_args = {*settings.replay_capture, "--lpt", "pty:" + lpt};
+    daemon_args = {*settings.replay_capture, "--lpt", "lpt:pty:" + lpt};
     if (uses_can(route)) {
-      daemon_args.insert(daemon_args.end(), {"--can", "vcan0"});
+      daemon_args.insert(daemon_args.end(), {"--can", "can:vcan0"});
     } else {
-      daemon_args.insert(daemon_args.end(), {"--tcp", "127.0.0.1:0"});
+      daemon_args.insert(daemon_args.end(), {"--tcp", "tcp:127.0.0.1:0"});
     }
     daemon_args.insert(daemon_args.end(), settings.replay_args.begin(), settings.replay_args.end());
   }

@@ -128,7 +128,7 @@ TEST(FaultScenario, MotorStallMidStream_LdoemScanExitsOneNamingTheFault_NoCloudL
   const std::string lpt = (dir / "lpt").string();
   const std::string out = (dir / "scan.ply").string();
   std::string failure;
-  auto scene = start_scene(scenario("motor-stall-mid-stream"), {"--lpt", "pty:" + lpt}, &failure);
+  auto scene = start_scene(scenario("motor-stall-mid-stream"), {"--lpt", "lpt:pty:" + lpt}, &failure);
   ASSERT_TRUE(scene) << failure;
   auto scan = daemon::test::DaemonProcess::start_program(
       LDOEM_SCAN_PATH, {"--device", "tcp:127.0.0.1:" + std::to_string(scene->endpoint.port), "--lpt", "lpt:pty:" + lpt,
@@ -155,7 +155,7 @@ void scan_completes_through(const std::string& name, const std::string& expected
   const std::string lpt = (dir / "lpt").string();
   const std::string out = (dir / "scan.ply").string();
   std::string failure;
-  auto scene = start_scene(scenario(name), {"--lpt", "pty:" + lpt}, &failure);
+  auto scene = start_scene(scenario(name), {"--lpt", "lpt:pty:" + lpt}, &failure);
   ASSERT_TRUE(scene) << failure;
   // 9 deg at 0.18 deg: 51 layers, about 15 s: the fault (5 s, 6 s) comes in the middle.
   auto scan = daemon::test::DaemonProcess::start_program(

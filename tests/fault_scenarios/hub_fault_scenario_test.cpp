@@ -112,7 +112,7 @@ TEST(FaultScenario, PowerCycleThroughTheHub_LdoemScanRetriesAndCompletes) {
   const std::string lpt = (dir / "lpt").string();
   const std::string out = (dir / "scan.ply").string();
   std::string failure;
-  auto scene = start_scene(scenario("power-cycle-during-profile"), {"--lpt", "pty:" + lpt}, &failure);
+  auto scene = start_scene(scenario("power-cycle-during-profile"), {"--lpt", "lpt:pty:" + lpt}, &failure);
   ASSERT_TRUE(scene) << failure;
   const auto lpt_endpoint = driver::parse_endpoint("lpt:pty:" + lpt);
   ASSERT_TRUE(lpt_endpoint);

@@ -14,7 +14,7 @@ std::string scenario(const std::string& name) { return std::string(LDOEM_SOURCE_
 std::optional<RunningScene> start_scene(const std::string& scene, const std::vector<std::string>& extra,
                                         std::string* failure) {
   // --timeout: the daemon stops by itself should the test die.
-  std::vector<std::string> arguments{"--scene", scene, "--no-can", "--tcp", "127.0.0.1:0", "--no-flash", "--timeout", "170"};
+  std::vector<std::string> arguments{"--scene", scene, "--no-can", "--tcp", "tcp:127.0.0.1:0", "--no-flash", "--timeout", "170"};
   arguments.insert(arguments.end(), extra.begin(), extra.end());
   auto daemon = daemon::test::DaemonProcess::start(arguments);
   if (!daemon || !daemon->wait_ready(std::chrono::seconds(60))) {

@@ -151,7 +151,7 @@ TEST(IsotpdumpInterop, ProfileExchange_IsotpdumpShowsEveryFrameAndTheDriversByte
       << "no vcan0 (vcan tests run inside UML: scripts/uml/run.sh -- ctest -L vcan)";
   ScratchDir scratch;
   auto daemon = SpawnedProcess::start(
-      {LDOEM_EMUD_PATH, "--scene", LDOEM_SOURCE_DIR "/scenes/minimal.yaml", "--can", "vcan0", "--no-flash",
+      {LDOEM_EMUD_PATH, "--scene", LDOEM_SOURCE_DIR "/scenes/minimal.yaml", "--can", "can:vcan0", "--no-flash",
        "--time-scale", "10", "--timeout", "60"},
       scratch.file("emud.out"), scratch.file("emud.err"));
   ASSERT_TRUE(daemon) << "cannot start " << LDOEM_EMUD_PATH;

@@ -60,9 +60,9 @@ check_against() {  # $1: label, then the suite's endpoint options
   fi
 }
 
-start_replay --tcp 127.0.0.1:0
+start_replay --tcp tcp:127.0.0.1:0
 address=$(sed -n 's/^tcp \(.*\)$/\1/p' "$work/replay.out" | head -n 1)
-check_against tcp --tcp "$address"
+check_against tcp --tcp "tcp:$address"
 # A request the recording never saw (the cases send SET_TIME_REL -10 ms, never +7 ms).
 python3 - "$address" >"$work/unexpected.out" 2>&1 <<'PY'
 import socket, sys
@@ -88,19 +88,19 @@ fi
 grep -q 'SET_TIME_REL 0007 is not in the recording' "$work/replay.err" \
   || { tail -n 5 "$work/replay.err"; echo "FAIL: no diagnostic for the unrecorded request"; exit 1; }
 
-start_replay --serial "pty:$work/serial"
-check_against serial --serial "$work/serial"
+start_replay --serial "serial:pty:$work/serial"
+check_against serial --serial "serial:pty:$work/serial"
 stop_replay
 
 # A device on TCP port 4000: the same capture with the port changed.
 python3 "$(dirname "$0")/../wireshark/rewrite_port.py" "$work/recorded.pcapng" "$work/port4000.pcapng" 4000 \
   || { echo "FAIL: rewrite_port.py"; exit 1; }
 capture="$work/port4000.pcapng"
-start_replay --tcp 127.0.0.1:0
+start_replay --tcp tcp:127.0.0.1:0
 grep -q 'exchanges (tcp, device port 4000 (detected))' "$work/replay.err" \
   || { head -n 5 "$work/replay.err"; echo "FAIL: ldoem-replay did not find port 4000 in the capture"; exit 1; }
 address=$(sed -n 's/^tcp \(.*\)$/\1/p' "$work/replay.out" | head -n 1)
-check_against port4000 --tcp "$address" --port 4000
+check_against port4000 --tcp "tcp:$address" --port 4000
 stop_replay
 grep -q '^against .*device port 4000): ' "$work/port4000.out" \
   || { head -n 3 "$work/port4000.out"; echo "FAIL: --against --port 4000 did not take port 4000"; exit 1; }

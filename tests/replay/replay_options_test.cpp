@@ -11,8 +11,8 @@ base::Expected<ReplayOptions, ReplayUsageError> parse(std::vector<std::string_vi
 }
 
 TEST(ReplayOptions, EndpointsSpeedAndTransport_AreParsed) {
-  const auto options = parse({"scan.pcapng", "--tcp", "127.0.0.1:0", "--can", "vcan0", "--can-ids", "6C2:6C3",
-                              "--lpt", "pty:/tmp/l", "--speed", "2.5", "--transport", "can", "--timeout", "9"});
+  const auto options = parse({"scan.pcapng", "--tcp", "tcp:127.0.0.1:0", "--can", "can:vcan0:6C2:6C3",
+                              "--lpt", "lpt:pty:/tmp/l", "--speed", "2.5", "--transport", "can", "--timeout", "9"});
   ASSERT_TRUE(options.has_value()) << options.error().message;
   EXPECT_EQ(options->capture, std::filesystem::path("scan.pcapng"));
   ASSERT_TRUE(options->endpoints.tcp.has_value());
@@ -26,24 +26,31 @@ TEST(ReplayOptions, EndpointsSpeedAndTransport_AreParsed) {
 }
 
 TEST(ReplayOptions, DefaultsServeNoCan) {
-  const auto options = parse({"scan.pcapng", "--tcp", "127.0.0.1"});
+  const auto options = parse({"scan.pcapng", "--tcp", "tcp:127.0.0.1"});
   ASSERT_TRUE(options.has_value());
   EXPECT_FALSE(options->endpoints.can_interface.has_value());
   EXPECT_EQ(options->endpoints.tcp->port, 49152);
 }
 
 TEST(ReplayOptions, MistakesAreUsageErrorsNamingTheOption) {
-  EXPECT_NE(parse({"--tcp", "127.0.0.1"}).error().message.find("CAPTURE"), std::string::npos);
+  EXPECT_NE(parse({"--tcp", "tcp:127.0.0.1"}).error().message.find("CAPTURE"), std::string::npos);
   EXPECT_NE(parse({"scan.pcapng"}).error().message.find("endpoint"), std::string::npos);
-  EXPECT_NE(parse({"scan.pcapng", "--tcp", "h:1", "--speed", "0"}).error().message.find("--speed"), std::string::npos);
+  EXPECT_NE(parse({"scan.pcapng", "--tcp", "tcp:h:1", "--speed", "0"}).error().message.find("--speed"), std::string::npos);
   // Issue 11: out of range, the conversion to int64 nanoseconds would overflow (UB).
-  EXPECT_NE(parse({"scan.pcapng", "--tcp", "h:1", "--speed", "1e-300"}).error().message.find("--speed"), std::string::npos);
-  EXPECT_NE(parse({"scan.pcapng", "--tcp", "h:1", "--timeout", "1e300"}).error().message.find("--timeout"),
+  EXPECT_NE(parse({"scan.pcapng", "--tcp", "tcp:h:1", "--speed", "1e-300"}).error().message.find("--speed"), std::string::npos);
+  EXPECT_NE(parse({"scan.pcapng", "--tcp", "tcp:h:1", "--timeout", "1e300"}).error().message.find("--timeout"),
             std::string::npos);
   EXPECT_NE(parse({"scan.pcapng", "--serial", "/dev/x"}).error().message.find("--serial"), std::string::npos);
-  EXPECT_NE(parse({"scan.pcapng", "--tcp", "h:1", "--can-ids", "6C0:6C1"}).error().message.find("--can-ids"),
+  EXPECT_NE(parse({"scan.pcapng", "--tcp", "tcp:h:1", "--can-ids", "6C0:6C1"}).error().message.find("--can-ids"),
             std::string::npos);
-  EXPECT_NE(parse({"a", "b", "--tcp", "h:1"}).error().message.find("more than one"), std::string::npos);
+  EXPECT_NE(parse({"a", "b", "--tcp", "tcp:h:1"}).error().message.find("more than one"), std::string::npos);
+  // Issue 24: the spellings from before docs/endpoints.md name the new ones.
+  EXPECT_EQ(parse({"scan.pcapng", "--tcp", "127.0.0.1:0"}).error().message,
+            "--tcp 127.0.0.1:0 is the old spelling; write --tcp tcp:127.0.0.1:0 (docs/endpoints.md)");
+  EXPECT_EQ(parse({"scan.pcapng", "--tcp", "tcp:h:1", "--lpt", "pty:/x"}).error().message,
+            "--lpt pty:/x is the old spelling; write --lpt lpt:pty:/x (docs/endpoints.md)");
+  EXPECT_EQ(parse({"scan.pcapng", "--tcp", "tcp:h:1", "--can-ids", "6C0:6C1"}).error().message,
+            "--can-ids 6C0:6C1 is the old spelling; write --can can:IF:6C0:6C1 (docs/endpoints.md)");
   EXPECT_TRUE(parse({"--help"})->help);
 }
 

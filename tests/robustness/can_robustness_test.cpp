@@ -44,7 +44,7 @@ std::optional<std::uint64_t> counter(DaemonProcess& daemon, const std::string& n
 
 TEST(CanRobustness, CangenFloodAtFullRate_DaemonSurvivesAndAnswersAfterwards) {
   LDOEM_REQUIRE_VCAN0();
-  HostileRun daemon({"--can", "vcan0"});
+  HostileRun daemon({"--can", "can:vcan0"});
   ASSERT_TRUE(daemon.ready());
   // Random identifiers as the issue asks, and random frames on our request identifier (the
   // kernel filter lets only those through), data and RTR, ignoring ENOBUFS (-i).
@@ -94,7 +94,7 @@ void cansend(const std::string& frame) {
 
 TEST(CanRobustness, MalformedIsoTpSequences_AreDroppedAndCounted) {
   LDOEM_REQUIRE_VCAN0();
-  HostileRun daemon({"--can", "vcan0"});
+  HostileRun daemon({"--can", "can:vcan0"});
   ASSERT_TRUE(daemon.ready());
   auto listener = io::CanRawSocket::open("vcan0", std::vector<io::CanIdFilter>{io::exact_standard_id(0x6C1)});
   ASSERT_TRUE(listener) << listener.error().message();

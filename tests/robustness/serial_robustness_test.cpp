@@ -28,7 +28,7 @@ void write_reading(int fd, protocol::ByteView bytes, Bytes& replies) {
 
 TEST(SerialRobustness, NoiseOnTheLine_ThenTheNextRequestGetsItsExactReply) {
   TempDir pty_dir;
-  HostileRun daemon({"--no-can", "--serial", "pty:" + pty_dir.path("serial"), "--virtual-time"});
+  HostileRun daemon({"--no-can", "--serial", "serial:pty:" + pty_dir.path("serial"), "--virtual-time"});
   ASSERT_TRUE(daemon.ready());
   const int fd = test_support::open_raw(pty_dir.path("serial"), O_NONBLOCK);
   ASSERT_GE(fd, 0);

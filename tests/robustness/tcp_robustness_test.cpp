@@ -61,7 +61,7 @@ bool send_all(int fd, protocol::ByteView bytes) {
   return ::testing::AssertionSuccess();
 }
 
-HostileRun tcp_daemon() { return HostileRun({"--no-can", "--tcp", "127.0.0.1:0", "--virtual-time"}); }
+HostileRun tcp_daemon() { return HostileRun({"--no-can", "--tcp", "tcp:127.0.0.1:0", "--virtual-time"}); }
 
 TEST(TcpRobustness, RandomBytesOnEightConnections_DaemonServesTheNextHost) {
   HostileRun daemon = tcp_daemon();
@@ -117,7 +117,7 @@ TEST(TcpRobustness, FakeHeadersWithHugeLengths_AreDroppedAndTheSameConnectionRec
 // 122 connections at once: --max-clients is raised above its default of 64 so that this test
 // is about the event loop (no connection may stall the others), not about the limit.
 TEST(TcpRobustness, HalfOpenHalfClosedAndSlowClients_DoNotStopAnotherHostBeingServed) {
-  HostileRun daemon({"--no-can", "--tcp", "127.0.0.1:0", "--virtual-time", "--max-clients", "256"});
+  HostileRun daemon({"--no-can", "--tcp", "tcp:127.0.0.1:0", "--virtual-time", "--max-clients", "256"});
   ASSERT_TRUE(daemon.ready());
   const std::uint16_t port = daemon.process->tcp_port();
   std::vector<int> idle;
@@ -167,7 +167,7 @@ TEST(TcpRobustness, HalfOpenHalfClosedAndSlowClients_DoNotStopAnotherHostBeingSe
 // --max-clients 2: the third host's connection is accepted and closed at once (EOF, no reply:
 // the protocol has no busy telegram), the two served go on, and a place comes back when one goes.
 TEST(TcpRobustness, MaxClients_TheNextHostIsClosedAndTheOthersAreServed) {
-  HostileRun daemon({"--no-can", "--tcp", "127.0.0.1:0", "--virtual-time", "--max-clients", "2"});
+  HostileRun daemon({"--no-can", "--tcp", "tcp:127.0.0.1:0", "--virtual-time", "--max-clients", "2"});
   ASSERT_TRUE(daemon.ready());
   const std::uint16_t port = daemon.process->tcp_port();
   auto first = TcpHost::connect(port);

@@ -84,6 +84,22 @@ TEST(ScanOptions, BadCombinations_AreUsageErrors) {
   EXPECT_FALSE(parse_scan_options(words({"--device", "tcp:h", "--lpt", "tcp:h", "--out", "a.ply"})));
 }
 
+// Issue 24: the endpoint grammar of every tool (docs/endpoints.md); an old spelling names the new
+// one, and what ldoem-emud offers is taken as it is.
+TEST(ScanOptions, Endpoints_TakeTheOneGrammar) {
+  const auto old_lpt = parse_scan_options(words({"--device", "tcp:h", "--lpt", "pty:/tmp/x", "--out", "a.ply"}));
+  ASSERT_FALSE(old_lpt);
+  EXPECT_NE(old_lpt.error().find("--lpt pty:/tmp/x is the old spelling; write --lpt lpt:pty:/tmp/x (docs/endpoints.md)"),
+            std::string::npos)
+      << old_lpt.error();
+  const auto old_device = parse_scan_options(words({"--device", "127.0.0.1:49152", "--out", "a.ply"}));
+  ASSERT_FALSE(old_device);
+  EXPECT_NE(old_device.error().find("write --device tcp:127.0.0.1:49152"), std::string::npos) << old_device.error();
+  const auto offered = parse_scan_options(words({"--device", "serial:pty:/tmp/s", "--out", "a.ply"}));
+  ASSERT_TRUE(offered) << offered.error();
+  EXPECT_EQ(std::get<driver::SerialEndpoint>(*offered->device).path, "/tmp/s");
+}
+
 TEST(ScanOptions, BadValues_AreUsageErrors) {
   for (auto bad : {words({"--speed", "21"}), words({"--speed", "x"}), words({"--format", "text"}),
                    words({"--timeout", "0"}), words({"--timeout", "1e300"}), words({"--step-rate", "1e-300"}), words({"--step-rate", "1e9"}), words({"--optical-offset", "1,2"}), words({"--vertical-resolution", "-1"}),

@@ -28,14 +28,14 @@ effects: [noise, intensity, incidence]
 scanners:
   - name: left
     pivot_pose: {position_m: [0, 0, 0.5]}
-    endpoints: {tcp: "127.0.0.1:40001", can_ids: "6C0:6C1", serial: "pty:/tmp/l.tty", lpt: "pty:/tmp/l.lpt"}
+    endpoints: {tcp: "tcp:127.0.0.1:40001", can: "can:vcan0:6C0:6C1", serial: "serial:pty:/tmp/l.tty", lpt: "lpt:pty:/tmp/l.lpt"}
     flash_file: left.flash
   - name: right
     pivot_pose: {position_m: [2, 1, 0.5], rpy_deg: [0, 0, 90]}
     optical_offset_m: [0.01, 0, 0.02]
     effects: [noise]
     housing: {radius_m: 0.05, height_m: 0.2, reflectance: 0.5}
-    endpoints: {tcp: 40002, lpt: "gpio:gpiochip0"}
+    endpoints: {tcp: "tcp:127.0.0.1:40002", lpt: "lpt:gpio:gpiochip0"}
 objects:
   - {name: floor, plane: {normal: [0, 0, 1]}}
 )";
@@ -56,7 +56,7 @@ TEST(Scanners, TwoEntriesCarryTheirOwnPoseEffectsAndEndpoints) {
   ASSERT_TRUE(left.endpoints.tcp && right.endpoints.tcp);
   EXPECT_EQ(left.endpoints.tcp->address, "127.0.0.1");
   EXPECT_EQ(left.endpoints.tcp->port, 40001);
-  EXPECT_EQ(right.endpoints.tcp->port, 40002);  // a bare port listens on the loopback
+  EXPECT_EQ(right.endpoints.tcp->port, 40002);
   EXPECT_EQ(right.endpoints.tcp->address, "127.0.0.1");
   EXPECT_EQ(*left.endpoints.serial_pty, "/tmp/l.tty");
   EXPECT_FALSE(left.endpoints.lpt->gpio);
@@ -137,19 +137,30 @@ const BadEntry kBadEntries[] = {
     {"unknown entry key", "scanners:\n  - {name: a, colour: red}", SceneErrorKind::unknown_key, "scanners[0].colour", 2},
     {"unknown endpoint", "scanners:\n  - {name: a, endpoints: {udp: 1}}", SceneErrorKind::unknown_key,
      "scanners[0].endpoints.udp", 2},
-    {"same TCP port", "scanners:\n  - {name: a, endpoints: {tcp: 40001}}\n  - {name: b, endpoints: {tcp: \"127.0.0.1:40001\"}}",
+    {"same TCP port", "scanners:\n  - {name: a, endpoints: {tcp: \"tcp:127.0.0.1:40001\"}}\n  - {name: b, endpoints: {tcp: \"tcp:127.0.0.1:40001\"}}",
      SceneErrorKind::conflicting_keys, "scanners[1].endpoints.tcp", 3},
-    {"bad TCP port", "scanners:\n  - {name: a, endpoints: {tcp: \"h:70000\"}}", SceneErrorKind::out_of_range,
+    {"bad TCP port", "scanners:\n  - {name: a, endpoints: {tcp: \"tcp:h:70000\"}}", SceneErrorKind::out_of_range,
      "scanners[0].endpoints.tcp", 2},
-    {"same CAN ids", "scanners:\n  - {name: a}\n  - {name: b, endpoints: {can_ids: \"6C1:6C5\"}}",
-     SceneErrorKind::conflicting_keys, "scanners[1].endpoints.can_ids", 3},
+    {"same CAN ids", "scanners:\n  - {name: a}\n  - {name: b, endpoints: {can: \"can:vcan0:6C1:6C5\"}}",
+     SceneErrorKind::conflicting_keys, "scanners[1].endpoints.can", 3},
     {"same CAN ids from flash", "scanners:\n  - {name: a}\n  - {name: b, flash: {can_request_id: 0x6C0, can_response_id: 0x6C7}}",
      SceneErrorKind::conflicting_keys, "scanners[1].flash.can_request_id", 3},
-    {"CAN id beyond 11 bits", "scanners:\n  - {name: a, endpoints: {can_ids: \"800:6C1\"}}", SceneErrorKind::out_of_range,
+    {"CAN id beyond 11 bits", "scanners:\n  - {name: a, endpoints: {can: \"can:vcan0:800:6C1\"}}", SceneErrorKind::out_of_range,
+     "scanners[0].endpoints.can", 2},
+    {"CAN without ids", "scanners:\n  - {name: a, endpoints: {can: \"can:vcan0\"}}", SceneErrorKind::wrong_type,
+     "scanners[0].endpoints.can", 2},
+    // Issue 24: the keys and spellings from before docs/endpoints.md name the new ones.
+    {"old can_ids key", "scanners:\n  - {name: a, endpoints: {can_ids: \"6C2:6C3\"}}", SceneErrorKind::unknown_key,
      "scanners[0].endpoints.can_ids", 2},
-    {"same serial pty", "scanners:\n  - {name: a, endpoints: {serial: \"pty:/tmp/s\"}}\n  - {name: b, endpoints: {lpt: \"pty:/tmp/s\"}}",
+    {"old TCP spelling", "scanners:\n  - {name: a, endpoints: {tcp: \"127.0.0.1:40001\"}}", SceneErrorKind::wrong_type,
+     "scanners[0].endpoints.tcp", 2},
+    {"old bare port", "scanners:\n  - {name: a, endpoints: {tcp: 40001}}", SceneErrorKind::wrong_type,
+     "scanners[0].endpoints.tcp", 2},
+    {"old LPT spelling", "scanners:\n  - {name: a, endpoints: {lpt: \"pty:/tmp/x\"}}", SceneErrorKind::wrong_type,
+     "scanners[0].endpoints.lpt", 2},
+    {"same serial pty", "scanners:\n  - {name: a, endpoints: {serial: \"serial:pty:/tmp/s\"}}\n  - {name: b, endpoints: {lpt: \"lpt:pty:/tmp/s\"}}",
      SceneErrorKind::conflicting_keys, "scanners[1].endpoints.lpt", 3},
-    {"serial on gpio", "scanners:\n  - {name: a, endpoints: {serial: \"gpio:chip\"}}", SceneErrorKind::wrong_type,
+    {"serial on gpio", "scanners:\n  - {name: a, endpoints: {serial: \"lpt:gpio:chip\"}}", SceneErrorKind::wrong_type,
      "scanners[0].endpoints.serial", 2},
     {"same flash file", "scanners:\n  - {name: a, flash_file: f}\n  - {name: b, flash_file: f}", SceneErrorKind::conflicting_keys,
      "scanners[1].flash_file", 3},
@@ -178,12 +189,22 @@ TEST(Scanners, BadEntriesAreLocatedErrors) {
 
 TEST(Scanners, ADuplicateNamesTheScannerThatHasItFirst) {
   const SceneError error =
-      load_error("scanners:\n  - {name: front, endpoints: {tcp: 40001}}\n  - {name: back, endpoints: {tcp: 40001}}");
+      load_error("scanners:\n  - {name: front, endpoints: {tcp: \"tcp:127.0.0.1:40001\"}}\n  - {name: back, endpoints: {tcp: \"tcp:127.0.0.1:40001\"}}");
   EXPECT_NE(error.message().find("'front'"), std::string::npos) << error.message();
 }
 
+TEST(Scanners, AnOldSpellingNamesTheNewOne) {
+  const SceneError old_key = load_error("scanners:\n  - {name: a, endpoints: {can_ids: \"6C2:6C3\"}}");
+  EXPECT_NE(old_key.message().find("can_ids is the old key; write can: can:IF:6C2:6C3"), std::string::npos)
+      << old_key.message();
+  const SceneError old_tcp = load_error("scanners:\n  - {name: a, endpoints: {tcp: 40001}}");
+  EXPECT_NE(old_tcp.message().find("`40001` is the old spelling; write tcp:127.0.0.1:40001 (docs/endpoints.md)"),
+            std::string::npos)
+      << old_tcp.message();
+}
+
 TEST(Scanners, EphemeralPortsMayRepeat) {
-  const Scene scene = load("scanners:\n  - {name: a, endpoints: {tcp: 0}}\n  - {name: b, endpoints: {tcp: \"127.0.0.1:0\"}}");
+  const Scene scene = load("scanners:\n  - {name: a, endpoints: {tcp: \"tcp:127.0.0.1:0\"}}\n  - {name: b, endpoints: {tcp: \"tcp:127.0.0.1:0\"}}");
   EXPECT_EQ(scene.scanners.size(), 2u);
 }
 

@@ -34,6 +34,15 @@ expect_exit() {
   fi
 }
 
+# expect_old ARGS...: a spelling from before docs/endpoints.md: exit 2 and one line on stderr
+# that names the new spelling (issue 24).
+expect_old() {
+  expect_exit 2 "$@"
+  [ "$(wc -l <"$work/err")" -eq 1 ] || fail "'$*' printed $(wc -l <"$work/err") lines on stderr, not one"
+  grep -q "is the old spelling; write .* (docs/endpoints.md)$" "$work/err" ||
+    fail "'$*' does not name the new spelling: $(head -n1 "$work/err")"
+}
+
 expect_exit 0 --help-all
 if ! cmp -s "$work/out" "$golden_dir/$name.help"; then
   fail "--help-all differs from $golden_dir/$name.help:"
@@ -67,6 +76,11 @@ case $name in
     expect_exit 2 --config "$work/hub.yaml" --max-clients 0
     expect_exit 2 --config "$work/hub.yaml" --queue -1
     expect_exit 2 --config "$work/missing.yaml"
+    # The config's endpoints are the grammar of every tool: an old spelling names the new one.
+    printf 'devices:\n  - name: left\n    scanner: tcp:127.0.0.1:1\n    lpt: pty:/tmp/x\n' >"$work/old.yaml"
+    expect_exit 2 --config "$work/old.yaml"
+    grep -q "devices\[0\].lpt: .pty:/tmp/x. is the old spelling; write lpt:pty:/tmp/x (docs/endpoints.md)" "$work/err" ||
+      fail "an old lpt spelling in the config does not name the new one: $(head -n1 "$work/err")"
     # Started for real on a free port, then stopped: 128 + SIGTERM.
     timeout 10 "$tool" --config "$work/hub.yaml" --listen 127.0.0.1:0 2>"$work/err" &
     hub=$!
@@ -100,39 +114,50 @@ case $name in
     grep -q "connect" "$work/err" && fail "the device was contacted before the output was checked: $(cat "$work/err")"
     expect_exit 2 --device tcp:127.0.0.1:1 --vertical-apex 0 --out scan.ply --preview scan.jpg
     expect_exit 2 --device tcp:127.0.0.1:1 --vertical-apex 0 --out scan.ply --render scan
+    expect_old --device tcp:127.0.0.1:1 --lpt pty:/tmp/x --out scan.ply
+    expect_old --device 127.0.0.1:49152 --out scan.ply
+    expect_old --device vcan0 --out scan.ply
+    expect_exit 2 --device lpt:pty:/tmp/x --out scan.ply
     # A good command line against a port where nothing listens: a runtime failure, exit 1.
     expect_exit 1 --device tcp:127.0.0.1:1 --vertical-apex 0 --out "$work/scan.ply" --timeout 1
     ;;
   ldoem-conformance)
     expect_exit 2
     expect_exit 2 --tcp
-    expect_exit 2 --tcp 127.0.0.1:1 --serial /dev/null
-    expect_exit 2 --tcp 127.0.0.1:1 --target robot
-    expect_exit 2 --tcp 127.0.0.1:1 --time-scale 0
-    expect_exit 2 --tcp=127.0.0.1:1 --timeout=-1
-    expect_exit 2 --ids 6C0,6C1 --tcp 127.0.0.1:1
-    expect_exit 2 --can vcan0 --ids 6C0
-    expect_exit 2 --tcp 127.0.0.1:1 --filter ''
-    expect_exit 2 --tcp 127.0.0.1:1 --filter nomatch
-    expect_exit 2 --tcp 127.0.0.1:1 --exclude '*'
+    expect_exit 2 --tcp tcp:127.0.0.1:1 --serial serial:/dev/null
+    expect_exit 2 --tcp tcp:127.0.0.1:1 --target robot
+    expect_exit 2 --tcp tcp:127.0.0.1:1 --time-scale 0
+    expect_exit 2 --tcp=tcp:127.0.0.1:1 --timeout=-1
+    expect_exit 2 --can can:vcan0:6C0
+    expect_old --tcp 127.0.0.1:1
+    expect_old --can vcan0
+    expect_old --serial /dev/null
+    expect_old --ids 6C0,6C1 --tcp tcp:127.0.0.1:1
+    expect_exit 2 --tcp tcp:127.0.0.1:1 --filter ''
+    expect_exit 2 --tcp tcp:127.0.0.1:1 --filter nomatch
+    expect_exit 2 --tcp tcp:127.0.0.1:1 --exclude '*'
     expect_exit 0 --list
-    expect_exit 0 --list --tcp 127.0.0.1:1 --filter 'tcp/*' --filter 'x'
-    expect_exit 1 --tcp 127.0.0.1:1 --timeout 1 --filter 'tcp/vectors/*'
+    expect_exit 0 --list --tcp tcp:127.0.0.1:1 --filter 'tcp/*' --filter 'x'
+    expect_exit 1 --tcp tcp:127.0.0.1:1 --timeout 1 --filter 'tcp/vectors/*'
     ;;
   ldoem-replay)
     expect_exit 2
     expect_exit 2 --tcp
-    expect_exit 2 --tcp 127.0.0.1:0
+    expect_exit 2 --tcp tcp:127.0.0.1:0
     expect_exit 2 scan.pcapng
-    expect_exit 2 a.pcapng b.pcapng --tcp 127.0.0.1:0
-    expect_exit 2 scan.pcapng --tcp 127.0.0.1:0 --speed 0
-    expect_exit 2 scan.pcapng --tcp=127.0.0.1:0 --timeout=-1
-    expect_exit 2 scan.pcapng --serial /dev/null
-    expect_exit 2 scan.pcapng --tcp 127.0.0.1:0 --can-ids 6C0:6C1
-    expect_exit 2 scan.pcapng --tcp 127.0.0.1:0 --transport usb
-    expect_exit 2 scan.pcapng --tcp h:70000
+    expect_exit 2 a.pcapng b.pcapng --tcp tcp:127.0.0.1:0
+    expect_exit 2 scan.pcapng --tcp tcp:127.0.0.1:0 --speed 0
+    expect_exit 2 scan.pcapng --tcp=tcp:127.0.0.1:0 --timeout=-1
+    expect_exit 2 scan.pcapng --serial serial:/dev/null
+    expect_exit 2 scan.pcapng --tcp tcp:127.0.0.1:0 --transport usb
+    expect_exit 2 scan.pcapng --tcp tcp:h:70000
+    expect_old scan.pcapng --tcp 127.0.0.1:0
+    expect_old scan.pcapng --serial pty:/tmp/x
+    expect_old scan.pcapng --lpt pty:/tmp/x --tcp tcp:127.0.0.1:0
+    expect_old scan.pcapng --can vcan0
+    expect_old scan.pcapng --tcp tcp:127.0.0.1:0 --can-ids 6C0:6C1
     # A good command line, but the capture cannot be read: exit 2 with the file named.
-    expect_exit 2 "$work/missing.pcapng" --tcp 127.0.0.1:0 --timeout 1
+    expect_exit 2 "$work/missing.pcapng" --tcp tcp:127.0.0.1:0 --timeout 1
     grep -q "missing.pcapng" "$work/err" || fail "an unreadable capture is not named: $(cat "$work/err")"
     ;;
   ldoem-emud)
@@ -141,9 +166,15 @@ case $name in
     expect_exit 2 --scene
     expect_exit 2 --scene s.yaml --no-can
     expect_exit 2 --scene s.yaml --no-flash=1
-    expect_exit 2 --scene s.yaml --tcp h:70000
-    expect_exit 2 --scene s.yaml --can-ids 6C0:6C1 --can-ids 6C1:6C2
-    expect_exit 2 --scene "$work/missing.yaml" --no-can --tcp 127.0.0.1:0
+    expect_exit 2 --scene s.yaml --tcp tcp:h:70000
+    expect_exit 2 --scene s.yaml --can can:vcan0:6C0:6C1 --can can:vcan0:6C1:6C2
+    expect_old --scene s.yaml --tcp 127.0.0.1:49152
+    expect_old --scene s.yaml --serial pty:/tmp/x
+    expect_old --scene s.yaml --lpt pty:/tmp/x
+    expect_old --scene s.yaml --lpt gpio:ldoem-lpt
+    expect_old --scene s.yaml --can vcan0
+    expect_old --scene s.yaml --can-ids 6C0:6C1
+    expect_exit 2 --scene "$work/missing.yaml" --no-can --tcp tcp:127.0.0.1:0
     ;;
 esac
 

@@ -79,7 +79,7 @@ class RawHost {
   std::optional<io::CanRawSocket> socket_;
 };
 
-std::vector<std::string> can_daemon_arguments() { return {"--can", "vcan0"}; }
+std::vector<std::string> can_daemon_arguments() { return {"--can", "can:vcan0"}; }
 
 // CAN daemons run on the wall clock: FC WAIT every 0.5 s of real time, as a host sees it.
 struct CanFaultyDaemon : FaultyDaemon {

@@ -33,7 +33,7 @@ struct GpioLptDaemon {
     for (const int line : {0, 1, 2}) test_support::pull_sim_line(chip, line, false);
     std::this_thread::sleep_for(kEdgeGap);
     daemon.emplace(minimal_scene_text() + "faults:\n" + faults,
-                   std::vector<std::string>{"--lpt", "gpio:" + chip.label, "--control", control});
+                   std::vector<std::string>{"--lpt", "lpt:gpio:" + chip.label, "--control", control});
   }
   bool ready() { return daemon && daemon->ready(); }
   void steps_up(int count) {

@@ -32,7 +32,7 @@ struct LptDaemon {
 
   explicit LptDaemon(const std::string& faults, std::uint64_t seed = 0)
       : daemon(minimal_scene_text() + "seed: " + std::to_string(seed) + "\nfaults:\n" + faults,
-               {"--lpt", "pty:" + pty_dir.path("lpt"), "--control", control}) {
+               {"--lpt", "lpt:pty:" + pty_dir.path("lpt"), "--control", control}) {
     if (daemon.ready()) lpt = open_raw(pty_dir.path("lpt"));
   }
   ~LptDaemon() {

@@ -68,7 +68,7 @@ Transcript conversation(DaemonProcess& daemon) {
 }
 
 std::vector<std::string> daemon_arguments(const TempDir& dir, const std::string& scene_text) {
-  return {"--scene", dir.write("scene.yaml", scene_text), "--tcp", "127.0.0.1:0", "--no-can", "--no-flash",
+  return {"--scene", dir.write("scene.yaml", scene_text), "--tcp", "tcp:127.0.0.1:0", "--no-can", "--no-flash",
           "--virtual-time", "--timeout", "100"};
 }
 

@@ -87,7 +87,7 @@ TEST(WireFaultsTcp, CorruptChecksum_LibldoemDropsTheFrameCountsItAndTimesOutRetr
 TEST(WireFaultsSerial, CorruptChecksum_InvertsTheCrcOfTheReply) {
   TempDir pty_dir;
   FaultyDaemon d(scene_with("  - kind: corrupt_checksum\n    on: {service: GET_STATUS, nth: 2}\n"),
-                 {"--serial", "pty:" + pty_dir.path("serial")});
+                 {"--serial", "serial:pty:" + pty_dir.path("serial")});
   ASSERT_TRUE(d.ready()) << d.diagnostics();
   const int fd = open_raw(pty_dir.path("serial"));
   ASSERT_GE(fd, 0);
@@ -101,7 +101,7 @@ TEST(WireFaultsSerial, CorruptChecksum_InvertsTheCrcOfTheReply) {
 TEST(WireFaultsSerial, CorruptChecksum_LibldoemDropsThePackageAndTimesOut) {
   TempDir pty_dir;
   FaultyDaemon d(scene_with("  - kind: corrupt_checksum\n    on: {service: GET_STATUS, nth: 1}\n"),
-                 {"--serial", "pty:" + pty_dir.path("serial")});
+                 {"--serial", "serial:pty:" + pty_dir.path("serial")});
   ASSERT_TRUE(d.ready()) << d.diagnostics();
   auto transport = open("serial:pty:" + pty_dir.path("serial"));
   ASSERT_TRUE(transport);
@@ -149,7 +149,7 @@ TEST(WireFaultsTcp, Garbage_LibldoemSkipsItAndReadsTheTelegram) {
 TEST(WireFaultsSerial, Garbage_PutsTheSeededBytesBeforeTheReply_LibldoemSkipsThem) {
   TempDir pty_dir;
   FaultyDaemon d(scene_with("  - kind: garbage\n    bytes: 9\n    every: {service: GET_STATUS, count: 1}\n"),
-                 {"--serial", "pty:" + pty_dir.path("serial")});
+                 {"--serial", "serial:pty:" + pty_dir.path("serial")});
   ASSERT_TRUE(d.ready()) << d.diagnostics();
   {
     const int fd = open_raw(pty_dir.path("serial"));
@@ -266,7 +266,7 @@ TEST(WireFaultsSerial, SameSeedAndConversationGiveTheSameBytesAndEventsTwice) {
                             "  - {kind: drop_reply, probability: 0.2, service: GET_STATUS}\n";
   auto run = [&scene] {
     TempDir pty_dir;
-    FaultyDaemon d(scene, {"--serial", "pty:" + pty_dir.path("serial")});
+    FaultyDaemon d(scene, {"--serial", "serial:pty:" + pty_dir.path("serial")});
     EXPECT_TRUE(d.ready()) << d.diagnostics();
     std::string transcript;
     const int fd = open_raw(pty_dir.path("serial"));

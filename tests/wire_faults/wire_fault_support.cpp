@@ -18,7 +18,7 @@ FaultyDaemon::FaultyDaemon(const std::string& scene_text, const std::vector<std:
 
 std::vector<std::string> FaultyDaemon::arguments(const std::string& scene_text, const std::vector<std::string>& extra,
                                                  bool virtual_time) const {
-  std::vector<std::string> all{"--scene", dir.write("scene.yaml", scene_text), "--tcp", "127.0.0.1:0", "--no-flash",
+  std::vector<std::string> all{"--scene", dir.write("scene.yaml", scene_text), "--tcp", "tcp:127.0.0.1:0", "--no-flash",
                                "--event-log", event_log, "--timeout", "100"};
   if (std::find(extra.begin(), extra.end(), "--can") == extra.end()) all.push_back("--no-can");
   if (virtual_time) all.push_back("--virtual-time");

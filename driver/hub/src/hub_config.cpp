@@ -5,6 +5,7 @@
 #include <cmath>
 #include <set>
 
+#include "ldoem/base/endpoint.hpp"
 #include "ldoem/base/numbers.hpp"
 
 namespace ldoem::hub {
@@ -99,16 +100,18 @@ base::Expected<DeviceConfig, std::string> parse_device(const YAML::Node& node, s
   if (!node["scanner"]) {
     return config_error(where + ".scanner is missing");
   }
-  auto scanner = driver::parse_endpoint(node["scanner"].as<std::string>());
-  if (!scanner || std::holds_alternative<driver::LptEndpoint>(scanner.value())) {
-    return config_error(where + ".scanner: " +
-                        (scanner ? std::string("an lpt: endpoint is not a scanner") : driver::describe(scanner.error())));
+  // The endpoint grammar of every tool (docs/endpoints.md); the hub connects.
+  auto scanner = base::parse_endpoint(node["scanner"].as<std::string>(),
+                                      base::EndpointUse{base::EndpointSide::connect, base::EndpointExpect::scanner});
+  if (!scanner) {
+    return config_error(where + ".scanner: " + base::describe(scanner.error()));
   }
   device.scanner = scanner.value();
   if (node["lpt"]) {
-    auto lpt = driver::parse_endpoint(node["lpt"].as<std::string>());
-    if (!lpt || !std::holds_alternative<driver::LptEndpoint>(lpt.value())) {
-      return config_error(where + ".lpt: " + (lpt ? std::string("not an lpt: endpoint") : driver::describe(lpt.error())));
+    auto lpt = base::parse_endpoint(node["lpt"].as<std::string>(),
+                                    base::EndpointUse{base::EndpointSide::connect, base::EndpointExpect::lpt});
+    if (!lpt) {
+      return config_error(where + ".lpt: " + base::describe(lpt.error()));
     }
     device.lpt = lpt.value();
   }

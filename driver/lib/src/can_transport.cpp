@@ -122,6 +122,12 @@ Expected<std::unique_ptr<CanIsoTpTransport>, DriverError> CanIsoTpTransport::ope
   const std::string object = format_endpoint(endpoint);
   base::UniqueFd fd(::socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK | SOCK_CLOEXEC, CAN_RAW));
   if (!fd.valid()) {
+    if (errno == EAFNOSUPPORT) {
+      // The bare strerror leaves the user guessing; say what is missing and how to get it.
+      DriverError error = system_error("socket CAN_RAW", object, EAFNOSUPPORT);
+      error.detail = base::can_unsupported_hint();
+      return fail(std::move(error));
+    }
     return fail(system_error("socket CAN_RAW", object, errno));
   }
   const unsigned index = ::if_nametoindex(endpoint.interface.c_str());

@@ -7,6 +7,7 @@
 
 #include "ldoem/base/command_line.hpp"
 #include "ldoem/base/device_constants.hpp"
+#include "ldoem/base/endpoint.hpp"
 #include "ldoem/base/numbers.hpp"
 #include "ldoem/driver/device.hpp"
 
@@ -57,13 +58,13 @@ Setter number_into(double ScanOptions::*field, bool positive) {
   };
 }
 
-std::optional<std::string> set_endpoint(std::optional<driver::Endpoint>& slot, std::string_view value, bool lpt) {
-  auto endpoint = driver::parse_endpoint(value);
+// The endpoint grammar of every tool (docs/endpoints.md); ldoem-scan connects. The problem
+// names the option itself (an old spelling: "--lpt pty:/x is the old spelling; write ...").
+std::optional<std::string> set_endpoint(std::optional<driver::Endpoint>& slot, std::string_view option,
+                                        std::string_view value, base::EndpointExpect expect) {
+  auto endpoint = base::parse_endpoint(value, base::EndpointUse{base::EndpointSide::connect, expect});
   if (!endpoint) {
-    return driver::describe(endpoint.error());
-  }
-  if (std::holds_alternative<driver::LptEndpoint>(endpoint.value()) != lpt) {
-    return lpt ? "not an lpt: endpoint" : "an lpt: endpoint is not a scanner";
+    return base::describe_for_option(option, endpoint.error());
   }
   slot = endpoint.value();
   return std::nullopt;
@@ -71,8 +72,9 @@ std::optional<std::string> set_endpoint(std::optional<driver::Endpoint>& slot, s
 
 const std::map<std::string_view, Setter>& setters() {
   static const std::map<std::string_view, Setter> table{
-      {"--device", [](ScanOptions& o, std::string_view v) { return set_endpoint(o.device, v, false); }},
-      {"--lpt", [](ScanOptions& o, std::string_view v) { return set_endpoint(o.lpt, v, true); }},
+      {"--device",
+       [](ScanOptions& o, std::string_view v) { return set_endpoint(o.device, "--device", v, base::EndpointExpect::scanner); }},
+      {"--lpt", [](ScanOptions& o, std::string_view v) { return set_endpoint(o.lpt, "--lpt", v, base::EndpointExpect::lpt); }},
       {"--hub",
        [](ScanOptions& o, std::string_view v) -> std::optional<std::string> {
          auto address = hub::parse_listen_address(v);
@@ -333,7 +335,8 @@ MEASURE, then per layer GET2DPROFILE and MOVEMOTOR one layer step, IDLE, MOVEMOT
 Points are written in the tilt pivot frame (x forward, y left, z up; D5).
 
 Device:
-  --device ENDPOINT            the scanner: can:IFACE[:REQ:RESP], tcp:HOST[:PORT], serial:PATH
+  --device ENDPOINT            the scanner: can:IFACE[:REQ:RESP], tcp:HOST[:PORT],
+                               serial:PATH[:BAUD] or serial:pty:PATH (docs/endpoints.md)
   --lpt ENDPOINT               the tilt stepper: lpt:pty:PATH, lpt:/dev/parportN, lpt:gpio:CHIP
                                (needed with --device when there is more than one layer)
   --hub HOST:PORT              go through ldoem-hub instead (its device drives the stepper)

@@ -93,7 +93,7 @@ int run_emud(int argc, char** argv) {
   const ldoem::endpoints::Logger logger(std::cerr, options.log_level);
   std::optional<ldoem::recording::RecordingTap> tap;
   if (recording) {
-    // CAN frames are recorded on the first identifier pair (D1: --can-ids, else the flash's).
+    // CAN frames are recorded on the first identifier pair (D1: --can IF:REQ:RESP, else the flash's).
     const auto& can = (*daemon)->device().can_config();
     ldoem::capture::RecorderCanIds ids{can.request_id, can.response_id};
     if (!options.can_id_pairs.empty()) ids = {options.can_id_pairs.front().request_id, options.can_id_pairs.front().response_id};

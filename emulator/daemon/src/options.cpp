@@ -10,8 +10,8 @@
 #include <set>
 
 #include "ldoem/base/command_line.hpp"
+#include "ldoem/base/endpoint.hpp"
 #include "ldoem/base/numbers.hpp"
-#include "ldoem/protocol/can_frame.hpp"
 
 namespace ldoem::daemon {
 namespace {
@@ -26,17 +26,6 @@ Unexpected<UsageError> usage_error(std::string_view option, std::string_view wha
 using base::parse_double;
 using base::parse_integer;
 
-std::optional<std::uint16_t> parse_can_id(std::string_view text) {
-  if (text.starts_with("0x") || text.starts_with("0X")) {
-    text.remove_prefix(2);
-  }
-  const auto id = parse_integer<std::uint32_t>(text, 16);
-  if (!id || (*id & ~protocol::kCanStandardIdMask) != 0) {
-    return std::nullopt;
-  }
-  return static_cast<std::uint16_t>(*id);
-}
-
 std::optional<LogLevel> parse_log_level(std::string_view text) {
   for (const LogLevel level : {LogLevel::error, LogLevel::warn, LogLevel::info, LogLevel::debug}) {
     if (text == to_string(level)) {
@@ -44,22 +33,6 @@ std::optional<LogLevel> parse_log_level(std::string_view text) {
     }
   }
   return std::nullopt;
-}
-
-Expected<LptOption, UsageError> parse_lpt_option(std::string_view text) {
-  const auto colon = text.find(':');
-  const std::string_view kind = text.substr(0, colon);
-  const std::string_view target = colon == std::string_view::npos ? std::string_view() : text.substr(colon + 1);
-  if (target.empty()) {
-    return usage_error("--lpt", "expects pty:PATH or gpio:CHIP");
-  }
-  if (kind == "pty") {
-    return LptOption{LptBackend::pty, std::string(target)};
-  }
-  if (kind == "gpio") {
-    return LptOption{LptBackend::gpio, std::string(target)};
-  }
-  return usage_error("--lpt", "expects pty:PATH or gpio:CHIP");
 }
 
 // A host timeout in `unit_seconds` (1e-3: milliseconds), 0 = never, at most 1e6 s.
@@ -95,31 +68,43 @@ const std::map<std::string_view, ValueHandler>& value_options() {
          return std::nullopt;
        }},
       {"--can", [](std::string_view v, Options& o, Seen& s) -> std::optional<UsageError> {
-         o.can_interface = std::string(v);
+         auto can = parse_offered_endpoint("--can", v, base::EndpointExpect::can);
+         if (!can) return can.error();
+         const auto& endpoint = std::get<base::CanEndpoint>(*can);
+         // One daemon serves one bus: several --can are several id pairs on it.
+         if (s.can && o.can_interface && *o.can_interface != endpoint.interface) {
+           return UsageError{"--can: every --can names the same interface (one bus), here " + *o.can_interface};
+         }
+         o.can_interface = endpoint.interface;
+         if (endpoint.ids_given) {
+           o.can_id_pairs.push_back(CanIdPair{static_cast<std::uint16_t>(endpoint.request_id),
+                                              static_cast<std::uint16_t>(endpoint.response_id)});
+         }
          s.can = true;
          return std::nullopt;
        }},
-      {"--can-ids", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
-         auto pair = parse_can_id_pair(v);
-         if (!pair) return pair.error();
-         o.can_id_pairs.push_back(*pair);
-         return std::nullopt;
+      {"--can-ids", [](std::string_view v, Options&, Seen&) -> std::optional<UsageError> {
+         return UsageError{"--can-ids " + std::string(v) + " is the old spelling; write --can can:IF:" + std::string(v) +
+                           " (docs/endpoints.md)"};
        }},
       {"--tcp", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
-         auto tcp = parse_tcp_option(v);
+         auto tcp = parse_offered_endpoint("--tcp", v, base::EndpointExpect::tcp);
          if (!tcp) return tcp.error();
-         o.tcp = *tcp;
+         const auto& endpoint = std::get<base::TcpEndpoint>(*tcp);
+         o.tcp = TcpOption{endpoint.host, endpoint.port};
          return std::nullopt;
        }},
       {"--serial", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
-         if (!v.starts_with("pty:") || v.size() == 4) return error_of(usage_error("--serial", "expects pty:PATH"));
-         o.serial_pty = std::filesystem::path(std::string(v.substr(4)));
+         auto serial = parse_offered_endpoint("--serial", v, base::EndpointExpect::serial);
+         if (!serial) return serial.error();
+         o.serial_pty = std::filesystem::path(std::get<base::SerialEndpoint>(*serial).path);
          return std::nullopt;
        }},
       {"--lpt", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
-         auto lpt = parse_lpt_option(v);
+         auto lpt = parse_offered_endpoint("--lpt", v, base::EndpointExpect::lpt);
          if (!lpt) return lpt.error();
-         o.lpt = *lpt;
+         const auto& endpoint = std::get<base::LptEndpoint>(*lpt);
+         o.lpt = LptOption{endpoint.backend == base::LptBackend::gpio ? LptBackend::gpio : LptBackend::pty, endpoint.target};
          return std::nullopt;
        }},
       {"--flash", [](std::string_view v, Options& o, Seen& s) -> std::optional<UsageError> {
@@ -245,9 +230,6 @@ std::optional<UsageError> check_combination(Options& options, const Seen& seen) 
   if (seen.can && seen.no_can) {
     return UsageError{"--no-can: conflicts with --can"};
   }
-  if (seen.no_can && !options.can_id_pairs.empty()) {
-    return UsageError{"--can-ids: needs CAN (conflicts with --no-can)"};
-  }
   if (seen.flash && seen.no_flash) {
     return UsageError{"--no-flash: conflicts with --flash"};
   }
@@ -266,7 +248,7 @@ std::optional<UsageError> check_combination(Options& options, const Seen& seen) 
   for (const CanIdPair& pair : options.can_id_pairs) {
     if (!request_ids.insert(pair.request_id).second || !response_ids.insert(pair.response_id).second ||
         request_ids.count(pair.response_id) != 0 || response_ids.count(pair.request_id) != 0) {
-      return UsageError{"--can-ids: every identifier may be used by one pair only"};
+      return UsageError{"--can: every identifier may be used by one pair only"};
     }
   }
   // "No host transport left" needs the scene (its scanners may name endpoints): scanner_options.hpp.
@@ -320,37 +302,13 @@ std::optional<std::string> make_default_flash_folder(const Options& options) {
   return std::nullopt;
 }
 
-Expected<CanIdPair, UsageError> parse_can_id_pair(std::string_view text) {
-  const auto colon = text.find(':');
-  if (colon == std::string_view::npos) {
-    return usage_error("--can-ids", "expects REQUEST:RESPONSE in hex, e.g. 6C0:6C1");
+Expected<base::Endpoint, UsageError> parse_offered_endpoint(std::string_view option, std::string_view text,
+                                                            base::EndpointExpect expect) {
+  auto endpoint = base::parse_endpoint(text, base::EndpointUse{base::EndpointSide::offer, expect});
+  if (!endpoint) {
+    return Unexpected(UsageError{base::describe_for_option(option, endpoint.error())});
   }
-  const auto request = parse_can_id(text.substr(0, colon));
-  const auto response = parse_can_id(text.substr(colon + 1));
-  if (!request || !response) {
-    return usage_error("--can-ids", "identifiers are 11-bit hex values 000..7FF (D1)");
-  }
-  if (*request == *response) {
-    return usage_error("--can-ids", "request and response identifiers must differ");
-  }
-  return CanIdPair{*request, *response};
-}
-
-Expected<TcpOption, UsageError> parse_tcp_option(std::string_view text) {
-  const auto colon = text.rfind(':');
-  TcpOption option;
-  option.address = std::string(text.substr(0, colon));
-  if (option.address.empty()) {
-    return usage_error("--tcp", "expects HOST[:PORT], e.g. 127.0.0.1:49152");
-  }
-  if (colon != std::string_view::npos) {
-    const auto port = parse_integer<std::uint16_t>(text.substr(colon + 1));
-    if (!port) {
-      return usage_error("--tcp", "port must be 0..65535 (0: any free port)");
-    }
-    option.port = *port;
-  }
-  return option;
+  return std::move(endpoint).value();
 }
 
 Expected<Command, UsageError> parse_command_line(std::span<const std::string_view> arguments) {
@@ -363,7 +321,7 @@ Expected<Command, UsageError> parse_command_line(std::span<const std::string_vie
         ->disable_flag_override();
   }
   for (const auto& [name, handler] : value_options()) {
-    // Every value is applied in turn: --can-ids adds a pair each time, the others keep the last.
+    // Every value is applied in turn: --can adds an id pair each time, the others keep the last.
     app.add_option_function<std::vector<std::string>>(
            std::string(name),
            [&, &handler = handler](const std::vector<std::string>& values) {
@@ -405,14 +363,16 @@ std::string usage_text(std::string_view program_name) {
          "\n"
          "Options (default in brackets):\n"
          "  --scene FILE          YAML scene to emulate (required)\n"
-         "  --can IF              SocketCAN interface for the host protocol [vcan0]\n"
+         "  --can can:IF[:REQ:RESP]  SocketCAN interface for the host protocol; REQ:RESP are the\n"
+         "                        host->LD and LD->host 11-bit ids in hex; repeat with other ids for\n"
+         "                        more hosts, each pair its own connection [can:vcan0, ids from flash:\n"
+         "                        6C0:6C1]\n"
          "  --no-can              no CAN transport (then --tcp or --serial is needed)\n"
-         "  --can-ids REQ:RESP    host->LD and LD->host 11-bit ids in hex; repeat for more hosts,\n"
-         "                        each pair is its own connection [from flash: 6C0:6C1]\n"
-         "  --tcp HOST[:PORT]     TCP server on HOST, port 49152 if omitted, 0 = any free port [off]\n"
-         "  --serial pty:PATH     serial line on a pty, symlinked at PATH [off]\n"
-         "  --lpt pty:PATH        tilt stepper register on a pty, symlinked at PATH [off]\n"
-         "  --lpt gpio:CHIP       tilt stepper on lines DIR, CLK, MODE of a gpio chip [off]\n"
+         "  --tcp tcp:HOST[:PORT]  TCP server on HOST, port 49152 if omitted, 0 = any free port [off]\n"
+         "  --serial serial:pty:PATH  serial line on a pty, symlinked at PATH [off]\n"
+         "  --lpt lpt:pty:PATH    tilt stepper register on a pty, symlinked at PATH [off]\n"
+         "  --lpt lpt:gpio:CHIP   tilt stepper on lines DIR, CLK, MODE of a gpio chip [off]\n"
+         "                        (endpoints: docs/endpoints.md; the host tools take the same text)\n"
          "  --flash FILE          flash image file [STATE/<scene>.flash, STATE: $STATE_DIRECTORY,\n"
          "                        else $XDG_STATE_HOME/ldoem, else ~/.local/state/ldoem]\n"
          "  --flash-dir DIR       flash files in DIR instead of STATE, same names (<scene>.flash;\n"
@@ -452,7 +412,7 @@ std::string usage_text(std::string_view program_name) {
          "On start the daemon prints one line per endpoint on stdout (\"tcp 127.0.0.1:49152\",\n"
          "\"serial /dev/pts/4\", \"lpt /dev/pts/5\", \"can vcan0 6C0:6C1\"), then \"ready\".\n"
          "A scene with a scanners: list runs several scanners in one daemon: each one's TCP port,\n"
-         "CAN ids, serial, LPT and flash file come from the scene, --tcp, --can-ids, --serial,\n"
+         "CAN ids, serial, LPT and flash file come from the scene, --tcp, --can with ids, --serial,\n"
          "--lpt, --flash and --record are errors then (--flash-dir is not), and \"scanner NAME\"\n"
          "comes before each scanner's endpoint lines (docs/scenes.md \"Several scanners\").\n"
          "SIGUSR1 writes the counters (framing errors, ISO-TP drops, skipped profiles) to stderr.\n"
@@ -465,11 +425,11 @@ std::string usage_text(std::string_view program_name) {
          "  128+N    stopped by signal N (130 SIGINT, 143 SIGTERM); flash saved first\n"
          "\n"
          "Examples:\n"
-         "  " + p + " --scene scenes/corridor.yaml --can vcan0 --lpt pty:/tmp/ldoem-lpt\n"
-         "  " + p + " --scene scenes/minimal.yaml --no-can --tcp 127.0.0.1:49152 --log-level info\n"
-         "  " + p + " --scene scenes/minimal.yaml --no-can --serial pty:/tmp/ldoem-serial --no-flash\n"
-         "  " + p + " --scene scenes/minimal.yaml --can vcan0 --can-ids 6C0:6C1 --can-ids 6C2:6C3\n"
-         "  " + p + " --scene scenes/faults/motor-stall-mid-stream.yaml --no-can --tcp 127.0.0.1:49152 --control /tmp/ldoem.ctl\n";
+         "  " + p + " --scene scenes/corridor.yaml --can can:vcan0 --lpt lpt:pty:/tmp/ldoem-lpt\n"
+         "  " + p + " --scene scenes/minimal.yaml --no-can --tcp tcp:127.0.0.1:49152 --log-level info\n"
+         "  " + p + " --scene scenes/minimal.yaml --no-can --serial serial:pty:/tmp/ldoem-serial --no-flash\n"
+         "  " + p + " --scene scenes/minimal.yaml --can can:vcan0:6C0:6C1 --can can:vcan0:6C2:6C3\n"
+         "  " + p + " --scene scenes/faults/motor-stall-mid-stream.yaml --no-can --tcp tcp:127.0.0.1:49152 --control /tmp/ldoem.ctl\n";
 }
 
 std::string brief_usage_text(std::string_view program_name) {

@@ -38,6 +38,15 @@ void fill_from_entry(Options& options, const scene::ScannerEntry& entry) {
 
 base::Expected<std::vector<Options>, UsageError> scanner_options(const Options& options, const scene::Scene& scene) {
   const bool flash_given = options.flash_mode == FlashMode::file && options.flash_path != default_flash_path(options);
+  // One daemon serves one CAN bus: a scanner's `can:` endpoint names that bus for its ids.
+  for (std::size_t i = 0; i < scene.scanners.size(); ++i) {
+    const scene::ScannerEndpoints& endpoints = scene.scanners[i].endpoints;
+    if (endpoints.can_ids && options.can_interface && endpoints.can_interface != *options.can_interface) {
+      return Unexpected(UsageError{"scanners[" + std::to_string(i) + "].endpoints.can: names " + endpoints.can_interface +
+                                   " but the daemon's bus is --can can:" + *options.can_interface +
+                                   " (one bus for all scanners)"});
+    }
+  }
   if (scene.scanners.size() <= 1) {
     Options single = options;
     if (!scene.scanners.empty()) {
@@ -51,7 +60,7 @@ base::Expected<std::vector<Options>, UsageError> scanner_options(const Options& 
   const std::string several = " names one scanner's endpoint; with " + std::to_string(scene.scanners.size()) +
                               " scanners each has its own in the scene (scanners[i].endpoints, docs/scenes.md)";
   if (options.tcp) return Unexpected(UsageError{"--tcp:" + several});
-  if (!options.can_id_pairs.empty()) return Unexpected(UsageError{"--can-ids:" + several});
+  if (!options.can_id_pairs.empty()) return Unexpected(UsageError{"--can can:IF:REQ:RESP:" + several});
   if (options.serial_pty) return Unexpected(UsageError{"--serial:" + several});
   if (options.lpt) return Unexpected(UsageError{"--lpt:" + several});
   if (flash_given) return Unexpected(UsageError{"--flash: with several scanners each has its own (scanners[i].flash_file)"});

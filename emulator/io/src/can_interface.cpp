@@ -5,6 +5,7 @@
 #include <net/if.h>
 // (keep this order)
 #include <libsocketcan.h>
+#include <linux/can.h>
 #include <linux/can/netlink.h>
 #include <linux/if_arp.h>
 #include <sys/ioctl.h>
@@ -14,6 +15,7 @@
 #include <cstring>
 #include <string>
 
+#include "ldoem/base/endpoint.hpp"
 #include "ldoem/base/unique_fd.hpp"
 
 namespace ldoem::io {
@@ -54,6 +56,12 @@ IoResult<CanInterfaceStatus> check_can_interface(std::string_view interface_name
   }
   CanInterfaceStatus status;
   status.index = static_cast<int>(::if_nametoindex(name.c_str()));
+  if (status.index == 0 && !base::UniqueFd(::socket(PF_CAN, SOCK_RAW | SOCK_CLOEXEC, CAN_RAW)).valid() &&
+      errno == EAFNOSUPPORT) {
+    // No interface because no CAN at all: "does not exist" would send the user looking for a typo.
+    return io_failure(IoError{"can", {}, EAFNOSUPPORT, "interface " + name + ": " + std::strerror(EAFNOSUPPORT) +
+                                                           "; " + base::can_unsupported_hint()});
+  }
   if (status.index == 0) {
     return io_failure(can_error(ENODEV, name, "does not exist"));
   }

@@ -9,6 +9,8 @@
 #include <cerrno>
 #include <cstring>
 
+#include "ldoem/base/endpoint.hpp"
+
 namespace ldoem::io {
 namespace {
 
@@ -50,6 +52,10 @@ IoResult<CanRawSocket> CanRawSocket::open(std::string_view interface_name,
   }
   base::UniqueFd fd(::socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK | SOCK_CLOEXEC, CAN_RAW));
   if (!fd.valid()) {
+    if (errno == EAFNOSUPPORT) {
+      // The bare strerror leaves the user guessing; say what is missing and how to get it.
+      return io_failure(IoError{"socket PF_CAN", name, EAFNOSUPPORT, std::string(std::strerror(EAFNOSUPPORT)) + "; " + base::can_unsupported_hint()});
+    }
     return io_failure(last_system_error("socket PF_CAN", name));
   }
   const unsigned index = ::if_nametoindex(name.c_str());

@@ -20,31 +20,36 @@ struct Reader {
   bool any_endpoint = false;
 
   std::optional<std::string> apply(std::string_view name, const std::string& text) {
+    // The endpoints in the grammar of ldoem-emud (docs/endpoints.md): replay offers them too.
     if (name == "--tcp") {
-      auto tcp = daemon::parse_tcp_option(text);
+      auto tcp = daemon::parse_offered_endpoint(name, text, base::EndpointExpect::tcp);
       if (!tcp) return tcp.error().message;
-      options.endpoints.tcp = *tcp;
+      const auto& endpoint = std::get<base::TcpEndpoint>(*tcp);
+      options.endpoints.tcp = daemon::TcpOption{endpoint.host, endpoint.port};
       any_endpoint = true;
     } else if (name == "--serial") {
-      if (!text.starts_with("pty:") || text.size() == 4) return "--serial: expected pty:PATH, got `" + text + "`";
-      options.endpoints.serial_pty = text.substr(4);
+      auto serial = daemon::parse_offered_endpoint(name, text, base::EndpointExpect::serial);
+      if (!serial) return serial.error().message;
+      options.endpoints.serial_pty = std::get<base::SerialEndpoint>(*serial).path;
       any_endpoint = true;
     } else if (name == "--can") {
-      if (text.empty()) return std::string("--can: empty interface name");
-      options.endpoints.can_interface = text;
+      auto can = daemon::parse_offered_endpoint(name, text, base::EndpointExpect::can);
+      if (!can) return can.error().message;
+      const auto& endpoint = std::get<base::CanEndpoint>(*can);
+      options.endpoints.can_interface = endpoint.interface;
+      if (endpoint.ids_given) {
+        options.endpoints.can_id_pairs.push_back(daemon::CanIdPair{static_cast<std::uint16_t>(endpoint.request_id),
+                                                                   static_cast<std::uint16_t>(endpoint.response_id)});
+      }
       any_endpoint = true;
     } else if (name == "--can-ids") {
-      auto pair = daemon::parse_can_id_pair(text);
-      if (!pair) return pair.error().message;
-      options.endpoints.can_id_pairs.push_back(*pair);
+      return "--can-ids " + text + " is the old spelling; write --can can:IF:" + text + " (docs/endpoints.md)";
     } else if (name == "--lpt") {
-      if (text.starts_with("pty:") && text.size() > 4) {
-        options.endpoints.lpt = daemon::LptOption{daemon::LptBackend::pty, text.substr(4)};
-      } else if (text.starts_with("gpio:") && text.size() > 5) {
-        options.endpoints.lpt = daemon::LptOption{daemon::LptBackend::gpio, text.substr(5)};
-      } else {
-        return "--lpt: expected pty:PATH or gpio:CHIP, got `" + text + "`";
-      }
+      auto lpt = daemon::parse_offered_endpoint(name, text, base::EndpointExpect::lpt);
+      if (!lpt) return lpt.error().message;
+      const auto& endpoint = std::get<base::LptEndpoint>(*lpt);
+      options.endpoints.lpt = daemon::LptOption{
+          endpoint.backend == base::LptBackend::gpio ? daemon::LptBackend::gpio : daemon::LptBackend::pty, endpoint.target};
     } else if (name == "--speed") {
       const auto speed = parse_positive(text);
       // The daemon's --time-scale range: recorded delay / speed stays a representable int64 ns.
@@ -95,7 +100,7 @@ base::Expected<ReplayOptions, ReplayUsageError> parse_replay_options(std::span<c
   base::CommandLine command_line("ldoem-replay");
   CLI::App& app = command_line.app();
   for (const std::string_view option : kValueOptions) {
-    // Every value is applied in turn: --can-ids adds a pair each time, the others keep the last.
+    // Every value is applied in turn: --can adds an id pair each time, the others keep the last.
     const std::string name(option);
     app.add_option_function<std::vector<std::string>>(name, [&reader, name](const std::vector<std::string>& values) {
          for (const std::string& value : values) {
@@ -119,24 +124,24 @@ base::Expected<ReplayOptions, ReplayUsageError> parse_replay_options(std::span<c
   if (captures.size() > 1) return usage("more than one CAPTURE given: `" + captures[1] + "`");
   if (captures.empty()) return usage("no CAPTURE given (try --help)");
   options.capture = captures.front();
-  if (!reader.any_endpoint) return usage("no endpoint: give --tcp HOST[:PORT], --serial pty:PATH or --can IF");
-  if (!options.endpoints.can_id_pairs.empty() && !options.endpoints.can_interface) return usage("--can-ids: only with --can");
+  if (!reader.any_endpoint) {
+    return usage("no endpoint: give --tcp tcp:HOST[:PORT], --serial serial:pty:PATH or --can can:IF");
+  }
   return options;
 }
 
 std::string replay_usage_text() {
-  return "Usage: ldoem-replay CAPTURE (--tcp HOST[:PORT] | --serial pty:PATH | --can IF)... [OPTIONS]\n"
+  return "Usage: ldoem-replay CAPTURE (--tcp tcp:HOST[:PORT] | --serial serial:pty:PATH | --can can:IF)... [OPTIONS]\n"
          "Acts as the LD-OEM recorded in CAPTURE (docs/replay.md): each request is answered with the\n"
          "recorded replies to the same request, profiles at their recorded delays. CAPTURE: a pcapng\n"
          "from ldoem-emud --record or ldoem-conformance --record, a pcap of the device's TCP port\n"
          "(tcpdump, Wireshark; any port), or a can-utils `candump -l` log of the D1 identifiers.\n"
          "\n"
-         "Endpoints (the daemon's syntax, docs/emulator.md; at least one):\n"
-         "  --tcp HOST[:PORT]     TCP server; port 49152 if omitted, 0 = any free port\n"
-         "  --serial pty:PATH     serial line on a pty, symlinked at PATH\n"
-         "  --can IF              ISO-TP on SocketCAN interface IF (D1)\n"
-         "  --can-ids REQ:RESP    hex 11-bit identifiers [6C0:6C1]\n"
-         "  --lpt pty:PATH|gpio:CHIP  accept the tilt stepper's writes (counted, not replayed)\n"
+         "Endpoints (the daemon's, docs/endpoints.md; at least one):\n"
+         "  --tcp tcp:HOST[:PORT]  TCP server; port 49152 if omitted, 0 = any free port\n"
+         "  --serial serial:pty:PATH  serial line on a pty, symlinked at PATH\n"
+         "  --can can:IF[:REQ:RESP]  ISO-TP on SocketCAN interface IF, hex 11-bit ids (D1) [6C0:6C1]\n"
+         "  --lpt lpt:pty:PATH|lpt:gpio:CHIP  accept the tilt stepper's writes (counted, not replayed)\n"
          "Options (default in brackets):\n"
          "  --speed X             recorded seconds per replayed second, 1e-6..1e6 [1]\n"
          "  --transport T         replay the recorded tcp, serial or can telegrams [the most]\n"
@@ -155,8 +160,8 @@ std::string replay_usage_text() {
          "128 + N after signal N.\n"
          "\n"
          "Examples:\n"
-         "  ldoem-replay scan.pcapng --tcp 127.0.0.1:49152 --lpt pty:/tmp/ldoem-lpt\n"
-         "  ldoem-replay candump-2026-11-25.log --can vcan0 --speed 2\n";
+         "  ldoem-replay scan.pcapng --tcp tcp:127.0.0.1:49152 --lpt lpt:pty:/tmp/ldoem-lpt\n"
+         "  ldoem-replay candump-2026-11-25.log --can can:vcan0 --speed 2\n";
 }
 
 std::string replay_brief_usage_text() {

@@ -1,9 +1,9 @@
 #include "scanners_reader.hpp"
 
 #include "ldoem/base/device_constants.hpp"
+#include "ldoem/base/endpoint.hpp"
 #include "scanner_reader.hpp"
 
-#include <charconv>
 #include <map>
 #include <set>
 
@@ -12,84 +12,52 @@ namespace {
 
 constexpr std::uint16_t kFirstCanRequestId = 0x6C0;  // D1; scanner k: 0x6C0 + 2k / 0x6C1 + 2k
 constexpr unsigned kMaxCanId = 0x7FF;                // 11-bit (D1)
-constexpr std::string_view kLoopback = "127.0.0.1";
 
-bool all_digits(std::string_view text) {
-  return !text.empty() && text.find_first_not_of("0123456789") == std::string_view::npos;
-}
-
-std::optional<unsigned> parse_number(std::string_view text, int base) {
-  unsigned value = 0;
-  const auto [end, status] = std::from_chars(text.data(), text.data() + text.size(), value, base);
-  if (status != std::errc() || end != text.data() + text.size() || text.empty()) return std::nullopt;
-  return value;
-}
-
-// "HOST:PORT", "HOST" (port 49152) or a bare port number (on 127.0.0.1), as --tcp.
-TcpEndpointConfig read_tcp(const std::string& file, const YAML::Node& node, const std::string& path) {
+// One endpoint of the scanner, in the grammar of the daemon's options (base/endpoint.hpp,
+// docs/endpoints.md): the scene offers what the daemon would offer.
+base::Endpoint read_endpoint(const std::string& file, const YAML::Node& node, const std::string& path,
+                             base::EndpointExpect expect) {
   const std::string text = read_string(file, node, path);
-  const std::string_view view(text);
-  const auto colon = view.rfind(':');
-  TcpEndpointConfig tcp{std::string(kLoopback), base::kHostTcpPort};  // spec 4.1, as --tcp HOST
-  std::string_view port_text;
-  if (all_digits(view)) {
-    port_text = view;
-  } else {
-    tcp.address = std::string(view.substr(0, colon));
-    if (colon != std::string_view::npos) port_text = view.substr(colon + 1);
-    if (tcp.address.empty() || (colon != std::string_view::npos && port_text.empty())) {
-      fail(file, SceneErrorKind::wrong_type, node, path, "expects HOST[:PORT] or a port, e.g. 127.0.0.1:49153");
-    }
+  auto endpoint = base::parse_endpoint(text, base::EndpointUse{base::EndpointSide::offer, expect});
+  if (!endpoint) {
+    const base::EndpointError& error = endpoint.error();
+    const SceneErrorKind kind = error.kind == base::EndpointErrorKind::out_of_range ? SceneErrorKind::out_of_range
+                                                                                    : SceneErrorKind::wrong_type;
+    fail(file, kind, node, path, base::describe(error));
   }
-  if (!port_text.empty()) {
-    const auto port = parse_number(port_text, 10);
-    if (!port || *port > 0xFFFF) fail(file, SceneErrorKind::out_of_range, node, path, "port must be 0..65535 (0: any free port)");
-    tcp.port = static_cast<std::uint16_t>(*port);
-  }
-  return tcp;
-}
-
-std::optional<std::uint16_t> parse_can_id(std::string_view text) {
-  if (text.starts_with("0x") || text.starts_with("0X")) text.remove_prefix(2);
-  const auto id = parse_number(text, 16);
-  if (!id || *id > kMaxCanId) return std::nullopt;
-  return static_cast<std::uint16_t>(*id);
-}
-
-// "REQUEST:RESPONSE" in hex, as --can-ids.
-std::array<std::uint16_t, 2> read_can_ids(const std::string& file, const YAML::Node& node, const std::string& path) {
-  const std::string text = read_string(file, node, path);
-  const auto colon = text.find(':');
-  if (colon == std::string::npos) fail(file, SceneErrorKind::wrong_type, node, path, "expects REQUEST:RESPONSE in hex, e.g. 6C2:6C3");
-  const auto request = parse_can_id(std::string_view(text).substr(0, colon));
-  const auto response = parse_can_id(std::string_view(text).substr(colon + 1));
-  if (!request || !response) fail(file, SceneErrorKind::out_of_range, node, path, "identifiers are 11-bit hex values 000..7FF (D1)");
-  if (*request == *response) fail(file, SceneErrorKind::conflicting_keys, node, path, "request and response identifiers must differ");
-  return {*request, *response};
-}
-
-// "pty:PATH" (serial and LPT) or "gpio:CHIP" (LPT only).
-std::pair<std::string, std::string> read_backend(const std::string& file, const YAML::Node& node, const std::string& path,
-                                                 bool gpio_allowed) {
-  const std::string text = read_string(file, node, path);
-  const auto colon = text.find(':');
-  const std::string kind = text.substr(0, colon);
-  const std::string target = colon == std::string::npos ? std::string() : text.substr(colon + 1);
-  if (target.empty() || (kind != "pty" && !(gpio_allowed && kind == "gpio"))) {
-    fail(file, SceneErrorKind::wrong_type, node, path, gpio_allowed ? "expects pty:PATH or gpio:CHIP" : "expects pty:PATH");
-  }
-  return {kind, target};
+  return std::move(endpoint).value();
 }
 
 ScannerEndpoints read_endpoints(const std::string& file, const YAML::Node& node, const std::string& path) {
   MapReader map(file, node, path);
   ScannerEndpoints endpoints;
-  if (auto tcp = map.get("tcp")) endpoints.tcp = read_tcp(file, *tcp, map.child_path("tcp"));
-  if (auto ids = map.get("can_ids")) endpoints.can_ids = read_can_ids(file, *ids, map.child_path("can_ids"));
-  if (auto serial = map.get("serial")) endpoints.serial_pty = read_backend(file, *serial, map.child_path("serial"), false).second;
+  if (auto ids = map.get("can_ids")) {
+    // The key before the grammar: name the new one rather than "unknown key".
+    const std::string text = read_string(file, *ids, map.child_path("can_ids"));
+    fail(file, SceneErrorKind::unknown_key, *ids, map.child_path("can_ids"),
+         "can_ids is the old key; write can: can:IF:" + text + " (IF: the daemon's --can, docs/endpoints.md)");
+  }
+  if (auto tcp = map.get("tcp")) {
+    const auto endpoint = std::get<base::TcpEndpoint>(read_endpoint(file, *tcp, map.child_path("tcp"), base::EndpointExpect::tcp));
+    endpoints.tcp = TcpEndpointConfig{endpoint.host, endpoint.port};
+  }
+  if (auto can = map.get("can")) {
+    const auto endpoint = std::get<base::CanEndpoint>(read_endpoint(file, *can, map.child_path("can"), base::EndpointExpect::can));
+    if (!endpoint.ids_given) {
+      fail(file, SceneErrorKind::wrong_type, *can, map.child_path("can"),
+           "a scanner's can: endpoint names its ids, e.g. can:vcan0:6C2:6C3 (without: its flash's)");
+    }
+    endpoints.can_ids = std::array<std::uint16_t, 2>{static_cast<std::uint16_t>(endpoint.request_id),
+                                                     static_cast<std::uint16_t>(endpoint.response_id)};
+    endpoints.can_interface = endpoint.interface;
+  }
+  if (auto serial = map.get("serial")) {
+    endpoints.serial_pty =
+        std::get<base::SerialEndpoint>(read_endpoint(file, *serial, map.child_path("serial"), base::EndpointExpect::serial)).path;
+  }
   if (auto lpt = map.get("lpt")) {
-    auto [kind, target] = read_backend(file, *lpt, map.child_path("lpt"), true);
-    endpoints.lpt = LptEndpointConfig{kind == "gpio", std::move(target)};
+    const auto endpoint = std::get<base::LptEndpoint>(read_endpoint(file, *lpt, map.child_path("lpt"), base::EndpointExpect::lpt));
+    endpoints.lpt = LptEndpointConfig{endpoint.backend == base::LptBackend::gpio, endpoint.target};
   }
   map.finish();
   return endpoints;
@@ -174,8 +142,8 @@ void check_unique(const std::string& file, const YAML::Node& list, const std::ve
     const std::array<std::uint16_t, 2> ids =
         ids_in_endpoints ? *endpoints.can_ids
                          : std::array<std::uint16_t, 2>{entry.config.flash.can_request_id, entry.config.flash.can_response_id};
-    const YAML::Node ids_node = ids_in_endpoints ? node["endpoints"]["can_ids"] : node;
-    const std::string ids_path = ids_in_endpoints ? path + ".endpoints.can_ids" : path + ".flash.can_request_id";
+    const YAML::Node ids_node = ids_in_endpoints ? node["endpoints"]["can"] : node;
+    const std::string ids_path = ids_in_endpoints ? path + ".endpoints.can" : path + ".flash.can_request_id";
     for (const std::uint16_t id : ids) can_ids.claim(id, entry.name, ids_node, ids_path);
     if (endpoints.serial_pty) ptys.claim(*endpoints.serial_pty, entry.name, node["endpoints"]["serial"], path + ".endpoints.serial");
     if (endpoints.lpt && !endpoints.lpt->gpio) {

@@ -4,6 +4,7 @@
 #include <fnmatch.h>
 
 #include "ldoem/base/command_line.hpp"
+#include "ldoem/base/endpoint.hpp"
 #include "ldoem/base/numbers.hpp"
 
 namespace ldoem::conformance {
@@ -16,36 +17,32 @@ Unexpected<UsageError> usage(std::string message) { return Unexpected<UsageError
 
 using base::parse_double;
 
-// "6C0,6C1" (hex, optional 0x) -> the two ids as the endpoint grammar writes them.
-std::optional<std::pair<std::string, std::string>> split_ids(std::string_view text) {
-  const std::size_t comma = text.find(',');
-  if (comma == std::string_view::npos) return std::nullopt;
-  auto strip = [](std::string_view id) {
-    if (id.starts_with("0x") || id.starts_with("0X")) id.remove_prefix(2);
-    return std::string(id);
-  };
-  return std::pair{strip(text.substr(0, comma)), strip(text.substr(comma + 1))};
-}
-
 struct Parser {
   Options options;
-  std::optional<std::string> can_interface;
-  std::optional<std::string> can_ids;
-  std::optional<std::string> endpoint_text;  // tcp: / serial: form
   int endpoint_options = 0;
+
+  // --can, --tcp and --serial take the endpoint grammar of every tool (docs/endpoints.md).
+  Expected<std::monostate, UsageError> take_endpoint(std::string_view name, std::string_view value,
+                                                     base::EndpointExpect expect) {
+    ++endpoint_options;
+    auto endpoint = base::parse_endpoint(value, base::EndpointUse{base::EndpointSide::connect, expect});
+    if (!endpoint) return usage(base::describe_for_option(name, endpoint.error()));
+    options.endpoint = *endpoint;
+    return std::monostate{};
+  }
 
   Expected<std::monostate, UsageError> apply(std::string_view name, std::string_view value) {
     if (name == "--can") {
-      can_interface = std::string(value);
-      ++endpoint_options;
+      return take_endpoint(name, value, base::EndpointExpect::can);
     } else if (name == "--ids") {
-      can_ids = std::string(value);
+      std::string ids(value);
+      for (char& c : ids) c = c == ',' ? ':' : c;
+      return usage("--ids " + std::string(value) + " is the old spelling; write --can can:IF:" + ids +
+                   " (docs/endpoints.md)");
     } else if (name == "--tcp") {
-      endpoint_text = "tcp:" + std::string(value);
-      ++endpoint_options;
+      return take_endpoint(name, value, base::EndpointExpect::tcp);
     } else if (name == "--serial") {
-      endpoint_text = "serial:" + std::string(value);
-      ++endpoint_options;
+      return take_endpoint(name, value, base::EndpointExpect::serial);
     } else if (name == "--target") {
       if (value == "emulator") {
         options.target = Target::emulator;
@@ -96,26 +93,8 @@ struct Parser {
 
   Expected<std::monostate, UsageError> finish() {
     if (endpoint_options > 1) return usage("give only one of --can, --tcp, --serial");
-    if (can_ids && !can_interface) return usage("--ids: only with --can");
-    std::string text;
-    if (can_interface) {
-      text = "can:" + *can_interface;
-      if (can_ids) {
-        const auto ids = split_ids(*can_ids);
-        if (!ids) return usage("--ids: expected REQ,RESP in hex, got `" + *can_ids + "`");
-        text += ":" + ids->first + ":" + ids->second;
-      }
-    } else if (endpoint_text) {
-      text = *endpoint_text;
-    }
-    if (!text.empty()) {
-      auto endpoint = driver::parse_endpoint(text);
-      if (!endpoint) return usage(driver::describe(endpoint.error()));
-      if (std::holds_alternative<driver::LptEndpoint>(*endpoint)) return usage("an lpt: endpoint carries no telegrams");
-      options.endpoint = *endpoint;
-    }
     if (!options.endpoint && !options.list && !options.help && !options.help_all) {
-      return usage("no endpoint: give --can IF, --tcp HOST:PORT or --serial TTY (try --help)");
+      return usage("no endpoint: give --can can:IF, --tcp tcp:HOST[:PORT] or --serial serial:TTY (try --help)");
     }
     return std::monostate{};
   }
@@ -186,16 +165,17 @@ bool matches_any(const std::vector<std::string>& filters, std::string_view name)
 
 std::string usage_text(std::string_view program_name) {
   const std::string p(program_name);
-  return "Usage: " + p + " (--can IF [--ids REQ,RESP] | --tcp HOST:PORT | --serial TTY) [OPTIONS]\n"
+  return "Usage: " + p + " (--can can:IF[:REQ:RESP] | --tcp tcp:HOST[:PORT] | --serial serial:TTY) [OPTIONS]\n"
          "Host-protocol conformance suite for a SICK LD-OEM (docs/conformance.md): sends the golden\n"
          "vectors of spec section 7, the S1/S2 conversations, every D2 failure, every illegal state\n"
          "transition, spin-up and profile-cadence timing, and checks the replies byte by byte.\n"
          "\n"
-         "Endpoint (exactly one):\n"
-         "  --can IF              ISO-TP over CAN (D1) on interface IF\n"
-         "  --ids REQ,RESP        11-bit ids in hex, host->LD and LD->host [6C0,6C1]\n"
-         "  --tcp HOST:PORT       Ethernet framing (spec 4.1); port 49152 if omitted\n"
-         "  --serial TTY          RS-232 framing (spec 4.2) at 115200 baud on TTY (or a pty)\n"
+         "Endpoint (exactly one; docs/endpoints.md):\n"
+         "  --can can:IF[:REQ:RESP]  ISO-TP over CAN (D1) on interface IF; REQ:RESP the 11-bit ids\n"
+         "                        in hex, host->LD and LD->host [6C0:6C1]\n"
+         "  --tcp tcp:HOST[:PORT]  Ethernet framing (spec 4.1); port 49152 if omitted\n"
+         "  --serial serial:TTY[:BAUD]  RS-232 framing (spec 4.2) on TTY (or serial:pty:PATH,\n"
+         "                        as ldoem-emud offers it) [115200 baud]\n"
          "Options (default in brackets):\n"
          "  --target T            emulator: assert every byte; device: assert only the positions\n"
          "                        spec 7.2 confirms, skip emulator-only cases [emulator]\n"
@@ -242,18 +222,18 @@ std::string usage_text(std::string_view program_name) {
          "  2        usage error\n"
          "\n"
          "Examples:\n"
-         "  " + p + " --tcp 127.0.0.1:49152 --time-scale 10\n"
-         "  " + p + " --can vcan0 --ids 6C0,6C1 --filter '*/states/*'\n"
-         "  " + p + " --serial /tmp/ldoem-serial --filter 'serial/conversation/*'\n"
-         "  " + p + " --tcp 192.168.1.10 --target device --timeout 10\n"
-         "  " + p + " --tcp 192.168.1.10 --target device --record real-ld.pcapng\n"
-         "  " + p + " --tcp 127.0.0.1:49152 --against real-ld.pcapng --mask-times --mask-counters\n";
+         "  " + p + " --tcp tcp:127.0.0.1:49152 --time-scale 10\n"
+         "  " + p + " --can can:vcan0:6C0:6C1 --filter '*/states/*'\n"
+         "  " + p + " --serial serial:pty:/tmp/ldoem-serial --filter 'serial/conversation/*'\n"
+         "  " + p + " --tcp tcp:192.168.1.10 --target device --timeout 10\n"
+         "  " + p + " --tcp tcp:192.168.1.10 --target device --record real-ld.pcapng\n"
+         "  " + p + " --tcp tcp:127.0.0.1:49152 --against real-ld.pcapng --mask-times --mask-counters\n";
 }
 
 std::string brief_usage_text(std::string_view program_name) {
   return base::brief_help(program_name, usage_text(program_name),
                           "Check a device against the LD-OEM host protocol (docs/conformance.md).",
-                          {"--can", "--ids", "--tcp", "--serial", "--target", "--time-scale", "--timeout", "--filter",
+                          {"--can", "--tcp", "--serial", "--target", "--time-scale", "--timeout", "--filter",
                            "--exclude", "--list", "--record", "--against", "--help", "--version"});
 }
 

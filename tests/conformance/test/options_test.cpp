@@ -14,7 +14,7 @@ namespace {
 base::Expected<Options, UsageError> parse(std::vector<std::string_view> arguments) { return parse_options(arguments); }
 
 TEST(Options, TcpEndpoint_ParsesHostAndPort) {
-  auto options = parse({"--tcp", "127.0.0.1:5000"});
+  auto options = parse({"--tcp", "tcp:127.0.0.1:5000"});
   ASSERT_TRUE(options);
   const auto& tcp = std::get<driver::TcpEndpoint>(*options->endpoint);
   EXPECT_EQ(tcp.host, "127.0.0.1");
@@ -24,7 +24,7 @@ TEST(Options, TcpEndpoint_ParsesHostAndPort) {
 }
 
 TEST(Options, CanWithIds_BuildsCanEndpoint) {
-  auto options = parse({"--can", "vcan0", "--ids", "0x6C2,6C3", "--target=device"});
+  auto options = parse({"--can", "can:vcan0:0x6C2:6C3", "--target=device"});
   ASSERT_TRUE(options);
   const auto& can = std::get<driver::CanEndpoint>(*options->endpoint);
   EXPECT_EQ(can.interface, "vcan0");
@@ -34,7 +34,7 @@ TEST(Options, CanWithIds_BuildsCanEndpoint) {
 }
 
 TEST(Options, SerialAndTimes_AreParsed) {
-  auto options = parse({"--serial", "/tmp/ldoem-serial", "--time-scale", "10", "--timeout", "2.5", "--filter", "*/states/*",
+  auto options = parse({"--serial", "serial:pty:/tmp/ldoem-serial", "--time-scale", "10", "--timeout", "2.5", "--filter", "*/states/*",
                         "--filter", "*S1", "--virtual-time", "-v"});
   ASSERT_TRUE(options);
   EXPECT_EQ(std::get<driver::SerialEndpoint>(*options->endpoint).path, "/tmp/ldoem-serial");
@@ -56,22 +56,22 @@ TEST(Options, Exclude_LeavesMatchingCasesOutAfterTheFilter) {
     if (options) list_cases(*options, *table, out);
     return out.str();
   };
-  const std::string all = listed({"--tcp", "h"});
-  const std::string without_timing = listed({"--tcp", "h", "--exclude", "*/timing/*"});
+  const std::string all = listed({"--tcp", "tcp:h"});
+  const std::string without_timing = listed({"--tcp", "tcp:h", "--exclude", "*/timing/*"});
   ASSERT_NE(all.find("tcp/timing/"), std::string::npos);
   EXPECT_EQ(without_timing.find("/timing/"), std::string::npos);
   EXPECT_NE(without_timing.find("tcp/states/"), std::string::npos);
-  const std::string timing_only = listed({"--tcp", "h", "--filter", "*/timing/*"});
+  const std::string timing_only = listed({"--tcp", "tcp:h", "--filter", "*/timing/*"});
   // The two halves make up the whole suite, case for case.
   EXPECT_EQ(std::count(all.begin(), all.end(), '\n'),
             std::count(without_timing.begin(), without_timing.end(), '\n') +
                 std::count(timing_only.begin(), timing_only.end(), '\n'));
-  EXPECT_EQ(listed({"--tcp", "h", "--filter", "*/timing/*", "--exclude", "*spin_up*"}).find("spin_up"), std::string::npos);
-  EXPECT_FALSE(parse({"--tcp", "h", "--exclude", ""}));
+  EXPECT_EQ(listed({"--tcp", "tcp:h", "--filter", "*/timing/*", "--exclude", "*spin_up*"}).find("spin_up"), std::string::npos);
+  EXPECT_FALSE(parse({"--tcp", "tcp:h", "--exclude", ""}));
 }
 
 TEST(Options, TwoEndpoints_AreAUsageError) {
-  auto options = parse({"--tcp", "127.0.0.1", "--serial", "/dev/ttyS0"});
+  auto options = parse({"--tcp", "tcp:127.0.0.1", "--serial", "serial:/dev/ttyS0"});
   ASSERT_FALSE(options);
   EXPECT_NE(options.error().message.find("only one"), std::string::npos);
 }
@@ -85,24 +85,42 @@ TEST(Options, NoEndpoint_IsAnErrorUnlessListing) {
 }
 
 TEST(Options, BadValues_NameTheOption) {
-  auto scale = parse({"--tcp", "h", "--time-scale", "0"});
+  auto scale = parse({"--tcp", "tcp:h", "--time-scale", "0"});
   ASSERT_FALSE(scale);
   EXPECT_NE(scale.error().message.find("--time-scale"), std::string::npos);
   // Values whose conversion to milliseconds used to overflow (undefined behaviour).
-  EXPECT_FALSE(parse({"--tcp", "h", "--timeout", "1e300"}));
-  EXPECT_FALSE(parse({"--tcp", "h", "--time-scale", "1e-300"}));
-  auto target = parse({"--tcp", "h", "--target", "robot"});
+  EXPECT_FALSE(parse({"--tcp", "tcp:h", "--timeout", "1e300"}));
+  EXPECT_FALSE(parse({"--tcp", "tcp:h", "--time-scale", "1e-300"}));
+  auto target = parse({"--tcp", "tcp:h", "--target", "robot"});
   ASSERT_FALSE(target);
   EXPECT_NE(target.error().message.find("--target"), std::string::npos);
   EXPECT_FALSE(parse({"--tcp"}));
-  EXPECT_FALSE(parse({"--ids", "6C0,6C1", "--tcp", "h"}));
-  EXPECT_FALSE(parse({"--can", "vcan0", "--ids", "6C0"}));
-  EXPECT_FALSE(parse({"--tcp", "h", "--bogus"}));
+  EXPECT_FALSE(parse({"--can", "can:vcan0:6C0"}));
+  EXPECT_FALSE(parse({"--can", "tcp:h"}));
+  EXPECT_FALSE(parse({"--tcp", "tcp:h:0"}));  // a host connects to a port; 0 is a listener's
+  EXPECT_FALSE(parse({"--tcp", "tcp:h", "--bogus"}));
+}
+
+// Issue 24: every spelling from before docs/endpoints.md names the new one.
+TEST(Options, OldSpellings_NameTheNewOne) {
+  const std::vector<std::pair<std::vector<std::string_view>, std::string>> cases{
+      {{"--tcp", "127.0.0.1:49152"},
+       "--tcp 127.0.0.1:49152 is the old spelling; write --tcp tcp:127.0.0.1:49152 (docs/endpoints.md)"},
+      {{"--can", "vcan0"}, "--can vcan0 is the old spelling; write --can can:vcan0 (docs/endpoints.md)"},
+      {{"--serial", "/tmp/s"}, "--serial /tmp/s is the old spelling; write --serial serial:/tmp/s (docs/endpoints.md)"},
+      {{"--can", "can:vcan0", "--ids", "6C0,6C1"},
+       "--ids 6C0,6C1 is the old spelling; write --can can:IF:6C0:6C1 (docs/endpoints.md)"},
+  };
+  for (const auto& [arguments, message] : cases) {
+    auto options = parse(arguments);
+    ASSERT_FALSE(options) << message;
+    EXPECT_EQ(options.error().message, message);
+  }
 }
 
 TEST(Options, UsageText_ListsEveryOptionAndExitCodes) {
   const std::string text = usage_text("ldoem-conformance");
-  for (const char* option : {"--can", "--ids", "--tcp", "--serial", "--target", "--time-scale", "--virtual-time", "--timeout",
+  for (const char* option : {"--can can:IF", "--tcp tcp:HOST", "--serial serial:", "--target", "--time-scale", "--virtual-time", "--timeout",
                              "--filter", "--list", "--vectors", "--help", "Exit status", "Examples"}) {
     EXPECT_NE(text.find(option), std::string::npos) << option;
   }
@@ -115,7 +133,7 @@ namespace ldoem::conformance {
 namespace {
 
 TEST(OptionsAgainst, AgainstMasksAndRecord_AreParsed) {
-  const std::vector<std::string_view> args{"--tcp", "127.0.0.1:1", "--against", "c.pcapng", "--mask", "status.*",
+  const std::vector<std::string_view> args{"--tcp", "tcp:127.0.0.1:1", "--against", "c.pcapng", "--mask", "status.*",
                                            "--mask-times", "--record=r.pcapng"};
   const auto options = parse_options(args);
   ASSERT_TRUE(options.has_value()) << options.error().message;
@@ -126,7 +144,7 @@ TEST(OptionsAgainst, AgainstMasksAndRecord_AreParsed) {
 }
 
 TEST(OptionsAgainst, MaskWithoutAgainst_IsAUsageError) {
-  const std::vector<std::string_view> args{"--tcp", "127.0.0.1:1", "--mask-counters"};
+  const std::vector<std::string_view> args{"--tcp", "tcp:127.0.0.1:1", "--mask-counters"};
   const auto options = parse_options(args);
   ASSERT_FALSE(options.has_value());
   EXPECT_NE(options.error().message.find("--against"), std::string::npos);

@@ -88,7 +88,8 @@ std::string version_line(std::string_view program);
 std::string usage_error_line(std::string_view program, std::string_view reason);
 
 // Declares `--name VALUE` whose text goes to `accept`; accept returns nothing when the value is
-// taken, else the reason (the message becomes "--name: reason"). Rejecting one value rejects
+// taken, else the reason (the message becomes "--name: reason", or the reason alone when it
+// starts with the option's name: "--lpt pty:/x is the old spelling; ..."). Rejecting one value rejects
 // the command line.
 CLI::Option* take_text(CLI::App& app, const std::string& name,
                        std::function<std::optional<std::string>(const std::string&)> accept);

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "ldoem/base/device_constants.hpp"
+#include "ldoem/base/endpoint.hpp"
 #include "ldoem/endpoints/can_id_pair.hpp"
 #include "ldoem/endpoints/host_limits.hpp"
 #include "ldoem/endpoints/logger.hpp"
@@ -114,11 +115,12 @@ struct UsageError {
 [[nodiscard]] base::Expected<Command, UsageError> parse_command_line(
     std::span<const std::string_view> arguments);
 
-// "6C0:6C1" (hex, optional 0x) -> pair; both 11-bit (D1) and different.
-[[nodiscard]] base::Expected<CanIdPair, UsageError> parse_can_id_pair(std::string_view text);
-
-// "HOST[:PORT]" -> address and port (port 49152 when omitted, 0 = ephemeral).
-[[nodiscard]] base::Expected<TcpOption, UsageError> parse_tcp_option(std::string_view text);
+// `option`'s value in the endpoint grammar, on the offering side (base/endpoint.hpp,
+// docs/endpoints.md), of the kind `expect`; the error is the line naming the option (an old
+// spelling names the new one).
+[[nodiscard]] base::Expected<base::Endpoint, UsageError> parse_offered_endpoint(std::string_view option,
+                                                                               std::string_view text,
+                                                                               base::EndpointExpect expect);
 
 std::string usage_text(std::string_view program_name);
 // What --help prints: a screen of usage_text (base::brief_help).

@@ -4,8 +4,8 @@
 // One scanner (`scanner:`, or a `scanners:` list of one): the command line as always; what it
 // does not give, the entry's endpoints and flash_file fill in. Several scanners: every scanner's
 // TCP port, CAN identifiers, serial pty, LPT and flash file come from its entry (flash default
-// <scene>.<name>.flash); the options that name one device's endpoint (--tcp, --can-ids, --serial,
-// --lpt, --flash) and --record are errors; the shared ones (--can/--no-can: one bus for all,
+// <scene>.<name>.flash); the options that name one device's endpoint (--tcp, --can with ids,
+// --serial, --lpt, --flash) and --record are errors; the shared ones (--can/--no-can: one bus for all,
 // --no-flash, --virtual-time, --time-scale, --seed, --log-level, --count-profiles: in total,
 // --timeout, --control and --event-log: the first scanner) apply to all.
 #pragma once

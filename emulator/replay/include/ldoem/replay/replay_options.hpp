@@ -1,7 +1,8 @@
 // The command line of ldoem-replay (docs/replay.md), parsed by a pure function on CLI11
-// (base/command_line.hpp) like the other tools'. Endpoint options are the daemon's
-// (docs/emulator.md): --tcp HOST[:PORT], --serial pty:PATH, --can IF with --can-ids REQ:RESP,
-// --lpt pty:PATH | gpio:CHIP (writes accepted and counted, not replayed).
+// (base/command_line.hpp) like the other tools'. Endpoint options are the daemon's, in the
+// grammar of docs/endpoints.md: --tcp tcp:HOST[:PORT], --serial serial:pty:PATH,
+// --can can:IF[:REQ:RESP], --lpt lpt:pty:PATH | lpt:gpio:CHIP (writes accepted and counted, not
+// replayed).
 #pragma once
 
 #include <filesystem>

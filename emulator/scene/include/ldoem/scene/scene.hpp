@@ -231,7 +231,8 @@ class EffectSet {
 };
 
 // Where hosts reach one scanner of a `scanners:` scene: the command line's per-device options,
-// written in the scene (docs/scenes.md "Several scanners").
+// written in the scene in the endpoint grammar (docs/endpoints.md, docs/scenes.md "Several
+// scanners").
 struct TcpEndpointConfig {
   std::string address;
   std::uint16_t port = 0;  // 0: any free port
@@ -242,8 +243,10 @@ struct LptEndpointConfig {
 };
 struct ScannerEndpoints {
   std::optional<TcpEndpointConfig> tcp;
-  // The scanner's CAN identifiers (request, response); else its flash's (D1).
+  // The scanner's CAN identifiers (request, response); else its flash's (D1). `can_interface`
+  // is the bus they are on (`can: can:IF:REQ:RESP`); it must be the daemon's --can.
   std::optional<std::array<std::uint16_t, 2>> can_ids;
+  std::string can_interface;
   std::optional<std::string> serial_pty;  // symlink path of the serial pty
   std::optional<LptEndpointConfig> lpt;
 };
