@@ -60,8 +60,8 @@ case $name in
   ldoem-emud) bad --scene; bad --scene s.yaml --no-can --time-scale soon ;;
   ldoem-hub) bad --config; bad --config h.yaml --max-clients many ;;
   ldoem-scan) bad --out; bad --device tcp:127.0.0.1:1 --out s.ply --speed fast ;;
-  ldoem-conformance) bad --tcp; bad --tcp 127.0.0.1:1 --timeout soon ;;
-  ldoem-replay) bad --tcp; bad s.pcapng --tcp 127.0.0.1:0 --speed fast ;;
+  ldoem-conformance) bad --tcp; bad --tcp tcp:127.0.0.1:1 --timeout soon ;;
+  ldoem-replay) bad --tcp; bad s.pcapng --tcp tcp:127.0.0.1:0 --speed fast ;;
   ldoem-ctl) bad --control; bad --control p inject-fault motor_stall --duration soon; bad --control p bogus; bad --control p ;;
   ldoem-latency) bad --tcp; bad --tcp 127.0.0.1:1 --requests many ;;
 esac
