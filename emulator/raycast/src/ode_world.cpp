@@ -1,5 +1,7 @@
 #include "ldoem/raycast/ode_world.hpp"
 
+#include "mesh_index.hpp"
+
 #include <limits>
 #include <mutex>
 #include <type_traits>
@@ -43,6 +45,7 @@ std::shared_ptr<const TriMeshData> TriMeshData::build(const scene::Mesh& mesh) {
   dGeomTriMeshDataBuildSingle(out->data_, out->vertices_.data(), 3 * sizeof(float),
                               static_cast<int>(mesh.vertices_m.size()), out->indices_.data(),
                               static_cast<int>(out->indices_.size()), 3 * sizeof(dTriIndex));
+  out->index_ = std::make_shared<const detail::MeshIndex>(mesh);
   ++trimesh_builds;
   return out;
 }
