@@ -206,7 +206,7 @@ MovingRayCaster::MovingRayCaster(const std::vector<scene::SceneObject>& objects,
   meshes.resize(objects.size());
   for (std::size_t k = 0; k < objects.size(); ++k) {
     const auto* mesh = std::get_if<scene::Mesh>(&objects[k].shape);
-    if (mesh != nullptr && meshes[k] == nullptr) meshes[k] = TriMeshData::build(*mesh);
+    if (mesh != nullptr && (meshes[k] == nullptr || meshes[k]->index() == nullptr)) meshes[k] = TriMeshData::build(*mesh);
     impl_->meshes.push_back(mesh != nullptr ? meshes[k]->index() : nullptr);
   }
   impl_->local_world = std::make_unique<OdeWorld>(local, std::move(meshes));

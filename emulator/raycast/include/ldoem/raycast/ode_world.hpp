@@ -32,13 +32,15 @@ void ensure_ode_ready_for_this_thread();
 class TriMeshData {
  public:
   // Any thread may build one (it calls dInitODE2 once per process, nothing per thread).
-  static std::shared_ptr<const TriMeshData> build(const scene::Mesh& mesh);
+  // with_moving_index: also the Embree index MovingRayCaster needs (a static world's meshes,
+  // which OdeWorld builds for itself, go without it).
+  static std::shared_ptr<const TriMeshData> build(const scene::Mesh& mesh, bool with_moving_index = true);
   ~TriMeshData();
   TriMeshData(const TriMeshData&) = delete;
   TriMeshData& operator=(const TriMeshData&) = delete;
 
   dTriMeshDataID data() const { return data_; }
-  const std::shared_ptr<const detail::MeshIndex>& index() const { return index_; }
+  const std::shared_ptr<const detail::MeshIndex>& index() const { return index_; }  // may be null
   std::size_t triangle_count() const { return indices_.size() / 3; }
   // How many the calling thread has built: the daemon counts those its event loop built
   // (query-status mesh_trees_built_on_loop), tests that a rebuild took the prepared one.
