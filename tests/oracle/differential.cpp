@@ -134,11 +134,6 @@ void tally(Stats& stats, const Verdict& v, Engine engine, const std::vector<Part
   if (v.exact) ++stats.exact;
   if (v.excused) ++stats.excused;
   const char* engine_name = engine == Engine::embree ? "embree" : "moving";
-  if (v.fault != Fault::none && engine == Engine::moving && v.fault_on_mesh && v.fault != Fault::not_finite) {
-    ++stats.ode_mesh_faults;
-    if (stats.ode_mesh_examples.size() < 5) stats.ode_mesh_examples.push_back(std::string(fault_name(v.fault)) + ": " + v.what);
-    return;
-  }
   switch (v.fault) {
     case Fault::none: break;
     case Fault::not_finite: ++stats.not_finite; break;
@@ -178,10 +173,6 @@ void Stats::merge(const Stats& o) {
   missed += o.missed;
   not_finite += o.not_finite;
   oracle_failed += o.oracle_failed;
-  ode_mesh_faults += o.ode_mesh_faults;
-  for (const std::string& e : o.ode_mesh_examples) {
-    if (ode_mesh_examples.size() < 5) ode_mesh_examples.push_back(e);
-  }
   for (std::size_t i = 0; i < kinds.size(); ++i) {
     KindStats& k = kinds[i];
     const KindStats& ok = o.kinds[i];
@@ -204,7 +195,7 @@ std::string Stats::text() const {
   s.precision(3);
   s << "cases=" << cases << "\nrays=" << rays << "\nexact=" << exact << "\nexcused=" << excused << "\nwrong_object=" << wrong_object
     << "\nrange_faults=" << range_faults << "\nmissed=" << missed << "\nnot_finite=" << not_finite
-    << "\noracle_failed=" << oracle_failed << "\node_mesh_faults=" << ode_mesh_faults << "\n";
+    << "\noracle_failed=" << oracle_failed << "\n";
   for (std::size_t i = 0; i < kinds.size(); ++i) {
     const KindStats& k = kinds[i];
     const std::string name = kind_name(static_cast<Kind>(i));
@@ -213,7 +204,6 @@ std::string Stats::text() const {
       << ".worst_case=" << k.worst_case << "\n";
   }
   for (const std::string& f : faults) s << "fault=" << f << "\n";
-  for (const std::string& f : ode_mesh_examples) s << "ode_mesh_fault=" << f << "\n";
   return s.str();
 }
 

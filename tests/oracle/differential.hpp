@@ -33,12 +33,8 @@ struct Stats {
   std::uint64_t missed = 0;
   std::uint64_t not_finite = 0;
   std::uint64_t oracle_failed = 0;
-  // Faults of the moving caster on meshes (ODE's float trimesh): known to exceed the float bound
-  // (docs/numerics.md "Findings"), tallied apart from the faults the fuzzer fails on.
-  std::uint64_t ode_mesh_faults = 0;
   std::array<KindStats, 6> kinds{};  // by Kind
   std::vector<std::string> faults;   // the first few, with their inputs
-  std::vector<std::string> ode_mesh_examples;  // the first few ode_mesh_faults
 
   std::uint64_t fault_count() const { return wrong_object + range_faults + missed + not_finite; }
   void merge(const Stats& other);

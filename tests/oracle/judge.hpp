@@ -13,7 +13,8 @@ namespace ldoem::oracle {
 
 // Which caster answered: the static one (Embree BVH, double-precision primitives, Embree's
 // float triangles with the range recomputed in double) or the moving-world one (primitives in
-// double in the object's frame, meshes through ODE's float trimesh).
+// double in the object's frame, meshes as Embree's float triangles in the object's frame with the
+// range recomputed in double from the world triangle's plane).
 enum class Engine : std::uint8_t { embree, moving };
 
 // What the bounds need to know of a part beyond its geometry: the point its arithmetic is
@@ -54,7 +55,6 @@ const char* fault_name(Fault fault);
 
 struct Verdict {
   Fault fault = Fault::none;
-  bool fault_on_mesh = false;  // the part the fault is about is a triangle
   std::string what;  // for a fault: what disagreed, with numbers
   // For a hit accepted on a part: that part's kind, the error against its exact range, the
   // bound it was held to, and the error in ulps of the exact range.

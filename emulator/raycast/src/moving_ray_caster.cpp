@@ -3,6 +3,7 @@
 #include "ldoem/raycast/ode_world.hpp"
 #include "embree_device.hpp"
 #include "exact_primitives.hpp"
+#include "mesh_index.hpp"
 #include "moving_bounds.hpp"
 #include "ray_probe.hpp"
 
@@ -51,8 +52,13 @@ struct MovingRayCaster::Impl {
   std::unique_ptr<OdeWorld> local_world;  // every moving object at the identity pose
   std::vector<detail::LocalExtent> extents;
   // Primitives in their own frame (centre 0, axes identity), tested in closed form as the static
-  // caster tests them; meshes (no entry) go to ODE's trimesh.
+  // caster tests them; meshes (no entry) are in `meshes`.
   std::vector<std::optional<detail::ExactPrimitive>> primitives;
+  // Meshes as the static caster answers them (Embree's robust float test, the range in double
+  // from the triangle's plane at the query's pose; issue 26): ODE's float trimesh missed the
+  // float bound by up to 1e-4 of the range. Null for primitives; shared with
+  // the mesh's TriMeshData.
+  std::vector<std::shared_ptr<const detail::MeshIndex>> meshes;
   Eigen::Vector3d frame_origin_m = Eigen::Vector3d::Zero();
 
   std::string device_error;
@@ -166,10 +172,10 @@ std::optional<detail::Contact> MovingRayCaster::Impl::test(std::size_t k, const 
   // sphere about its origin rejects most of them before the pose is computed.
   if (misses_sphere(motion.position_at(k, time_s), extents[k].radius_m, ray, max_range_m)) return std::nullopt;
   const scene::Pose pose = motion.pose_at(k, time_s);
+  if (!primitives[k]) return meshes[k]->intersect(ray, pose, max_range_m, k);
   const Eigen::Quaterniond inverse = pose.orientation.conjugate();
   const detail::CheckedRay local{inverse * (ray.origin_m - pose.position_m), inverse * ray.direction, max_range_m};
-  auto contact = primitives[k] ? detail::intersect(*primitives[k], local)
-                               : detail::collide(detail::aim_thread_probe(local), local, *local_world, k, true);
+  auto contact = detail::intersect(*primitives[k], local);
   if (contact) contact->normal = pose.orientation * contact->normal;
   return contact;
 }
@@ -196,6 +202,13 @@ MovingRayCaster::MovingRayCaster(const std::vector<scene::SceneObject>& objects,
     upper = upper.cwiseMax(p);
   }
   if (!objects.empty()) impl_->frame_origin_m = 0.5 * (lower + upper);
+  // Every mesh's data (with its index) is built here unless given, and handed to the local world.
+  meshes.resize(objects.size());
+  for (std::size_t k = 0; k < objects.size(); ++k) {
+    const auto* mesh = std::get_if<scene::Mesh>(&objects[k].shape);
+    if (mesh != nullptr && (meshes[k] == nullptr || meshes[k]->index() == nullptr)) meshes[k] = TriMeshData::build(*mesh);
+    impl_->meshes.push_back(mesh != nullptr ? meshes[k]->index() : nullptr);
+  }
   impl_->local_world = std::make_unique<OdeWorld>(local, std::move(meshes));
   for (std::size_t k = 0; k < objects.size(); ++k) {
     const bool mesh = std::holds_alternative<scene::Mesh>(objects[k].shape);

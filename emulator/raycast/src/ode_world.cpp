@@ -1,5 +1,7 @@
 #include "ldoem/raycast/ode_world.hpp"
 
+#include "mesh_index.hpp"
+
 #include <limits>
 #include <mutex>
 #include <type_traits>
@@ -30,7 +32,7 @@ void ensure_ode_ready_for_this_thread() {
   }
 }
 
-std::shared_ptr<const TriMeshData> TriMeshData::build(const scene::Mesh& mesh) {
+std::shared_ptr<const TriMeshData> TriMeshData::build(const scene::Mesh& mesh, bool with_moving_index) {
   // Building the data needs no per-thread ODE data (only collisions do): a worker that builds
   // one and ends leaves nothing of ODE's behind.
   ensure_ode_initialised();
@@ -43,6 +45,7 @@ std::shared_ptr<const TriMeshData> TriMeshData::build(const scene::Mesh& mesh) {
   dGeomTriMeshDataBuildSingle(out->data_, out->vertices_.data(), 3 * sizeof(float),
                               static_cast<int>(mesh.vertices_m.size()), out->indices_.data(),
                               static_cast<int>(out->indices_.size()), 3 * sizeof(dTriIndex));
+  if (with_moving_index) out->index_ = std::make_shared<const detail::MeshIndex>(mesh);
   ++trimesh_builds;
   return out;
 }
@@ -115,7 +118,7 @@ dGeomID OdeWorld::create_geom(const scene::SceneObject& object, std::shared_ptr<
       return dCreatePlane(self.space_, plane.normal.x(), plane.normal.y(), plane.normal.z(), plane.offset_m);
     }
     dGeomID operator()(const scene::Mesh& mesh) const {
-      if (!prepared || prepared->triangle_count() != mesh.triangles.size()) prepared = TriMeshData::build(mesh);
+      if (!prepared || prepared->triangle_count() != mesh.triangles.size()) prepared = TriMeshData::build(mesh, false);
       dGeomID geom = dCreateTriMesh(self.space_, prepared->data(), nullptr, nullptr, nullptr);
       self.meshes_.push_back(std::move(prepared));
       return geom;

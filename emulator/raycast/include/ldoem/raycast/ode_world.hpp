@@ -14,6 +14,10 @@
 
 namespace ldoem::raycast {
 
+namespace detail {
+class MeshIndex;  // mesh_index.hpp (internal)
+}
+
 // Calls dInitODE2 once per process and dAllocateODEDataForThread once per calling thread
 // (ODE needs per-thread collision data for trimeshes). Cheap after the first call.
 void ensure_ode_ready_for_this_thread();
@@ -22,16 +26,21 @@ void ensure_ode_ready_for_this_thread();
 // the costly part of a mesh's geom (about 0.2 s for scenes/meshes/large-rock.obj). Immutable once
 // built and shared by every OdeWorld holding the mesh, so a caster rebuilt after add-object or
 // remove-object does not build it again; add-object builds it on its import worker (issue 27),
-// and only the cheap geom is made on the loop's thread.
+// and only the cheap geom is made on the loop's thread. It also holds the mesh's Embree index for
+// MovingRayCaster (issue 26: moving meshes are answered as the static caster answers meshes,
+// not through the OPCODE tree), built with it for the same reason.
 class TriMeshData {
  public:
   // Any thread may build one (it calls dInitODE2 once per process, nothing per thread).
-  static std::shared_ptr<const TriMeshData> build(const scene::Mesh& mesh);
+  // with_moving_index: also the Embree index MovingRayCaster needs (a static world's meshes,
+  // which OdeWorld builds for itself, go without it).
+  static std::shared_ptr<const TriMeshData> build(const scene::Mesh& mesh, bool with_moving_index = true);
   ~TriMeshData();
   TriMeshData(const TriMeshData&) = delete;
   TriMeshData& operator=(const TriMeshData&) = delete;
 
   dTriMeshDataID data() const { return data_; }
+  const std::shared_ptr<const detail::MeshIndex>& index() const { return index_; }  // may be null
   std::size_t triangle_count() const { return indices_.size() / 3; }
   // How many the calling thread has built: the daemon counts those its event loop built
   // (query-status mesh_trees_built_on_loop), tests that a rebuild took the prepared one.
@@ -42,6 +51,7 @@ class TriMeshData {
   std::vector<float> vertices_;     // x, y, z per vertex, object frame
   std::vector<dTriIndex> indices_;  // 3 per triangle
   dTriMeshDataID data_ = nullptr;
+  std::shared_ptr<const detail::MeshIndex> index_;
 };
 
 class OdeWorld {
