@@ -57,7 +57,10 @@ cmake --build --preset ci-plain
 mkdir -p build
 background=()
 build_in_background() {  # PRESET LOG
-  setsid --wait bash -c "cmake --preset $1 >/dev/null && exec nice -n 19 cmake --build --preset $1" >"$2" 2>&1 &
+  # setsid starts a new session, and with the kernel's autogroup scheduling (on by default) a new
+  # session is a CPU group of its own, which `nice` alone does not lower against the foreground's
+  # group: the group's own nice is set too, or the "background" build takes half the machine.
+  setsid --wait bash -c "echo 19 >/proc/self/autogroup 2>/dev/null; cmake --preset $1 >/dev/null && exec nice -n 19 cmake --build --preset $1" >"$2" 2>&1 &
   background+=("$!")
 }
 finish_background_build() {  # PID LOG

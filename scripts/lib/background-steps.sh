@@ -29,7 +29,10 @@ bg_start() {  # NAME LOG [nice N] CMD ARGS...
   # setsid --wait: the step leads its own process group; bash's $SECONDS counts from that
   # shell's start, so the step measures itself. (Single quotes: the inner bash expands them.)
   # shellcheck disable=SC2016
-  setsid --wait nice -n "$niceness" bash -c '"$@" >"$0" 2>&1; status=$?
+  # A new session is its own autogroup (CPU group) where the kernel has autogroup scheduling:
+  # its nice is set as well as the processes', or a niced step would still take a group's share.
+  setsid --wait nice -n "$niceness" bash -c '[ "$(nice)" -gt 0 ] && echo "$(nice)" >/proc/self/autogroup 2>/dev/null
+    "$@" >"$0" 2>&1; status=$?
     echo "$SECONDS $status" >"$0.seconds"; exit $status' "$log" "$@" </dev/null &
   bg_pid[$name]=$!
   bg_log[$name]=$log

@@ -29,6 +29,16 @@ grep -q 'exit 3' <<<"$out" || fail "a failed step's exit status was not printed:
 bg_finish never-started >/dev/null 2>&1
 [ $? -eq 2 ] || fail "finishing an unknown step is not a usage error"
 
+# A niced step is niced as a CPU group too: with autogroup scheduling its new session is a group
+# of its own, which the processes' nice alone does not lower against the foreground.
+if [ -r /proc/self/autogroup ]; then
+  bg_start niced "$work/niced.log" nice 7 cat /proc/self/autogroup
+  bg_finish niced >/dev/null 2>&1 || fail "the niced step failed: $(cat "$work/niced.log")"
+  grep -q 'nice 7$' "$work/niced.log" || fail "the niced step's autogroup is not niced: $(cat "$work/niced.log")"
+else
+  echo "no /proc/self/autogroup (kernel without autogroup scheduling): group nice not checked"
+fi
+
 # A step that started a child of its own: stopping it must stop the child too.
 bg_start sleeper "$work/sleeper.log" bash -c 'sleep 300 & echo $! >'"$work"'/child.pid; wait'
 for _ in $(seq 50); do [ -s "$work/child.pid" ] && break; sleep 0.1; done
