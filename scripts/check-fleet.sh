@@ -199,6 +199,11 @@ victim=$((scanners > 1 ? 1 : 0))
 container=$prefix-scanner-$victim-ldoem-emud
 say "kill scanner-$victim ($container, SIGKILL) and ask the hub"
 timeout 30 podman kill --signal KILL "$container" >/dev/null
+# podman kill returns when the signal is sent; the container's exit is recorded later by its
+# cleanup process. Start it again before that and the late cleanup marks the new run as the old
+# one's exit (137): podman then neither lists nor stops it (seen on a busy CI machine).
+killed_code=$(timeout 30 podman wait "$container" 2>&1) || fail "podman wait $container: $killed_code"
+[[ $killed_code == 137 ]] || fail "scanner-$victim exited $killed_code after SIGKILL, not 137"
 python3 scripts/lib/hub_session.py "127.0.0.1:$hub_port" --timeout 30 \
   "send:1 scanner-$victim STATUS 0" "expect:1:^1 ERR (connection_closed|timeout|system) " \
   "notice:^\* OK FAULT device=scanner-$victim .*kind=connection_closed" \
@@ -212,6 +217,8 @@ until deploy/image/ldoem-healthcheck "127.0.0.1:$((port_base + 2 * victim))" >/d
   ((SECONDS <= deadline)) || fail "scanner-$victim does not answer GET_STATUS within 60 s of its restart"
   sleep 0.2
 done
+state=$(podman inspect --format '{{.State.Status}}' "$container")
+[[ $state == running ]] || fail "podman says $container is $state after its restart, though it answers"
 python3 scripts/lib/hub_session.py "127.0.0.1:$hub_port" --timeout 30 \
   "send:3 scanner-$victim INITIALIZE" "expect:3:^3 OK INITIALIZE .*mode=idle" \
   "notice:^\* OK RECOVERED device=scanner-$victim" \
