@@ -13,7 +13,7 @@
 
 #include "convert.hpp"
 #include "interrupt.hpp"
-#include "ldoem/hub/scanner_device.hpp"
+#include "ldoem/driver/scanner_device.hpp"
 #include "ldoem/scan/acquisition.hpp"
 #include "ldoem/scan/scan_options.hpp"
 #include "scanner_binding.hpp"
@@ -63,20 +63,20 @@ py::object scan(const std::string& device, std::optional<std::string> lpt, doubl
   if (!plan) throw py::value_error(plan.error());
 
   auto state = std::make_shared<InterruptState>();
-  hub::ScannerDeviceOptions device_options;
+  driver::ScannerDeviceOptions device_options;
   device_options.scanner.request_timeout = options.timeout;
   device_options.scanner.sleep = [state](std::chrono::milliseconds pause) { sliced_sleep(pause, *state); };
   device_options.stepper.step_rate_hz = options.step_rate_hz;
   const driver::Endpoint scanner_endpoint = *options.device;
-  hub::TransportFactory open_transport = [scanner_endpoint, state]()
+  driver::TransportFactory open_transport = [scanner_endpoint, state]()
       -> driver::Expected<std::unique_ptr<driver::Transport>, driver::DriverError> {
     auto transport = driver::open_transport(scanner_endpoint);
     if (!transport) return driver::fail(transport.error());
     return std::unique_ptr<driver::Transport>(std::make_unique<InterruptibleTransport>(std::move(*transport), state));
   };
-  hub::LptFactory open_lpt;
+  driver::LptFactory open_lpt;
   if (options.lpt) open_lpt = [endpoint = *options.lpt] { return driver::open_lpt_port(endpoint); };
-  hub::ScannerDevice scanner(device, std::move(open_transport), std::move(open_lpt),
+  driver::ScannerDevice scanner(device, std::move(open_transport), std::move(open_lpt),
                              std::make_unique<PythonSleeper>(state), device_options);
   scan::AcquisitionHooks hooks;
   hooks.should_stop = [state] {

@@ -8,9 +8,9 @@
 #include <sstream>
 #include <thread>
 
+#include "ldoem/driver/scanner_device.hpp"
 #include "ldoem/hub/hub_client.hpp"
 #include "ldoem/hub/hub_server.hpp"
-#include "ldoem/hub/scanner_device.hpp"
 #include "scenario_device.hpp"
 
 namespace ldoem::fault_scenarios {
@@ -59,8 +59,8 @@ TEST(FaultScenario, HubWithOneFaultedDevice_TellsEveryClient_AndServesTheOther) 
   ASSERT_TRUE(bad) << failure;
 
   std::vector<hub::DeviceSlot> slots;
-  slots.push_back({"good", hub::ScannerDevice::from_endpoints("good", driver::Endpoint{good->endpoint}, std::nullopt)});
-  slots.push_back({"bad", hub::ScannerDevice::from_endpoints("bad", driver::Endpoint{bad->endpoint}, std::nullopt)});
+  slots.push_back({"good", driver::ScannerDevice::from_endpoints("good", driver::Endpoint{good->endpoint}, std::nullopt)});
+  slots.push_back({"bad", driver::ScannerDevice::from_endpoints("bad", driver::Endpoint{bad->endpoint}, std::nullopt)});
   InProcessHub hub(std::move(slots));
   ASSERT_TRUE(hub.listening);
 
@@ -117,7 +117,7 @@ TEST(FaultScenario, PowerCycleThroughTheHub_LdoemScanRetriesAndCompletes) {
   const auto lpt_endpoint = driver::parse_endpoint("lpt:pty:" + lpt);
   ASSERT_TRUE(lpt_endpoint);
   std::vector<hub::DeviceSlot> slots;
-  slots.push_back({"cycled", hub::ScannerDevice::from_endpoints("cycled", driver::Endpoint{scene->endpoint}, *lpt_endpoint)});
+  slots.push_back({"cycled", driver::ScannerDevice::from_endpoints("cycled", driver::Endpoint{scene->endpoint}, *lpt_endpoint)});
   InProcessHub hub(std::move(slots));
   ASSERT_TRUE(hub.listening);
 

@@ -163,10 +163,10 @@ namespace ldoem::scan {
 namespace {
 
 TEST(AcquireFaults, UnreachableDevice_IsFinalAtInitialize_NoRetry) {
-  hub::TransportFactory refused = []() -> driver::Expected<std::unique_ptr<driver::Transport>, driver::DriverError> {
+  driver::TransportFactory refused = []() -> driver::Expected<std::unique_ptr<driver::Transport>, driver::DriverError> {
     return driver::fail(driver::system_error("connect", "tcp:127.0.0.1:1", ECONNREFUSED));
   };
-  hub::ScannerDevice device("nowhere", refused, {}, std::make_unique<test::VirtualSleeper>());
+  driver::ScannerDevice device("nowhere", refused, {}, std::make_unique<test::VirtualSleeper>());
   std::uint32_t retries = 0;
   AcquisitionHooks hooks;
   hooks.sleep = [](std::chrono::milliseconds) {};

@@ -13,9 +13,9 @@
 #include <cmath>
 #include <thread>
 
+#include "ldoem/driver/scanner_device.hpp"
 #include "ldoem/hub/hub_client.hpp"
 #include "ldoem/hub/hub_server.hpp"
-#include "ldoem/hub/scanner_device.hpp"
 #include "ldoem/protocol/tcp_framing.hpp"
 #include "ldoem/scan/acquisition.hpp"
 #include "scripted_ld.hpp"
@@ -103,14 +103,14 @@ TEST(ScanViaHub, ScriptedLdOverTcp_CloudMatchesTheScriptedRanges) {
   ScriptedLdServer server(ld);
 
   const std::uint16_t ld_port = server.port();
-  hub::TransportFactory transport = [ld_port] {
+  driver::TransportFactory transport = [ld_port] {
     return driver::open_transport(driver::TcpEndpoint{"127.0.0.1", ld_port});
   };
-  hub::LptFactory lpt = [tilt_port]() -> driver::Expected<std::unique_ptr<driver::LptPort>, driver::DriverError> {
+  driver::LptFactory lpt = [tilt_port]() -> driver::Expected<std::unique_ptr<driver::LptPort>, driver::DriverError> {
     return std::unique_ptr<driver::LptPort>(std::make_unique<test::SharedTiltPort>(tilt_port));
   };
   std::vector<hub::DeviceSlot> slots;
-  slots.push_back({"bench", std::make_unique<hub::ScannerDevice>("bench", transport, lpt,
+  slots.push_back({"bench", std::make_unique<driver::ScannerDevice>("bench", transport, lpt,
                                                                  std::make_unique<test::VirtualSleeper>()),
                    milliseconds(5000)});
   hub::HubSettings settings;

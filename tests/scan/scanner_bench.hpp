@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <memory>
 
-#include "ldoem/hub/scanner_device.hpp"
+#include "ldoem/driver/scanner_device.hpp"
 #include "ldoem/protocol/service_codes.hpp"
 #include "scripted_ld.hpp"
 
@@ -14,19 +14,19 @@ namespace ldoem::test {
 struct ScannerBench {
   std::shared_ptr<TiltLptPort> port = std::make_shared<TiltLptPort>();
   ScriptedLd ld;
-  std::unique_ptr<hub::ScannerDevice> device;
+  std::unique_ptr<driver::ScannerDevice> device;
   int transports_opened = 0;
 
   explicit ScannerBench(ScriptedLd::RangeFunction range)
       : ld(std::move(range), [this] { return port->position_half_steps(); }) {
-    hub::TransportFactory transport = [this]() -> driver::Expected<std::unique_ptr<driver::Transport>, driver::DriverError> {
+    driver::TransportFactory transport = [this]() -> driver::Expected<std::unique_ptr<driver::Transport>, driver::DriverError> {
       ++transports_opened;
       return std::unique_ptr<driver::Transport>(std::make_unique<ScriptedTransport>(ld));
     };
-    hub::LptFactory lpt = [this]() -> driver::Expected<std::unique_ptr<driver::LptPort>, driver::DriverError> {
+    driver::LptFactory lpt = [this]() -> driver::Expected<std::unique_ptr<driver::LptPort>, driver::DriverError> {
       return std::unique_ptr<driver::LptPort>(std::make_unique<SharedTiltPort>(port));
     };
-    device = std::make_unique<hub::ScannerDevice>("bench", transport, lpt, std::make_unique<VirtualSleeper>());
+    device = std::make_unique<driver::ScannerDevice>("bench", transport, lpt, std::make_unique<VirtualSleeper>());
   }
   // The factories above hold `this`.
   ScannerBench(const ScannerBench&) = delete;

@@ -7,14 +7,16 @@
 #include <sstream>
 
 #include "ldoem/base/command_line.hpp"
+#include "ldoem/driver/scanner_device.hpp"
 #include "ldoem/driver/stop_signals.hpp"
 #include "ldoem/hub/hub_options.hpp"
 #include "ldoem/hub/hub_server.hpp"
-#include "ldoem/hub/scanner_device.hpp"
 
 namespace {
 
 using namespace ldoem::hub;
+using ldoem::driver::ScannerDevice;
+using ldoem::driver::ScannerDeviceOptions;
 
 std::vector<DeviceSlot> make_devices(const HubConfig& config) {
   std::vector<DeviceSlot> slots;

@@ -4,7 +4,7 @@
 #include <cstdint>
 
 #include "ldoem/driver/error.hpp"
-#include "ldoem/hub/hub_config.hpp"
+#include "ldoem/hub/listen_address.hpp"
 
 namespace ldoem::hub {
 

@@ -6,9 +6,9 @@
 #include "ldoem/cloud/cloud_file.hpp"
 #include "ldoem/cloud/cloud_render.hpp"
 #include "ldoem/cloud/range_image.hpp"
+#include "ldoem/driver/scanner_device.hpp"
 #include "ldoem/driver/stop_signals.hpp"
 #include "ldoem/hub/hub_client.hpp"
-#include "ldoem/hub/scanner_device.hpp"
 #include "ldoem/scan/output_files.hpp"
 #include "ldoem/scan/progress_bar.hpp"
 #include "ldoem/scan/scan_options.hpp"
@@ -27,11 +27,11 @@ base::Expected<std::unique_ptr<driver::Device>, driver::DriverError> open_device
     }
     return std::unique_ptr<driver::Device>(std::make_unique<hub::HubDevice>(std::move(client.value()), options.hub_device));
   }
-  hub::ScannerDeviceOptions device_options;
+  driver::ScannerDeviceOptions device_options;
   device_options.scanner.request_timeout = options.timeout;
   device_options.scanner.reconnect = options.reconnect;
   device_options.stepper.step_rate_hz = options.step_rate_hz;
-  return std::unique_ptr<driver::Device>(hub::ScannerDevice::from_endpoints(
+  return std::unique_ptr<driver::Device>(driver::ScannerDevice::from_endpoints(
       driver::format_endpoint(*options.device), *options.device, options.lpt, device_options));
 }
 

@@ -13,7 +13,7 @@
 
 #include "ldoem/driver/transport.hpp"
 #include "ldoem/hub/device_vocabulary.hpp"
-#include "ldoem/hub/hub_config.hpp"
+#include "ldoem/hub/listen_address.hpp"
 #include "ldoem/hub/hub_protocol.hpp"
 
 namespace ldoem::hub {

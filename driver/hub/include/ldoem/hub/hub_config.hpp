@@ -22,29 +22,21 @@
 #include <vector>
 
 #include "ldoem/driver/endpoint.hpp"
-#include "ldoem/hub/scanner_device.hpp"
+#include "ldoem/driver/scanner_device.hpp"
+#include "ldoem/hub/device_vocabulary.hpp"
+#include "ldoem/hub/listen_address.hpp"
 #include "ldoem/base/expected.hpp"
 
 namespace ldoem::hub {
 
-inline constexpr std::uint16_t kDefaultHubPort = 49200;
 inline constexpr std::chrono::milliseconds kDefaultMaxAge{50};
 inline constexpr std::chrono::milliseconds kDefaultProfileTimeout{5000};
-
-struct ListenAddress {
-  std::string host = "127.0.0.1";  // loopback by default: the hub has no authentication
-  std::uint16_t port = kDefaultHubPort;
-  bool operator==(const ListenAddress&) const = default;
-};
-
-// "HOST:PORT", "[v6]:PORT" or ":PORT" (loopback).
-base::Expected<ListenAddress, std::string> parse_listen_address(std::string_view text);
 
 struct DeviceConfig {
   std::string name;
   driver::Endpoint scanner;
   std::optional<driver::Endpoint> lpt;
-  StepperDefaults stepper;
+  driver::StepperDefaults stepper;
   std::chrono::milliseconds request_timeout = driver::kDefaultRequestTimeout;
   std::chrono::milliseconds profile_timeout = kDefaultProfileTimeout;
   driver::ReconnectPolicy reconnect;  // how the hub reopens a lost connection to the device

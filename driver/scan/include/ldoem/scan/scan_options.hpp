@@ -12,7 +12,7 @@
 #include "ldoem/cloud/cloud_render.hpp"
 #include "ldoem/driver/endpoint.hpp"
 #include "ldoem/driver/scanner.hpp"
-#include "ldoem/hub/hub_config.hpp"
+#include "ldoem/hub/listen_address.hpp"
 #include "ldoem/scan/acquisition.hpp"
 
 namespace ldoem::scan {

@@ -1,21 +1,18 @@
-#include "ldoem/hub/scanner_device.hpp"
+#include "ldoem/driver/scanner_device.hpp"
 
 #include <utility>
 
 #include "ldoem/protocol/messages.hpp"
 
-namespace ldoem::hub {
+namespace ldoem::driver {
 namespace {
-
-using driver::fail;
-using driver::make_error;
 
 bool is_measuring(const StatusBlock& status) { return status.status.sensor == protocol::SensorMode::measure; }
 
 }  // namespace
 
 ScannerDevice::ScannerDevice(std::string name, TransportFactory open_transport, LptFactory open_lpt,
-                             std::unique_ptr<driver::Sleeper> sleeper, ScannerDeviceOptions options)
+                             std::unique_ptr<Sleeper> sleeper, ScannerDeviceOptions options)
     : name_(std::move(name)),
       open_transport_(std::move(open_transport)),
       open_lpt_(std::move(open_lpt)),
@@ -30,8 +27,8 @@ ScannerDevice::~ScannerDevice() {
   }
 }
 
-std::unique_ptr<ScannerDevice> ScannerDevice::from_endpoints(std::string name, const driver::Endpoint& scanner,
-                                                             const std::optional<driver::Endpoint>& lpt,
+std::unique_ptr<ScannerDevice> ScannerDevice::from_endpoints(std::string name, const Endpoint& scanner,
+                                                             const std::optional<Endpoint>& lpt,
                                                              ScannerDeviceOptions options) {
   TransportFactory transport = [scanner] { return driver::open_transport(scanner); };
   LptFactory port;
@@ -39,7 +36,7 @@ std::unique_ptr<ScannerDevice> ScannerDevice::from_endpoints(std::string name, c
     port = [endpoint = *lpt] { return driver::open_lpt_port(endpoint); };
   }
   return std::make_unique<ScannerDevice>(std::move(name), std::move(transport), std::move(port),
-                                         std::make_unique<driver::MonotonicSleeper>(), std::move(options));
+                                         std::make_unique<MonotonicSleeper>(), std::move(options));
 }
 
 template <class T>
@@ -50,9 +47,9 @@ Expected<T, DriverError> ScannerDevice::watch(Expected<T, DriverError> result) {
   return result;
 }
 
-Expected<driver::Scanner*, DriverError> ScannerDevice::connected_scanner(const char* operation) {
-  if (!scanner_ || scanner_->state() == driver::LifecycleState::closed ||
-      scanner_->state() == driver::LifecycleState::unconfigured) {
+Expected<Scanner*, DriverError> ScannerDevice::connected_scanner(const char* operation) {
+  if (!scanner_ || scanner_->state() == LifecycleState::closed ||
+      scanner_->state() == LifecycleState::unconfigured) {
     return fail(make_error(ErrorKind::wrong_state, operation, name_, "INITIALIZE the device first"));
   }
   return scanner_.get();
@@ -64,8 +61,8 @@ Expected<DeviceInfo, DriverError> ScannerDevice::initialize(const InitializeRequ
     if (!transport) {
       return fail(transport.error());
     }
-    scanner_ = std::make_unique<driver::Scanner>(std::move(transport.value()), options_.scanner);
-  } else if (scanner_->state() == driver::LifecycleState::closed) {
+    scanner_ = std::make_unique<Scanner>(std::move(transport.value()), options_.scanner);
+  } else if (scanner_->state() == LifecycleState::closed) {
     // The connection was lost (a reset, a power cycle): try again, a bounded number of times.
     if (auto reconnected = scanner_->reconnect(); !reconnected) {
       return fail(reconnected.error());
@@ -74,12 +71,12 @@ Expected<DeviceInfo, DriverError> ScannerDevice::initialize(const InitializeRequ
   return watch(configure(*scanner_, request));
 }
 
-Expected<DeviceInfo, DriverError> ScannerDevice::configure(driver::Scanner& scanner, const InitializeRequest& request) {
+Expected<DeviceInfo, DriverError> ScannerDevice::configure(Scanner& scanner, const InitializeRequest& request) {
   auto connected = scanner.connect();
   if (!connected) {
     return fail(connected.error());
   }
-  if (scanner.state() == driver::LifecycleState::active) {
+  if (scanner.state() == LifecycleState::active) {
     if (auto cancelled = scanner.cancel_profile(); !cancelled) {
       return fail(cancelled.error());
     }
@@ -158,14 +155,14 @@ Expected<ProfileSample, DriverError> ScannerDevice::get_profile(std::chrono::mil
   if (!scanner) {
     return fail(scanner.error());
   }
-  driver::Scanner& device = **scanner;
+  Scanner& device = **scanner;
   if (auto requested = watch(device.get_profile(1, options_.profile_format)); !requested) {
     return fail(requested.error());
   }
-  auto profile = watch(device.next_profile(driver::Clock::now() + timeout));
+  auto profile = watch(device.next_profile(Clock::now() + timeout));
   if (!profile) {
     // A stream left running would answer the next request with a profile (D10).
-    if (scanner_ && scanner_->state() == driver::LifecycleState::active) {
+    if (scanner_ && scanner_->state() == LifecycleState::active) {
       (void)scanner_->cancel_profile();
     }
     return fail(profile.error());
@@ -186,7 +183,7 @@ Expected<TiltPosition, DriverError> ScannerDevice::move_motor(const MotorMove& m
       return fail(port.error());
     }
     lpt_port_ = std::move(port.value());
-    stepper_ = std::make_unique<driver::TiltStepper>(*lpt_port_, *sleeper_);
+    stepper_ = std::make_unique<TiltStepper>(*lpt_port_, *sleeper_);
     stepper_->set_position_half_steps(position_half_steps_);
   }
   const double rate_hz = move.step_rate_hz.value_or(options_.stepper.step_rate_hz);
@@ -197,7 +194,7 @@ Expected<TiltPosition, DriverError> ScannerDevice::move_motor(const MotorMove& m
                            std::to_string(move.steps) + " steps at " + std::to_string(rate_hz) +
                                " Hz would take longer than the limit of " + std::to_string(limit_s) + " s"));
   }
-  const driver::Status moved = stepper_->move(move.steps, move.direction, move.mode, rate_hz);
+  const Status moved = stepper_->move(move.steps, move.direction, move.mode, rate_hz);
   position_half_steps_ = stepper_->position_half_steps();
   if (!moved && moved.error().kind != ErrorKind::invalid_argument) {
     // Re-open the port on the next move; the position counts the steps actually pulsed.
@@ -224,4 +221,4 @@ Expected<StatusBlock, DriverError> ScannerDevice::status() {
   return reply->status;
 }
 
-}  // namespace ldoem::hub
+}  // namespace ldoem::driver
