@@ -1,7 +1,9 @@
 #!/bin/sh
 # ldoem-scan drives a scanner (driver::ScannerDevice, libldoem) or a hub's line protocol
 # (ldoem_hub_client); it must not link the hub itself: yaml-cpp (the hub's configuration) nor
-# the hub's epoll server. Reads the program's dynamic section (NEEDED) and its symbol table.
+# the hub's epoll server. Reads the program's dynamic section (NEEDED; ldoem-scan is linked with
+# --no-as-needed, so that is its whole link line) and its symbol table (what was pulled out of
+# the static libraries).
 # Usage: links_only_what_it_uses.sh PATH_TO_LDOEM_SCAN
 set -eu
 program=$1
