@@ -139,19 +139,26 @@ double boundary_bound(const Part& part, const PartScale& scale, const Ray& ray, 
   // Whether a float triangle is hit is decided in float, whatever precision the range gets
   // afterwards; in the plane, the ray's rounding moves the crossing point by that over cos.
   const double cosine = std::max(incidence(part, ray, t).cosine, 1e-300);
-  double bound = kFloatOps * kFloatRoundoff * magnitude(part, scale, ray, t) / cosine;
+  return kFloatOps * kFloatRoundoff * magnitude(part, scale, ray, t) / cosine + pose_rounding(part, scale, ray, t, engine);
+}
+
+double pose_rounding(const Part& part, const PartScale& scale, const Ray& ray, double t, Engine engine) {
+  if (engine != Engine::moving || part.kind != Kind::triangle) return 0.0;
   // The moving caster tests the mesh's float vertices in the object's frame, exactly; the oracle
-  // is given its world vertices, pose + R v rounded to double, which lie up to ~u (|pose| + S)
-  // from them (docs/numerics.md "Error bounds"). Negligible unless the object is far from the
-  // world's origin and small (a 1e-6 m mesh 1e6 m out: 1e-10 m against 1e-12 m).
-  if (engine == Engine::moving) bound += 4.0 * kDoubleRoundoff * (norm(scale.reference) + scale.size_m) / cosine;
-  return bound;
+  // (and the caster's double range) is given its world vertices, pose + R v rounded to double,
+  // which lie up to ~u (|pose| + S) from them (docs/numerics.md "Error bounds"). Negligible
+  // unless the object is far from the world's origin and small (a 1e-6 m mesh 1e6 m out:
+  // 1e-10 m against 1e-12 m).
+  const double cosine = std::max(incidence(part, ray, t).cosine, 1e-300);
+  return 4.0 * kDoubleRoundoff * (norm(scale.reference) + scale.size_m) / cosine;
 }
 
 double order_bound(const Part& part, const PartScale& scale, const Ray& ray, double t, Engine engine) {
   if (part.kind != Kind::triangle) return range_bound(part, scale, ray, t, engine);
   const double cosine = std::max(incidence(part, ray, t).cosine, 1e-300);
-  return kFloatOps * kFloatRoundoff * magnitude(part, scale, ray, t) / cosine;
+  // Embree orders a triangle by its float distance, which for the moving caster is that of the
+  // unrounded triangle: its double range may lie pose_rounding further (docs/numerics.md).
+  return kFloatOps * kFloatRoundoff * magnitude(part, scale, ray, t) / cosine + pose_rounding(part, scale, ray, t, engine);
 }
 
 const char* fault_name(Fault fault) {
@@ -309,7 +316,13 @@ Verdict judge(std::span<const Part> parts, std::span<const PartScale> scales, co
       // Embree's (or ODE's) float arithmetic: its boundary bound applies there.
       const double decided = std::max(bound, boundary_bound(parts[i], scales[i], ray, t, engine));
       if (t > ray.reach + decided) continue;
-      if (answer.hit && t >= answer.range_m - bound - found_bound) continue;  // behind, or a tie within the bounds
+      // Two triangles of one moving mesh are ordered by the float distances of both unrounded
+      // triangles: the answer's own rounding counts too.
+      const double found_rounding = found && parts[*found].object == parts[i].object
+                                        ? pose_rounding(parts[*found], scales[*found], ray, answer.range_m, engine)
+                                        : 0.0;
+      // Behind, or a tie within the bounds.
+      if (answer.hit && t >= answer.range_m - bound - found_bound - found_rounding) continue;
       if (t >= ray.reach - decided) continue;  // at the reach within the bound
       if (t <= decided) continue;  // at the origin within the bound: a range of 0 is no hit
       const double limit = answer.hit ? answer.range_m - found_bound : ray.reach;

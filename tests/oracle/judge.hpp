@@ -41,8 +41,14 @@ double range_bound(const Part& part, const PartScale& scale, const Ray& ray, dou
 // How far the part's boundary may be misplaced (grown or shrunk) by the caster's arithmetic: a
 // ray passing that close to an edge or a tangent may hit or miss.
 double boundary_bound(const Part& part, const PartScale& scale, const Ray& ray, double t, Engine engine);
-// The bound on choosing between two triangles of one mesh (Embree compares float distances).
+// The bound on choosing between a triangle and another surface (Embree compares float
+// distances; the moving caster compares a mesh's with the reach its query gets, the range of the
+// nearest object found so far).
 double order_bound(const Part& part, const PartScale& scale, const Ray& ray, double t, Engine engine);
+// The moving caster's float test sees a mesh's triangle unrounded (pose + R v), its double range
+// and the oracle see it rounded to double: how far along the ray that moves a hit (0 for other
+// engines and parts). Part of the triangle's boundary and order bounds.
+double pose_rounding(const Part& part, const PartScale& scale, const Ray& ray, double t, Engine engine);
 
 struct CasterAnswer {
   bool hit = false;

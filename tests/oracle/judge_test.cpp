@@ -1,0 +1,104 @@
+// The judge's tolerances (judge.hpp, docs/numerics.md "Error bounds") pinned on the cases that
+// showed a term missing: each answer the derivation allows must pass, and one just beyond it
+// must still be a fault, so that a tolerance is neither short of the arithmetic nor wider.
+#include "differential.hpp"
+#include "judge.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+namespace ldoem::oracle {
+namespace {
+
+// Doubles as hex literals: the case's inputs exactly.
+Vec hex_vec(const char* x, const char* y, const char* z) {
+  return {std::strtod(x, nullptr), std::strtod(y, nullptr), std::strtod(z, nullptr)};
+}
+
+Part triangle(std::uint32_t object, std::array<Vec, 3> vertices) {
+  Part p;
+  p.kind = Kind::triangle;
+  p.object = object;
+  p.vertices = vertices;
+  return p;
+}
+
+PartScale moving_scale(const Part& p, const Vec& pose) {
+  double size = 0.0;
+  for (const Vec& v : p.vertices) size = std::max(size, std::hypot(v[0] - pose[0], v[1] - pose[1], v[2] - pose[2]));
+  return {pose, size};
+}
+
+// Sweep seed 100, case 71401 (docs/numerics.md "Findings" 6): two copies of a 2e-6 m mesh
+// whose poses, about 1.4e6 m from the origin, differ by one ulp in x (1.2e-10 m). The moving
+// caster's float test sees the first copy's triangle unrounded, 3.8e-11 m farther along this
+// ray than its double world vertices put it, beyond the second copy's double range (2.4e-11 m
+// farther than the first's): the reach its query got. The order bound of a moving triangle
+// holds that rounding (4 u (|pose| + S) / cos, 9.2e-10 m here); the float one alone (6.9e-12 m
+// / cos) did not.
+struct OneUlpApart {
+  Vec pose_a = hex_vec("0x1.e84800000153cp+19", "-0x1.e848000003102p+19", "0x1.24f7fffffcadp+18");
+  Vec pose_b = hex_vec("0x1.e84800000153dp+19", "-0x1.e848000003102p+19", "0x1.24f7fffffcadp+18");
+  std::vector<Part> parts{
+      triangle(0, {hex_vec("0x1.e8480000041bdp+19", "-0x1.e8480000008ebp+19", "0x1.24f7fffffa6b1p+18"),
+                   hex_vec("0x1.e8480000036e4p+19", "-0x1.e8480000014e5p+19", "0x1.24f7fffffe628p+18"),
+                   hex_vec("0x1.e847ffffff68ep+19", "-0x1.e848000002118p+19", "0x1.24f7ffffff455p+18")}),
+      triangle(1, {hex_vec("0x1.e8480000041bep+19", "-0x1.e8480000008ebp+19", "0x1.24f7fffffa6b1p+18"),
+                   hex_vec("0x1.e8480000036e5p+19", "-0x1.e8480000014e5p+19", "0x1.24f7fffffe628p+18"),
+                   hex_vec("0x1.e847ffffff68fp+19", "-0x1.e848000002118p+19", "0x1.24f7ffffff455p+18")})};
+  Ray ray{hex_vec("0x1.e8480000041e8p+19", "-0x1.e847fffffe53dp+19", "0x1.24f8000003484p+18"),
+          hex_vec("-0x1.11aea84270349p-1", "-0x1.4c62aa583b11fp-1", "-0x1.150f3ac84fcd7p-1"),
+          std::strtod("0x1.32dab344b5614p-13", nullptr)};
+  // The moving caster's answer: the second copy, at its double range.
+  CasterAnswer answer{true, 1, 2.3548928776394243e-06};
+
+  std::vector<PartScale> scales() const { return {moving_scale(parts[0], pose_a), moving_scale(parts[1], pose_b)}; }
+};
+
+TEST(Judge, MovingMeshesOneUlpApart_TieWithinThePoseRounding) {
+  const OneUlpApart c;
+  const auto scales = c.scales();
+  const Verdict v = judge(c.parts, scales, c.ray, UINT32_MAX, c.answer, Engine::moving);
+  EXPECT_EQ(v.fault, Fault::none) << v.what;
+  // The static caster rounds the double world triangle to float itself: no such term, and the
+  // same answer from it is a fault (its scale: the float frame's centre, between the copies).
+  std::vector<PartScale> frame(2, PartScale{c.pose_a, scales[0].size_m});
+  EXPECT_EQ(judge(c.parts, frame, c.ray, UINT32_MAX, c.answer, Engine::embree).fault, Fault::wrong_object);
+}
+
+TEST(Judge, MovingMeshesOneUlpApart_NearerByMoreThanThePoseRoundingIsAFault) {
+  OneUlpApart c;
+  // The first copy 3e-9 m nearer along the ray (its range 3e-9 m less): beyond the 9.2e-10 m.
+  for (Vec& v : c.parts[0].vertices) {
+    for (int i = 0; i < 3; ++i) v[i] -= 3e-9 * c.ray.direction[i];
+  }
+  const Verdict v = judge(c.parts, c.scales(), c.ray, UINT32_MAX, c.answer, Engine::moving);
+  EXPECT_EQ(v.fault, Fault::wrong_object) << v.what;
+}
+
+// The whole case as numerics_sweep --case replays it: both casters, every ray, no fault.
+TEST(Judge, SweepSeed100Case71401_NoFault) {
+  const std::string hex =
+      "ca032cac5321bdae364281ea7795f03e95d77c61144310367e913d6ef475f349acad98d5213769aa2f3e80d3d7914ea36ad840de3fcc4d"
+      "404e6bfac9a7bc43b97a52877cb84193356db06017926ef554ad4cb06341cafb835da486e21737c27f05e385eccdae9263828324a83a8f"
+      "8f8f158a5e0bf27f915690f324595c9486fe92a42d792f1f0bfc4dac112befb4a153fc0253ebb9d91ed0ac5760462a83e03b51a6c788e8"
+      "cfbcc977df7699087829cde98287863f063f758626285c696efeb930f18c222128232431e83ed38edfb4124ae94e9ea7fd12558d50647d"
+      "6406e98ceab4b1455d274c99e8ff18dc09d28d30e1d8e1c10d8ce8f9f8e45ce2d8a2db982358155d32cd06bc5be5ab9c4fa80d58a5c694"
+      "11164071d9e965938e31d1bfda2f35ccbaa84a164489a03f860e31b71a291032dd5f";
+  std::vector<std::uint8_t> bytes;
+  for (std::size_t k = 0; k + 1 < hex.size(); k += 2) {
+    bytes.push_back(static_cast<std::uint8_t>(std::stoi(hex.substr(k, 2), nullptr, 16)));
+  }
+  Stats stats;
+  run_case(make_case(bytes), stats);
+  EXPECT_GT(stats.rays, 0u);
+  EXPECT_EQ(stats.fault_count(), 0u) << (stats.faults.empty() ? std::string() : stats.faults.front());
+}
+
+}  // namespace
+}  // namespace ldoem::oracle
