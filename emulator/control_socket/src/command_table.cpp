@@ -1,5 +1,6 @@
 #include "ldoem/control_socket/command_table.hpp"
 
+#include <cstdint>
 #include <utility>
 
 namespace ldoem::control_socket {
@@ -17,7 +18,9 @@ std::string field_error_text(const faults::FieldError& error) {
 // inject-fault and power-cycle: a fault entry through the scene's grammar, then the target.
 CommandResult inject(const json& arguments, ControlTarget& target) {
   auto spec = fault_from_json(arguments);
-  if (auto* problem = std::get_if<faults::FieldError>(&spec)) return CommandError{std::string(kGenericError), field_error_text(*problem)};
+  if (auto* problem = std::get_if<faults::FieldError>(&spec)) {
+    return CommandError{std::string(kGenericError), field_error_text(*problem)};
+  }
   return target.inject_fault(std::get<faults::FaultSpec>(spec));
 }
 

@@ -66,9 +66,9 @@ const CommandSpec* find_command(std::string_view name);
 // query-commands' answer: for each command its name, help, argument names and schema.
 nlohmann::json describe_commands();
 
-// The arguments checked against the entry's schema: an unknown argument, a missing required one
-// or one of the wrong type is the reason returned (a GenericError's desc); "scanner" is checked
-// by handle_line, which picks the target with it.
+// The arguments checked against the entry's schema ("scanner" included for a per-scanner
+// command): an unknown argument, a missing required one or one of the wrong type is the reason
+// returned (a GenericError's desc). Whether the scanner exists is handle_line's question.
 std::optional<std::string> check_arguments(const CommandSpec& command, const nlohmann::json& arguments);
 
 }  // namespace ldoem::control_socket

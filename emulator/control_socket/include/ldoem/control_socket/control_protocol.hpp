@@ -47,8 +47,9 @@ class ControlTarget {
   virtual CommandResult clear_fault(std::optional<std::uint64_t> id) = 0;
   virtual nlohmann::json query_faults() = 0;
   virtual nlohmann::json query_status() = 0;
-  // move-object, add-object, remove-object (D12 runtime changes; their arguments are checked by
-  // the target: object_commands.hpp). CommandNotFound for a target without a world.
+  // move-object, add-object, remove-object (D12 runtime changes; the command table checks their
+  // arguments' names and types, the target their values: object_commands.hpp). CommandNotFound
+  // for a target without a world.
   virtual CommandResult move_object(const nlohmann::json& arguments) { return no_world("move-object", arguments); }
   virtual CommandResult add_object(const nlohmann::json& arguments) { return no_world("add-object", arguments); }
   virtual CommandResult remove_object(const nlohmann::json& arguments) { return no_world("remove-object", arguments); }
