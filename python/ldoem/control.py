@@ -127,7 +127,7 @@ class ControlClient:
         return self.execute("qmp_capabilities")
 
     def query_commands(self):
-        """[{"name": ..., "arguments": [...]}, ...]: the daemon's command table."""
+        """The daemon's command table: [{"name": ..., "help": ..., "arguments": [...], "schema": {...}}, ...]."""
         return self.execute("query-commands")
 
     def inject_fault(self, kind, scanner=None, **fault):

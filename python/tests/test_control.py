@@ -32,6 +32,8 @@ def test_every_command_has_a_method_with_its_arguments_and_no_more(emulator):
         method = getattr(ControlClient, method_name(command["name"]), None)
         assert method is not None, f"ControlClient lacks {command['name']}"
         arguments = set(command["arguments"])
+        assert command["help"], f"{command['name']} has no help"
+        assert set(command["schema"]) == arguments, f"{command['name']}: schema and arguments differ"
         named = named_parameters(method)
         assert named <= arguments, f"{command['name']}: {named - arguments} are not arguments of the command"
         if not takes_any_keyword(method):

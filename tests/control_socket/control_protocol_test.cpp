@@ -144,7 +144,8 @@ const BadLine kBadLines[] = {
     {"arguments to query", R"({"execute": "query-faults", "arguments": {"x": 1}})", "GenericError", "no arguments"},
     {"power-cycle extra", R"({"execute": "power-cycle", "arguments": {"kind": "blind"}})", "GenericError", "off_s"},
     {"clear id text", R"({"execute": "clear-fault", "arguments": {"id": "one"}})", "GenericError", "id"},
-    {"move-object without world", R"({"execute": "move-object", "arguments": {}})", "CommandNotFound", "D12"},
+    {"move-object without world", R"({"execute": "move-object", "arguments": {"name": "door", "position_m": [1, 2, 3]}})",
+     "CommandNotFound", "D12"},
     {"invalid UTF-8", "{\"execute\": \"\xff\xfe\"}", "GenericError", "JSON"},
 };
 

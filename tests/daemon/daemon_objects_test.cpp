@@ -144,7 +144,7 @@ TEST(DaemonObjects, MoveObjectGarbage_GetsErrorObjectsAndTheDaemonLives) {
   const double now_s = seconds(d.daemon->now());
   const std::vector<std::pair<json, std::string>> cases{
       {json::object(), "needs name"},
-      {{{"name", 3}, {"position_m", {1, 2, 3}}}, "name must be"},
+      {{{"name", 3}, {"position_m", {1, 2, 3}}}, "name: must be"},
       {{{"name", "post"}}, "needs position_m"},
       {{{"name", "post"}, {"position_m", {1, 2}}}, "three numbers"},
       {{{"name", "post"}, {"position_m", "here"}}, "three numbers"},
@@ -311,7 +311,7 @@ TEST(DaemonObjects, AddRemoveGarbage_GetsErrorObjects) {
   nameless.erase("name");
   const std::vector<std::pair<json, std::string>> cases{
       {at("add-object", json::object()), "needs object"},
-      {at("add-object", {{"object", "box"}}), "needs object"},
+      {at("add-object", {{"object", "box"}}), "object: must be"},
       {at("add-object", {{"object", nameless}}), "needs a name"},
       {at("add-object", {{"object", kCrate}, {"at_s", later_s + 1}}), "exists already"},
       {at("add-object", {{"object", json::parse(R"({"name": "floor", "plane": {"normal": [0, 0, 1]}})")}}), "planes"},

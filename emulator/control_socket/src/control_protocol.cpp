@@ -1,5 +1,7 @@
 #include "ldoem/control_socket/control_protocol.hpp"
 
+#include "ldoem/control_socket/command_table.hpp"
+
 #include <cmath>
 
 namespace ldoem::control_socket {
@@ -22,41 +24,12 @@ std::string result_line(const CommandResult& result, const json* id) {
   return reply(json{{"return", std::get<json>(result)}}, id);
 }
 
-std::optional<std::string> no_arguments(const json& arguments, std::string_view command) {
-  if (!arguments.empty()) return std::string(command) + " takes no arguments";
-  return std::nullopt;
-}
-
-std::string field_error_text(const faults::FieldError& error) {
-  return error.key.empty() ? error.detail : error.key + ": " + error.detail;
-}
-
 }  // namespace
-
-const std::vector<CommandInfo>& command_table() {
-  // inject-fault's arguments are a fault entry's fields (faults::FaultEntryBuilder, with `on` and
-  // `every` as maps) plus "scanner".
-  static const std::vector<CommandInfo> table{
-      {"qmp_capabilities", {}},
-      {"inject-fault", {"kind", "at_s", "on", "every", "probability", "duration_s", "count", "transport", "service",
-                        "from_deg", "to_deg", "fraction", "delay_s", "bytes_kept", "bytes", "bytes_per_s", "off_s",
-                        "scanner"}},
-      {"clear-fault", {"id", "scanner"}},
-      {"query-faults", {"scanner"}},
-      {"query-status", {"scanner"}},
-      {"power-cycle", {"off_s", "scanner"}},
-      {"move-object", {"name", "position_m", "rpy_deg", "at_s", "keep_velocity"}},
-      {"add-object", {"object", "at_s"}},
-      {"remove-object", {"name", "at_s"}},
-      {"query-commands", {}},
-      {"quit", {}}};
-  return table;
-}
 
 const std::vector<std::string>& command_names() {
   static const std::vector<std::string> names = [] {
     std::vector<std::string> out;
-    for (const CommandInfo& command : command_table()) out.push_back(command.name);
+    for (const CommandSpec& command : command_table()) out.push_back(command.name);
     return out;
   }();
   return names;
@@ -121,75 +94,34 @@ std::string handle_line(std::string_view line, ControlTarget& target) {
       return error_line(kGenericError, "unknown request member '" + key + "'", id);
     }
   }
-  const std::string command = request["execute"].get<std::string>();
   json arguments = json::object();
   if (request.contains("arguments")) {
     if (!request["arguments"].is_object()) return error_line(kGenericError, "\"arguments\" must be an object", id);
     arguments = request["arguments"];
   }
+  const std::string name = request["execute"].get<std::string>();
+  const CommandSpec* command = find_command(name);
+  if (command == nullptr) return error_line(kCommandNotFound, "The command " + name + " has not been found", id);
   try {
-    if (command == "qmp_capabilities") return reply(json{{"return", json::object()}}, id);
-    if (command == "query-commands") {
-      if (auto problem = no_arguments(arguments, command)) return error_line(kGenericError, *problem, id);
-      json commands = json::array();
-      for (const CommandInfo& info : command_table()) commands.push_back({{"name", info.name}, {"arguments", info.arguments}});
-      return reply(json{{"return", commands}}, id);
-    }
-    // The fault commands act on one scanner: "scanner" names it, else the daemon's first.
+    if (auto problem = check_arguments(*command, arguments)) return error_line(kGenericError, *problem, id);
+    // A per-scanner command acts on the scanner "scanner" names, else on the daemon's first.
     ControlTarget* chosen = &target;
-    const bool per_scanner = command == "inject-fault" || command == "power-cycle" || command == "clear-fault" ||
-                             command == "query-faults" || command == "query-status";
-    if (per_scanner && arguments.contains("scanner")) {
-      if (!arguments["scanner"].is_string()) return error_line(kGenericError, "scanner: must be a scanner's name", id);
-      const std::string name = arguments["scanner"].get<std::string>();
-      chosen = target.scanner(name);
-      if (chosen == nullptr) return error_line(kGenericError, "scanner: no scanner named '" + name + "'", id);
+    if (command->per_scanner && arguments.contains("scanner")) {
+      const std::string scanner = arguments["scanner"].get<std::string>();
+      chosen = target.scanner(scanner);
+      if (chosen == nullptr) return error_line(kGenericError, "scanner: no scanner named '" + scanner + "'", id);
       arguments.erase("scanner");
     }
-    ControlTarget& target_of_command = *chosen;
-    if (command == "inject-fault" || command == "power-cycle") {
-      if (command == "power-cycle") {
-        for (const auto& [key, value] : arguments.items()) {
-          if (key != "off_s") return error_line(kGenericError, "power-cycle takes only off_s", id);
-        }
-        arguments["kind"] = "power_cycle";
-      }
-      auto spec = fault_from_json(arguments);
-      if (auto* problem = std::get_if<faults::FieldError>(&spec)) {
-        return error_line(kGenericError, field_error_text(*problem), id);
-      }
-      return result_line(target_of_command.inject_fault(std::get<faults::FaultSpec>(spec)), id);
-    }
-    if (command == "clear-fault") {
-      std::optional<std::uint64_t> fault_id;
-      for (const auto& [key, value] : arguments.items()) {
-        if (key != "id") return error_line(kGenericError, "clear-fault takes only id", id);
-        if (!value.is_number_unsigned()) return error_line(kGenericError, "id: must be a fault id (query-faults)", id);
-        fault_id = value.get<std::uint64_t>();
-      }
-      return result_line(target_of_command.clear_fault(fault_id), id);
-    }
-    if (command == "query-faults" || command == "query-status" || command == "quit") {
-      if (auto problem = no_arguments(arguments, command)) return error_line(kGenericError, *problem, id);
-      if (command == "query-faults") return reply(json{{"return", target_of_command.query_faults()}}, id);
-      if (command == "query-status") return reply(json{{"return", target_of_command.query_status()}}, id);
-      target.quit();
-      return reply(json{{"return", json::object()}}, id);
-    }
-    if (command == "move-object") return result_line(target.move_object(arguments), id);
-    if (command == "add-object") {
-      const std::optional<json> kept_id = id ? std::optional<json>(*id) : std::nullopt;
-      const auto reply_line = [kept_id](const CommandResult& result) {
-        return result_line(result, kept_id ? &*kept_id : nullptr);
-      };
-      if (target.add_object_later(arguments, reply_line)) return std::string();  // answered later
-      return result_line(target.add_object(arguments), id);
-    }
-    if (command == "remove-object") return result_line(target.remove_object(arguments), id);
+    const std::optional<json> kept_id = id ? std::optional<json>(*id) : std::nullopt;
+    const CommandCall call{arguments, *chosen, target, [kept_id](const CommandResult& result) {
+                             return result_line(result, kept_id ? &*kept_id : nullptr);
+                           }};
+    const std::optional<CommandResult> result = command->handler(call);
+    if (!result) return std::string();  // answered later
+    return result_line(*result, id);
   } catch (const json::exception& failure) {
     return error_line(kGenericError, failure.what(), id);
   }
-  return error_line(kCommandNotFound, "The command " + command + " has not been found", id);
 }
 
 }  // namespace ldoem::control_socket

@@ -19,6 +19,7 @@
 #include <string>
 #include <string_view>
 #include <variant>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -46,8 +47,9 @@ class ControlTarget {
   virtual CommandResult clear_fault(std::optional<std::uint64_t> id) = 0;
   virtual nlohmann::json query_faults() = 0;
   virtual nlohmann::json query_status() = 0;
-  // move-object, add-object, remove-object (D12 runtime changes; their arguments are checked by
-  // the target: object_commands.hpp). CommandNotFound for a target without a world.
+  // move-object, add-object, remove-object (D12 runtime changes; the command table checks their
+  // arguments' names and types, the target their values: object_commands.hpp). CommandNotFound
+  // for a target without a world.
   virtual CommandResult move_object(const nlohmann::json& arguments) { return no_world("move-object", arguments); }
   virtual CommandResult add_object(const nlohmann::json& arguments) { return no_world("add-object", arguments); }
   virtual CommandResult remove_object(const nlohmann::json& arguments) { return no_world("remove-object", arguments); }
@@ -68,20 +70,14 @@ class ControlTarget {
   }
 };
 
-// One command of the table: its name and the argument names it takes (query-commands answers
-// the table, so that clients such as the Python package can check themselves against it).
-struct CommandInfo {
-  std::string name;
-  std::vector<std::string> arguments;
-};
-const std::vector<CommandInfo>& command_table();
-
-// The command names this protocol knows (greeting capabilities and help), in table order.
+// The command names this protocol knows (greeting capabilities and help), in the order of the
+// command table (command_table.hpp: each command declared once, with its arguments and handler).
 const std::vector<std::string>& command_names();
 
 std::string greeting_line(std::string_view version);
 
-// One request line (without its newline) -> one reply line (without newline). Never throws.
+// One request line (without its newline) -> one reply line (without newline), dispatched through
+// the command table; empty when the command answers later (add_object_later). Never throws.
 std::string handle_line(std::string_view line, ControlTarget& target);
 
 // inject-fault's arguments -> a fault entry, through the grammar the scene loader uses.
