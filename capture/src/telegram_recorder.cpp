@@ -5,24 +5,26 @@
 
 namespace ldoem::capture {
 
-Written TelegramRecorder::record(base::SimTime time, protocol::WireTransport transport, std::uint32_t connection,
+Written TelegramRecorder::record(base::SimTime time, protocol::Transport transport, std::uint32_t connection,
                                      WireDirection direction, ByteView payload) {
   switch (transport) {
-    case protocol::WireTransport::tcp:
+    case protocol::Transport::tcp:
       return writer_.write_tcp(time, connection, direction, protocol::encode_tcp_frame(payload));
-    case protocol::WireTransport::serial:
+    case protocol::Transport::serial:
       return writer_.write_serial(time, direction,
                                   direction == WireDirection::host_to_device ? protocol::encode_serial_request(payload)
                                                                              : protocol::encode_serial_reply(payload));
-    case protocol::WireTransport::can:
+    case protocol::Transport::can:
       return record_isotp(time, direction, payload);
+    case protocol::Transport::lpt:
+      break;  // the stepper port carries no telegrams
   }
   return base::Unexpected(std::string("record: unknown transport"));
 }
 
-Written TelegramRecorder::connection_closed(base::SimTime time, protocol::WireTransport transport, std::uint32_t connection,
+Written TelegramRecorder::connection_closed(base::SimTime time, protocol::Transport transport, std::uint32_t connection,
                                                 bool reset) {
-  if (transport != protocol::WireTransport::tcp) return std::monostate{};
+  if (transport != protocol::Transport::tcp) return std::monostate{};
   return writer_.close_tcp(time, connection, reset);
 }
 

@@ -10,15 +10,6 @@
 
 namespace ldoem::protocol {
 
-std::string_view transport_name(WireTransport transport) {
-  switch (transport) {
-    case WireTransport::tcp: return "tcp";
-    case WireTransport::serial: return "serial";
-    case WireTransport::can: return "can";
-  }
-  return "?";
-}
-
 // One direction of one TCP connection: where the next byte belongs and the frames so far.
 struct ConversationExtractor::TcpDirection {
   TcpDeframer deframer;
@@ -119,7 +110,7 @@ void ConversationExtractor::add_tcp(base::SimTime time, const TcpSegment& segmen
       data = repeated >= data.size() ? ByteView{} : data.subspan(repeated);
     }
     *flow->next_sequence += static_cast<std::uint32_t>(data.size());
-    deliver(time, WireTransport::tcp, direction, connection->second, flow->deframer.feed(data));
+    deliver(time, Transport::tcp, direction, connection->second, flow->deframer.feed(data));
   }
   if ((segment.flags & kTcpFin) != 0 && flow->next_sequence) *flow->next_sequence += 1;
 }
@@ -139,19 +130,19 @@ void ConversationExtractor::add_can(base::SimTime time, const CanFrame& frame) {
   const IsoTpReceiveResult result = receiver->on_frame(time, frame);
   if (result.error) ++counters_.framing_errors;
   if (result.message) {
-    telegrams_.push_back(CapturedTelegram{time, WireTransport::can, direction, 0, *result.message});
+    telegrams_.push_back(CapturedTelegram{time, Transport::can, direction, 0, *result.message});
   }
 }
 
 void ConversationExtractor::add_serial(base::SimTime time, const SerialChunk& chunk) {
   if (chunk.direction == WireDirection::host_to_device) {
-    deliver(time, WireTransport::serial, chunk.direction, 0, serial_requests_.feed(chunk.bytes));
+    deliver(time, Transport::serial, chunk.direction, 0, serial_requests_.feed(chunk.bytes));
   } else {
-    deliver(time, WireTransport::serial, chunk.direction, 0, serial_replies_.feed(chunk.bytes));
+    deliver(time, Transport::serial, chunk.direction, 0, serial_replies_.feed(chunk.bytes));
   }
 }
 
-void ConversationExtractor::deliver(base::SimTime time, WireTransport transport, WireDirection direction,
+void ConversationExtractor::deliver(base::SimTime time, Transport transport, WireDirection direction,
                                     std::uint32_t stream, std::vector<DeframerEvent> events) {
   for (auto& event : events) {
     if (auto* telegram = std::get_if<Telegram>(&event)) {
@@ -211,7 +202,7 @@ Conversation extract_conversation(const std::vector<DecodedPacket>& packets, Con
   return conversation;
 }
 
-std::vector<Exchange> exchanges_of(const std::vector<CapturedTelegram>& telegrams, WireTransport transport) {
+std::vector<Exchange> exchanges_of(const std::vector<CapturedTelegram>& telegrams, Transport transport) {
   std::vector<Exchange> exchanges;
   base::SimTime request_time{};
   for (const auto& telegram : telegrams) {
@@ -227,10 +218,10 @@ std::vector<Exchange> exchanges_of(const std::vector<CapturedTelegram>& telegram
   return exchanges;
 }
 
-std::optional<WireTransport> busiest_transport(const std::vector<CapturedTelegram>& telegrams) {
-  std::map<WireTransport, std::size_t> counts;
+std::optional<Transport> busiest_transport(const std::vector<CapturedTelegram>& telegrams) {
+  std::map<Transport, std::size_t> counts;
   for (const auto& telegram : telegrams) ++counts[telegram.transport];
-  std::optional<WireTransport> best;
+  std::optional<Transport> best;
   std::size_t most = 0;
   for (const auto& [transport, count] : counts) {
     if (count > most) {

@@ -223,8 +223,8 @@ TEST(TelegramRecorder, EveryTransport_ReadsBackAsTheSameTelegrams) {
   TelegramRecorder recorder(**writer);
   const Bytes request{0x03, 0x01, 0x00, 0x00, 0x3D, 0xFF};
   const Bytes long_reply = profile_like_payload(5000);  // ISO-TP with the 32-bit length escape
-  using protocol::WireTransport;
-  for (WireTransport transport : {WireTransport::tcp, WireTransport::serial, WireTransport::can}) {
+  using protocol::Transport;
+  for (protocol::Transport transport : {protocol::Transport::tcp, protocol::Transport::serial, protocol::Transport::can}) {
     ASSERT_TRUE(recorder.record(milliseconds(1), transport, 0, WireDirection::host_to_device, request));
     ASSERT_TRUE(recorder.record(milliseconds(2), transport, 0, WireDirection::device_to_host, long_reply));
   }
@@ -237,7 +237,7 @@ TEST(TelegramRecorder, EveryTransport_ReadsBackAsTheSameTelegrams) {
     EXPECT_EQ(telegrams[i + 1].payload, long_reply) << i;
     EXPECT_EQ(telegrams[i + 1].direction, WireDirection::device_to_host);
   }
-  EXPECT_EQ(telegrams[4].transport, WireTransport::can);
+  EXPECT_EQ(telegrams[4].transport, protocol::Transport::can);
   EXPECT_EQ(conversation->conversation.counters.framing_errors, 0u);
 }
 

@@ -22,10 +22,10 @@ namespace ldoem::control::test {
 using namespace std::chrono_literals;
 using protocol::Bytes;
 
-inline constexpr ConnectionId kTcp1{TransportKind::tcp, 1};
-inline constexpr ConnectionId kTcp2{TransportKind::tcp, 2};
-inline constexpr ConnectionId kSerial1{TransportKind::serial, 1};
-inline constexpr ConnectionId kCan1{TransportKind::can, 1};
+inline constexpr ConnectionId kTcp1{protocol::Transport::tcp, 1};
+inline constexpr ConnectionId kTcp2{protocol::Transport::tcp, 2};
+inline constexpr ConnectionId kSerial1{protocol::Transport::serial, 1};
+inline constexpr ConnectionId kCan1{protocol::Transport::can, 1};
 
 // D7's default is "about 2 s" from 0 to 10 Hz; the fake takes exactly `duration` for any change
 // and records the speeds it was asked about.

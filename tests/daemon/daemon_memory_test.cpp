@@ -35,7 +35,7 @@ struct InProcess {
   std::string failure;
 
   explicit InProcess(const std::string& scene_text = minimal_scene_text(),
-                     control::TransportKind kind = control::TransportKind::tcp,
+                     protocol::Transport kind = protocol::Transport::tcp,
                      std::optional<std::uint64_t> count_profiles = std::nullopt) {
     auto scene = scene::load_scene_from_string(scene_text, "scene.yaml");
     if (!scene) {
@@ -198,7 +198,7 @@ TEST(DaemonMemory, StepperRegisterWrites_TiltTheBeamInLaterProfiles) {
 }
 
 TEST(DaemonMemory, CountProfiles_StopsTheLoopAfterThatMany) {
-  InProcess d(minimal_scene_text(), control::TransportKind::tcp, 2);
+  InProcess d(minimal_scene_text(), protocol::Transport::tcp, 2);
   ASSERT_TRUE(d.daemon) << d.failure;
   d.exchange(1, "TRANS_ROTATE 0000");
   d.exchange(1, "TRANS_MEASURE");
@@ -220,7 +220,7 @@ TEST(DaemonMemory, InfoLog_NamesEachRequestAndReplyInTextForm) {
 }
 
 TEST(DaemonMemory, CanConfigChange_IsPassedToTheEndpointsOnceAfterItsReply) {
-  InProcess d(minimal_scene_text(), control::TransportKind::can);
+  InProcess d(minimal_scene_text(), protocol::Transport::can);
   ASSERT_TRUE(d.daemon) << d.failure;
   EXPECT_EQ(d.reply_text(1, "SET_CONFIG 0002 0004 0700 0701 0000 0000"), "SET_CONFIG reply 0000");
   ASSERT_EQ(d.host->can_configs().size(), 1u);  // D1: the daemon is told, it compares nothing
@@ -254,7 +254,7 @@ TEST(DaemonWireTap, SeesEveryTelegramInAndOut) {
   EXPECT_EQ(d.reply_text(3, "GET_STATUS"), "GET_STATUS reply 0000 0001");
   ASSERT_EQ(tap.seen.size(), 2u);
   EXPECT_EQ(tap.seen[0].direction, protocol::WireDirection::host_to_device);
-  EXPECT_EQ(tap.seen[0].connection, (control::ConnectionId{control::TransportKind::tcp, 3}));
+  EXPECT_EQ(tap.seen[0].connection, (protocol::ConnectionId{protocol::Transport::tcp, 3}));
   EXPECT_EQ(protocol::format_telegram(tap.seen[0].payload), "GET_STATUS");
   EXPECT_EQ(tap.seen[1].direction, protocol::WireDirection::device_to_host);
   EXPECT_EQ(protocol::format_telegram(tap.seen[1].payload), "GET_STATUS reply 0000 0001");

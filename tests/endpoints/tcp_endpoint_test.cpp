@@ -99,10 +99,10 @@ TEST_F(TcpFixture, ClientsResetDuringTheExitFlush_AreEachDroppedOnce) {
   const protocol::Bytes big(protocol::kMaxTelegramPayload, 0x5A);
   for (std::uint32_t index = 1; index <= 4; ++index) {
     // Fill the kernel's buffers so that bytes stay in the endpoint's own queue (D10 busy).
-    for (int i = 0; i < 4000 && !endpoint->busy(ConnectionId{TransportKind::tcp, index}); ++i) {
-      endpoint->send(ConnectionId{TransportKind::tcp, index}, big);
+    for (int i = 0; i < 4000 && !endpoint->busy(ConnectionId{protocol::Transport::tcp, index}); ++i) {
+      endpoint->send(ConnectionId{protocol::Transport::tcp, index}, big);
     }
-    ASSERT_TRUE(endpoint->busy(ConnectionId{TransportKind::tcp, index})) << "tcp#" << index;
+    ASSERT_TRUE(endpoint->busy(ConnectionId{protocol::Transport::tcp, index})) << "tcp#" << index;
   }
   for (auto& client : clients) client->reset();
   std::this_thread::sleep_for(50ms);  // the resets reach the endpoint's sockets

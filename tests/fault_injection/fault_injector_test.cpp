@@ -136,10 +136,10 @@ TEST(FaultInjector, EventLogIsDeterministic) {
       auto out = injector.advance(bench.now);
       bench.deliver(std::move(out.actions));
       record(out.events);
-      out = injector.on_request(bench.now, 0x0102, faults::Transport::tcp);
+      out = injector.on_request(bench.now, 0x0102, protocol::Transport::tcp);
       record(out.events);
       std::vector<faults::FaultEvent> used;
-      if (injector.scheduler().take_any_wire_fault(bench.now, faults::Transport::tcp, 0x0102, used)) log += "dropped\n";
+      if (injector.scheduler().take_any_wire_fault(bench.now, protocol::Transport::tcp, 0x0102, used)) log += "dropped\n";
       InjectorOutput wire;
       injector.events_from(used, wire);
       record(wire.events);

@@ -35,9 +35,9 @@ TEST(Conversation, TcpFramesSplitOverSegments_AreReassembledPerDirection) {
   const Conversation conversation = extract_conversation(packets);
   ASSERT_EQ(conversation.telegrams.size(), 2u);
   EXPECT_EQ(conversation.telegrams[0],
-            (CapturedTelegram{milliseconds(2), WireTransport::tcp, WireDirection::host_to_device, 0, kGetStatus}));
+            (CapturedTelegram{milliseconds(2), protocol::Transport::tcp, WireDirection::host_to_device, 0, kGetStatus}));
   EXPECT_EQ(conversation.telegrams[1],
-            (CapturedTelegram{milliseconds(3), WireTransport::tcp, WireDirection::device_to_host, 0, kStatusReply}));
+            (CapturedTelegram{milliseconds(3), protocol::Transport::tcp, WireDirection::device_to_host, 0, kStatusReply}));
 }
 
 TEST(Conversation, RetransmittedBytes_AreDeliveredOnce) {
@@ -104,7 +104,7 @@ TEST(Conversation, IsoTpOnD1Identifiers_ReassemblesALongReply) {
   const Conversation conversation = extract_conversation(packets);
   ASSERT_EQ(conversation.telegrams.size(), 2u);
   EXPECT_EQ(conversation.telegrams[0],
-            (CapturedTelegram{milliseconds(1), WireTransport::can, WireDirection::host_to_device, 0, kGetStatus}));
+            (CapturedTelegram{milliseconds(1), protocol::Transport::can, WireDirection::host_to_device, 0, kGetStatus}));
   EXPECT_EQ(conversation.telegrams[1].payload, reply);
   EXPECT_EQ(conversation.telegrams[1].direction, WireDirection::device_to_host);
   EXPECT_EQ(conversation.counters.ignored_packets, 1u);
@@ -119,7 +119,7 @@ TEST(Conversation, Serial_DeframesRequestsAndReassemblesReplies) {
   const Conversation conversation = extract_conversation(packets);
   ASSERT_EQ(conversation.telegrams.size(), 2u);
   EXPECT_EQ(conversation.telegrams[0].payload, kGetStatus);
-  EXPECT_EQ(conversation.telegrams[0].transport, WireTransport::serial);
+  EXPECT_EQ(conversation.telegrams[0].transport, protocol::Transport::serial);
   EXPECT_EQ(conversation.telegrams[1].payload, kStatusReply);
   EXPECT_EQ(conversation.counters.lpt_writes, 2u);
 }

@@ -10,7 +10,7 @@ namespace {
 
 using protocol::CapturedTelegram;
 using protocol::WireDirection;
-using protocol::WireTransport;
+using protocol::Transport;
 using std::chrono::milliseconds;
 
 const Bytes kGetStatus{0x01, 0x02};
@@ -18,10 +18,10 @@ const Bytes kStatusIdle{0x81, 0x02, 0, 0, 0, 0x01};
 const Bytes kGetProfileOne{0x03, 0x01, 0x00, 0x01, 0x39, 0xFF};
 Bytes profile(std::uint8_t tag) { return Bytes{0x83, 0x01, 0x39, 0xFF, 0x00, tag}; }
 
-CapturedTelegram request(int ms, Bytes payload, WireTransport transport = WireTransport::tcp) {
+CapturedTelegram request(int ms, Bytes payload, protocol::Transport transport = protocol::Transport::tcp) {
   return {milliseconds(ms), transport, WireDirection::host_to_device, 0, std::move(payload)};
 }
-CapturedTelegram answer(int ms, Bytes payload, WireTransport transport = WireTransport::tcp) {
+CapturedTelegram answer(int ms, Bytes payload, protocol::Transport transport = protocol::Transport::tcp) {
   return {milliseconds(ms), transport, WireDirection::device_to_host, 0, std::move(payload)};
 }
 
@@ -32,23 +32,23 @@ std::vector<CapturedTelegram> scan_like_recording() {
       request(100, kGetProfileOne),    answer(180, profile(1)),
       request(300, kGetProfileOne),    answer(390, profile(2)),
       request(500, Bytes{0x04, 0x02}), answer(501, Bytes{0x84, 0x02, 0, 0, 0, 1}),
-      request(600, kGetStatus, WireTransport::can),
+      request(600, kGetStatus, protocol::Transport::can),
   };
 }
 
 TEST(Exchanges, AreCutAtEachRequestWithDelaysAfterIt) {
-  const auto exchanges = protocol::exchanges_of(scan_like_recording(), WireTransport::tcp);
+  const auto exchanges = protocol::exchanges_of(scan_like_recording(), protocol::Transport::tcp);
   ASSERT_EQ(exchanges.size(), 4u);
   EXPECT_EQ(exchanges[0].request, kGetStatus);
   ASSERT_EQ(exchanges[1].answers.size(), 1u);
   EXPECT_EQ(exchanges[1].answers[0], (RecordedAnswer{milliseconds(80), profile(1)}));
-  EXPECT_EQ(protocol::exchanges_of(scan_like_recording(), WireTransport::can).size(), 1u);
-  EXPECT_EQ(protocol::busiest_transport(scan_like_recording()), WireTransport::tcp);
+  EXPECT_EQ(protocol::exchanges_of(scan_like_recording(), protocol::Transport::can).size(), 1u);
+  EXPECT_EQ(protocol::busiest_transport(scan_like_recording()), protocol::Transport::tcp);
   EXPECT_EQ(protocol::busiest_transport({}), std::nullopt);
 }
 
 TEST(ReplayDevice, IdenticalRequests_AreAnsweredInRecordedOrder) {
-  ReplayDevice device(protocol::exchanges_of(scan_like_recording(), WireTransport::tcp));
+  ReplayDevice device(protocol::exchanges_of(scan_like_recording(), protocol::Transport::tcp));
   EXPECT_EQ(device.on_request(milliseconds(1000), kGetStatus).telegrams,
             (std::vector<ScheduledTelegram>{{milliseconds(1002), kStatusIdle}}));
   // Two identical GET_PROFILE requests get the first, then the second recorded profile.
@@ -61,7 +61,7 @@ TEST(ReplayDevice, IdenticalRequests_AreAnsweredInRecordedOrder) {
 }
 
 TEST(ReplayDevice, OutOfOrderAndRepeatedRequests_FindTheirExchange) {
-  ReplayDevice device(protocol::exchanges_of(scan_like_recording(), WireTransport::tcp));
+  ReplayDevice device(protocol::exchanges_of(scan_like_recording(), protocol::Transport::tcp));
   const auto idle = device.on_request(milliseconds(0), Bytes{0x04, 0x02});
   ASSERT_EQ(idle.exchange, 3u);
   EXPECT_EQ(idle.telegrams[0].payload, (Bytes{0x84, 0x02, 0, 0, 0, 1}));
@@ -72,13 +72,13 @@ TEST(ReplayDevice, OutOfOrderAndRepeatedRequests_FindTheirExchange) {
 }
 
 TEST(ReplayDevice, Speed_ScalesTheRecordedDelays) {
-  ReplayDevice device(protocol::exchanges_of(scan_like_recording(), WireTransport::tcp), 4.0);
+  ReplayDevice device(protocol::exchanges_of(scan_like_recording(), protocol::Transport::tcp), 4.0);
   (void)device.on_request(milliseconds(0), kGetStatus);
   EXPECT_EQ(device.on_request(milliseconds(0), kGetProfileOne).telegrams[0].at, milliseconds(20));
 }
 
 TEST(ReplayDevice, UnrecordedValidRequest_GetsReason3AndADiagnostic) {
-  ReplayDevice device(protocol::exchanges_of(scan_like_recording(), WireTransport::tcp));
+  ReplayDevice device(protocol::exchanges_of(scan_like_recording(), protocol::Transport::tcp));
   const Bytes get_signal{0x01, 0x04};
   const auto reply = device.on_request(milliseconds(7), get_signal);
   ASSERT_EQ(reply.telegrams.size(), 1u);
@@ -90,7 +90,7 @@ TEST(ReplayDevice, UnrecordedValidRequest_GetsReason3AndADiagnostic) {
 }
 
 TEST(ReplayDevice, InvalidRequest_GetsTheReasonDecodeRequestGives) {
-  ReplayDevice device(protocol::exchanges_of(scan_like_recording(), WireTransport::tcp));
+  ReplayDevice device(protocol::exchanges_of(scan_like_recording(), protocol::Transport::tcp));
   EXPECT_EQ(device.on_request(milliseconds(0), Bytes{0x05, 0x01}).telegrams[0].payload,
             (Bytes{0xFF, 0x00, 0x05, 0x01, 0x00, 0x01}));  // unknown service
   EXPECT_EQ(device.on_request(milliseconds(0), Bytes{0x01, 0x01}).telegrams[0].payload,

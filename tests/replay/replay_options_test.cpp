@@ -21,7 +21,7 @@ TEST(ReplayOptions, EndpointsSpeedAndTransport_AreParsed) {
   ASSERT_EQ(options->endpoints.can_id_pairs.size(), 1u);
   EXPECT_EQ(options->endpoints.can_id_pairs[0].request_id, 0x6C2);
   EXPECT_DOUBLE_EQ(options->speed, 2.5);
-  EXPECT_EQ(options->transport, protocol::WireTransport::can);
+  EXPECT_EQ(options->transport, protocol::Transport::can);
   EXPECT_EQ(options->endpoints.timeout_s, std::optional<double>(9.0));
 }
 

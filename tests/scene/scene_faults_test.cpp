@@ -31,7 +31,7 @@ faults:
   EXPECT_EQ(std::get<faults::TriggerAt>(scene->faults[0].trigger).at, faults::SimTime(2s));
   EXPECT_EQ(scene->faults[0].duration, faults::SimTime(1500ms));
   EXPECT_EQ(std::get<faults::TriggerOnNth>(scene->faults[1].trigger), (faults::TriggerOnNth{0x0102, 3}));
-  EXPECT_EQ(scene->faults[1].transport, faults::Transport::tcp);
+  EXPECT_EQ(scene->faults[1].transport, protocol::Transport::tcp);
   EXPECT_EQ(std::get<faults::TriggerProbability>(scene->faults[2].trigger).probability, 0.1);
   EXPECT_EQ(scene->faults[3].from_ticks, 5600);
   EXPECT_EQ(scene->faults[4].fraction, 0.5);

@@ -21,16 +21,6 @@ std::string_view describe(DeviceMode mode) {
   return "unknown";
 }
 
-std::string to_string(ConnectionId connection) {
-  std::string kind;
-  switch (connection.kind) {
-    case TransportKind::tcp: kind = "tcp"; break;
-    case TransportKind::serial: kind = "serial"; break;
-    case TransportKind::can: kind = "can"; break;
-  }
-  return kind + "#" + std::to_string(connection.index);
-}
-
 DeviceState power_up_state(SimTime now, const DeviceConfig& flash) {
   DeviceState state;
   state.mode = DeviceMode::idle;

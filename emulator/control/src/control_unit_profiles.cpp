@@ -18,11 +18,12 @@ namespace {
 // Spec 3.5: bits 14 and 15 of PROFILEFORMAT have no published meaning; lead decision 5 refuses them.
 constexpr std::uint16_t kUnpublishedFormatBits = 0xC000;
 
-bool transport_is_size_limited(TransportKind kind) {
+bool transport_is_size_limited(protocol::Transport kind) {
   switch (kind) {
-    case TransportKind::tcp:
-    case TransportKind::serial: return true;   // D3: 5816 payload bytes
-    case TransportKind::can: return false;     // D1/D3: ISO-TP has no such limit
+    case protocol::Transport::tcp:
+    case protocol::Transport::serial: return true;   // D3: 5816 payload bytes
+    case protocol::Transport::can: return false;     // D1/D3: ISO-TP has no such limit
+    case protocol::Transport::lpt: break;            // no telegrams: never asked
   }
   return true;
 }

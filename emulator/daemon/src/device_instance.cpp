@@ -34,7 +34,7 @@ std::optional<endpoints::OpenFailure> DeviceInstance::open_endpoints(io::EventLo
     if (const auto kind = endpoint->transport()) {
       if (route_.contains(*kind)) {
         return endpoints::OpenFailure{true, std::string(endpoint->name()) + ": a second endpoint for " +
-                                                control::to_string(ConnectionId{*kind, 0}) + " connections"};
+                                                protocol::to_string(ConnectionId{*kind, 0}) + " connections"};
       }
       route_[*kind] = endpoint.get();
     }
@@ -94,7 +94,7 @@ void DeviceInstance::deliver_from_host(ConnectionId from, protocol::Bytes payloa
   // D8: register writes a host made before this telegram count first (host_endpoint.hpp).
   for (const auto& endpoint : endpoints_) endpoint->take_pending_input();
   ++counters_.telegrams_received;
-  logger_.log(LogLevel::info, [&] { return control::to_string(from) + " -> " + protocol::format_telegram(payload); });
+  logger_.log(LogLevel::info, [&] { return protocol::to_string(from) + " -> " + protocol::format_telegram(payload); });
   const SimTime at = scheduler_.now();
   perform(at, unit_->handle_request(at, from, payload, *this));
 }
@@ -103,7 +103,7 @@ void DeviceInstance::on_framing_error(ConnectionId from, const protocol::Framing
   accept_input([this, from, error] {
     ++counters_.framing_errors;
     logger_.log(LogLevel::info, [&] {
-      return control::to_string(from) + " -> framing error: " + std::string(protocol::describe(error.detail));
+      return protocol::to_string(from) + " -> framing error: " + std::string(protocol::describe(error.detail));
     });
     const SimTime at = scheduler_.now();
     perform(at, unit_->on_framing_error(at, from, error));
@@ -187,7 +187,7 @@ void DeviceInstance::perform(SimTime at, const control::Actions& actions) {
 
 void DeviceInstance::send_to_host(ConnectionId to, protocol::ByteView payload, bool is_profile) {
   logger_.log(is_profile ? LogLevel::debug : LogLevel::info,
-              [&] { return control::to_string(to) + " <- " + protocol::format_telegram(payload); });
+              [&] { return protocol::to_string(to) + " <- " + protocol::format_telegram(payload); });
   const auto route = route_.find(to.kind);
   if (route != route_.end()) route->second->send(to, payload);
 }

@@ -8,7 +8,7 @@ namespace ldoem::daemon {
 using endpoints::ConsecutiveFrameFault;
 using endpoints::FirstFrameFault;
 using faults::FaultKind;
-using faults::Transport;
+using protocol::Transport;
 using base::SimTime;
 
 namespace {
@@ -18,14 +18,6 @@ constexpr SimTime kOpenStallRecheck = std::chrono::milliseconds(100);
 
 }  // namespace
 
-faults::Transport transport_of(control::TransportKind kind) {
-  switch (kind) {
-    case control::TransportKind::tcp: return Transport::tcp;
-    case control::TransportKind::serial: return Transport::serial;
-    case control::TransportKind::can: return Transport::can;
-  }
-  return Transport::tcp;
-}
 
 std::uint16_t answered_request(protocol::ByteView payload) {
   if (payload.size() < 2) return 0;
@@ -49,11 +41,11 @@ std::optional<faults::ActiveFault> EndpointFaults::take(SimTime now, FaultKind k
   return fault;
 }
 
-endpoints::TelegramFaults EndpointFaults::on_outgoing_telegram(control::ConnectionId to, protocol::ByteView payload,
+endpoints::TelegramFaults EndpointFaults::on_outgoing_telegram(protocol::ConnectionId to, protocol::ByteView payload,
                                                                SimTime now) {
   endpoints::TelegramFaults out;
   if (injector_.scheduler().active().empty()) return out;
-  const Transport transport = transport_of(to.kind);
+  const Transport transport = to.kind;
   const std::uint16_t service = answered_request(payload);
   if (take(now, FaultKind::corrupt_checksum, transport, service)) out.corrupt_checksum = true;
   if (const auto garbage = take(now, FaultKind::garbage, transport, service)) {
@@ -75,20 +67,20 @@ endpoints::TelegramFaults EndpointFaults::on_outgoing_telegram(control::Connecti
   return out;
 }
 
-std::optional<SimTime> EndpointFaults::stalled_until(control::ConnectionId connection, SimTime now) {
-  const faults::ActiveFault* stall = injector_.scheduler().find_active_on(now, FaultKind::tcp_stall, transport_of(connection.kind));
+std::optional<SimTime> EndpointFaults::stalled_until(protocol::ConnectionId connection, SimTime now) {
+  const faults::ActiveFault* stall = injector_.scheduler().find_active_on(now, FaultKind::tcp_stall, connection.kind);
   if (stall == nullptr) return std::nullopt;
   return stall->until ? *stall->until : now + kOpenStallRecheck;
 }
 
-std::optional<std::uint32_t> EndpointFaults::bytes_per_second(control::ConnectionId connection, SimTime now) {
-  const faults::ActiveFault* limit = injector_.scheduler().find_active_on(now, FaultKind::bandwidth, transport_of(connection.kind));
+std::optional<std::uint32_t> EndpointFaults::bytes_per_second(protocol::ConnectionId connection, SimTime now) {
+  const faults::ActiveFault* limit = injector_.scheduler().find_active_on(now, FaultKind::bandwidth, connection.kind);
   if (limit == nullptr) return std::nullopt;
   return limit->spec.bytes_per_s;
 }
 
-FirstFrameFault EndpointFaults::on_host_first_frame(control::ConnectionId from, std::uint16_t service, SimTime now) {
-  const Transport transport = transport_of(from.kind);
+FirstFrameFault EndpointFaults::on_host_first_frame(protocol::ConnectionId from, std::uint16_t service, SimTime now) {
+  const Transport transport = from.kind;
   // The request's triggers of the first-frame kinds count it here, so that `on: {service, nth}`
   // refuses or holds that very request; the others count it once it is complete (FaultWiring).
   take_(injector_.on_request(now, service, transport, faults::RequestSeen::first_frame));
@@ -97,8 +89,8 @@ FirstFrameFault EndpointFaults::on_host_first_frame(control::ConnectionId from, 
   return FirstFrameFault::none;
 }
 
-bool EndpointFaults::keeps_host_waiting(control::ConnectionId from, SimTime now) {
-  return injector_.scheduler().find_active_on(now, FaultKind::isotp_fc_wait, transport_of(from.kind)) != nullptr;
+bool EndpointFaults::keeps_host_waiting(protocol::ConnectionId from, SimTime now) {
+  return injector_.scheduler().find_active_on(now, FaultKind::isotp_fc_wait, from.kind) != nullptr;
 }
 
 bool EndpointFaults::loses_step(SimTime at) {

@@ -79,7 +79,7 @@ void FaultWiring::attach(std::vector<faults::FaultSpec> scene_faults, std::uint6
   endpoint_faults_ = std::make_unique<EndpointFaults>(
       *injector_, [this](fault_injection::InjectorOutput output) { take(std::move(output)); });
   device_.set_fault_hook(endpoint_faults_.get());
-  device_.set_connection_observer([this](bool opened, control::ConnectionId connection, std::string_view peer) {
+  device_.set_connection_observer([this](bool opened, protocol::ConnectionId connection, std::string_view peer) {
     on_connection(opened, connection, peer);
   });
   device_.set_wire_tap(this);
@@ -163,10 +163,10 @@ void FaultWiring::arm_deadline() {
 }
 
 WireVerdict FaultWiring::on_telegram(endpoints::WireTelegram& telegram) {
-  const faults::Transport transport = transport_of(telegram.connection.kind);
+  const protocol::Transport transport = telegram.connection.kind;
   const bool silenced = [&] {
     const faults::ActiveFault* silence = injector_->scheduler().find_active(FaultKind::can_silence);
-    return silence && transport == faults::Transport::can;
+    return silence && transport == protocol::Transport::can;
   }();
   // Off or booting, the device hears and says nothing (its endpoints are dark as well).
   const bool dark = injector_->power() != fault_injection::Power::on;
@@ -178,7 +178,7 @@ WireVerdict FaultWiring::on_telegram(endpoints::WireTelegram& telegram) {
   const std::uint16_t service =
       telegram.payload.size() >= 2 ? static_cast<std::uint16_t>((telegram.payload[0] << 8) | telegram.payload[1]) : 0;
   // A multi-frame ISO-TP request was seen at its first frame already (EndpointFaults).
-  const bool came_in_frames = transport == faults::Transport::can && telegram.payload.size() > protocol::kIsoTpMaxSingleFrameBytes;
+  const bool came_in_frames = transport == protocol::Transport::can && telegram.payload.size() > protocol::kIsoTpMaxSingleFrameBytes;
   take(injector_->on_request(telegram.at, service, transport,
                              came_in_frames ? faults::RequestSeen::rest_of_multi_frame : faults::RequestSeen::whole));
   if (injector_->power() != fault_injection::Power::on) return WireVerdict::drop;  // a power cycle this very request started
@@ -186,7 +186,7 @@ WireVerdict FaultWiring::on_telegram(endpoints::WireTelegram& telegram) {
 }
 
 WireVerdict FaultWiring::to_host(endpoints::WireTelegram& telegram) {
-  const faults::Transport transport = transport_of(telegram.connection.kind);
+  const protocol::Transport transport = telegram.connection.kind;
   const std::uint16_t service = answered_request(telegram.payload);
   std::vector<faults::FaultEvent> used;
   std::optional<faults::ActiveFault> fault;
@@ -224,11 +224,11 @@ WireVerdict FaultWiring::to_host(endpoints::WireTelegram& telegram) {
 // kMaxDelayedBytes). A reply beyond the bound is lost, as in a device whose send buffer is full:
 // counted (delayed_replies_dropped) and warned about at most every 10 s.
 void FaultWiring::delay(const endpoints::WireTelegram& telegram, SimTime by) {
-  const control::ConnectionId to = telegram.connection;
+  const protocol::ConnectionId to = telegram.connection;
   DelayedReplies& held = delayed_[to];
   if (held.pending.size() >= kMaxDelayedTelegrams || held.bytes + telegram.payload.size() > kMaxDelayedBytes) {
     ++delayed_dropped_;
-    if (auto line = delayed_warning_.admit("delay_reply: " + control::to_string(to) + " already holds " +
+    if (auto line = delayed_warning_.admit("delay_reply: " + protocol::to_string(to) + " already holds " +
                                            std::to_string(held.pending.size()) + " delayed replies (" +
                                            std::to_string(held.bytes) + " bytes); dropping this one")) {
       logger_.log(LogLevel::warn, *line);
@@ -246,7 +246,7 @@ void FaultWiring::delay(const endpoints::WireTelegram& telegram, SimTime by) {
   held.bytes += size;
 }
 
-void FaultWiring::release(control::ConnectionId connection, const endpoints::Scheduler::Key& key, std::size_t size) {
+void FaultWiring::release(protocol::ConnectionId connection, const endpoints::Scheduler::Key& key, std::size_t size) {
   const auto held = delayed_.find(connection);
   if (held == delayed_.end() || held->second.pending.erase(key) == 0) return;
   held->second.bytes -= size;
@@ -254,7 +254,7 @@ void FaultWiring::release(control::ConnectionId connection, const endpoints::Sch
 }
 
 // A closed connection's delayed replies have nobody to go to: their deadlines go with it.
-void FaultWiring::forget_delayed(control::ConnectionId connection) {
+void FaultWiring::forget_delayed(protocol::ConnectionId connection) {
   const auto held = delayed_.find(connection);
   if (held == delayed_.end()) return;
   for (const auto& key : held->second.pending) scheduler_.cancel(key);

@@ -204,7 +204,7 @@ CommandResult FaultWiring::remove_object(const json& arguments) {
 }
 
 void FaultWiring::on_connection(bool opened, control::ConnectionId connection, std::string_view peer) {
-  const std::string label = control::to_string(connection);  // "tcp#3"
+  const std::string label = protocol::to_string(connection);  // "tcp#3"
   json data{{"transport", label.substr(0, label.find('#'))}, {"connection", connection.index}};
   if (opened) {
     peers_[connection] = std::string(peer);

@@ -103,7 +103,7 @@ void CanEndpoint::on_ready(io::Readiness readiness) {
 void CanEndpoint::handle_input(std::size_t channel, IsoTpChannelOutput output) {
   transmit(channel, output.frames);
   for (const protocol::Bytes& telegram : output.telegrams) {
-    context_->sink.on_telegram(ConnectionId{TransportKind::can, static_cast<std::uint32_t>(channel + 1)}, telegram);
+    context_->sink.on_telegram(ConnectionId{protocol::Transport::can, static_cast<std::uint32_t>(channel + 1)}, telegram);
   }
 }
 
@@ -120,7 +120,7 @@ void CanEndpoint::send(ConnectionId to, protocol::ByteView payload) {
   if (!output.telegrams.empty()) {
     context_->scheduler.add(context_->scheduler.now(), [this, channel, telegrams = std::move(output.telegrams)](SimTime) {
       for (const protocol::Bytes& telegram : telegrams) {
-        context_->sink.on_telegram(ConnectionId{TransportKind::can, static_cast<std::uint32_t>(channel + 1)}, telegram);
+        context_->sink.on_telegram(ConnectionId{protocol::Transport::can, static_cast<std::uint32_t>(channel + 1)}, telegram);
       }
     });
   }

@@ -23,7 +23,7 @@ bool CanEndpoint::first_frame_faulted(std::size_t channel, const protocol::CanFr
     release_held_first_frame(channel, false);  // the host gave up waiting and sends something new
   }
   if (type != protocol::IsoTpFrameType::first_frame) return false;
-  const ConnectionId from{TransportKind::can, static_cast<std::uint32_t>(channel + 1)};
+  const ConnectionId from{protocol::Transport::can, static_cast<std::uint32_t>(channel + 1)};
   // A first frame's data: PCI (2 bytes), then the message's first bytes, the service code first.
   // (A first frame too short to carry it is broken; the channel drops it: service 0, none.)
   const auto service = frame.length >= 4 ? static_cast<std::uint16_t>((frame.data[2] << 8) | frame.data[3]) : std::uint16_t{0};
@@ -56,7 +56,7 @@ void CanEndpoint::keep_host_waiting(std::size_t channel) {
   held.next_wait = context_->scheduler.add(context_->scheduler.now() + kFlowControlWaitPeriod, [this, channel](SimTime now) {
     if (!held_[channel]) return;
     held_[channel]->next_wait.reset();
-    const ConnectionId from{TransportKind::can, static_cast<std::uint32_t>(channel + 1)};
+    const ConnectionId from{protocol::Transport::can, static_cast<std::uint32_t>(channel + 1)};
     if (fault_hook_->keeps_host_waiting(from, now)) {
       keep_host_waiting(channel);
     } else {

@@ -28,7 +28,7 @@ void SerialEndpoint::on_ready(io::Readiness readiness) {
     return;
   }
   if (dark_) return;  // D11 power_cycle: the bytes are lost
-  const ConnectionId connection{TransportKind::serial, 1};
+  const ConnectionId connection{protocol::Transport::serial, 1};
   const auto events = deframer_.feed(received->bytes);
   if (!received->bytes.empty()) {
     if (inter_byte_timer_) context_->loop.cancel_timer(*inter_byte_timer_);
@@ -53,7 +53,7 @@ void SerialEndpoint::on_inter_byte_timeout() {
   ++context_->activity;
   context_->logger.log(LogLevel::info, "serial#1: package incomplete after " + std::to_string(inter_byte_timeout_.count()) +
                                            " ms; dropped (spec 6)");
-  context_->sink.on_framing_error(ConnectionId{TransportKind::serial, 1},
+  context_->sink.on_framing_error(ConnectionId{protocol::Transport::serial, 1},
                                   protocol::FramingError{protocol::DecodeError::timeout, 0});
 }
 

@@ -78,7 +78,7 @@ void TcpEndpoint::on_listener_ready() {
     clients_.emplace(index, Client{std::move(**accepted), protocol::TcpDeframer(), OutputQueue(), {}, false, {}, now,
                                    false, std::nullopt, std::nullopt});
     ++context_->counters.tcp_connections;
-    context_->sink.on_connection_opened(ConnectionId{TransportKind::tcp, index}, clients_.at(index).connection.peer());
+    context_->sink.on_connection_opened(ConnectionId{protocol::Transport::tcp, index}, clients_.at(index).connection.peer());
     if (auto watched = context_->loop.watch(fd, io::Interest::readable,
                                             [this, index](io::Readiness r) { on_client_ready(index, r); });
         !watched) {
@@ -134,7 +134,7 @@ void TcpEndpoint::on_inter_byte_timeout(std::uint32_t index) {
   ++context_->activity;
   context_->logger.log(LogLevel::info, "tcp#" + std::to_string(index) + ": frame incomplete after " +
                                            std::to_string(limits_.inter_byte_timeout.count()) + " ms; dropped (spec 6)");
-  context_->sink.on_framing_error(ConnectionId{TransportKind::tcp, index},
+  context_->sink.on_framing_error(ConnectionId{protocol::Transport::tcp, index},
                                   protocol::FramingError{protocol::DecodeError::timeout, 0});
 }
 
@@ -198,7 +198,7 @@ void TcpEndpoint::resume_listener() {
 
 void TcpEndpoint::on_client_ready(std::uint32_t index, io::Readiness readiness) {
   ++context_->activity;
-  const ConnectionId connection{TransportKind::tcp, index};
+  const ConnectionId connection{protocol::Transport::tcp, index};
   if (fault_hook_ != nullptr) {
     const auto client = clients_.find(index);
     if (client != clients_.end() && stalled(index, client->second)) return;  // D11 tcp_stall: nothing is read
@@ -316,7 +316,7 @@ void TcpEndpoint::drop(std::uint32_t index, std::string_view why, bool reset) {
   if (client->second.quiet_timer) context_->loop.cancel_timer(*client->second.quiet_timer);
   clients_.erase(client);
   resume_listener();  // a descriptor is free again
-  context_->sink.on_connection_closed(ConnectionId{TransportKind::tcp, index});
+  context_->sink.on_connection_closed(ConnectionId{protocol::Transport::tcp, index});
 }
 
 void TcpEndpoint::disconnect(ConnectionId connection) { drop(connection.index, "by a fault (D11)", true); }

@@ -24,7 +24,7 @@ SimTime wire_time(std::size_t bytes, std::uint32_t bytes_per_s) {
 bool TcpEndpoint::stalled(std::uint32_t index, Client& client) {
   if (client.stalled) return true;
   const SimTime now = context_->scheduler.now();
-  const auto until = fault_hook_->stalled_until(ConnectionId{TransportKind::tcp, index}, now);
+  const auto until = fault_hook_->stalled_until(ConnectionId{protocol::Transport::tcp, index}, now);
   if (!until || *until <= now) return false;
   if (client.fault_resume) context_->scheduler.cancel(*client.fault_resume);  // a paced piece waits with the rest
   client.stalled = true;
@@ -38,7 +38,7 @@ bool TcpEndpoint::paced(std::uint32_t index, Client& client) {
   if (client.fault_resume) return true;  // the next piece is already due at its time
   if (client.output.empty()) return false;
   const SimTime now = context_->scheduler.now();
-  const auto rate = fault_hook_->bytes_per_second(ConnectionId{TransportKind::tcp, index}, now);
+  const auto rate = fault_hook_->bytes_per_second(ConnectionId{protocol::Transport::tcp, index}, now);
   if (!rate || *rate == 0) return false;
   const std::size_t piece =
       std::min(client.output.front().size(), std::max<std::size_t>(1, *rate / kPacedPiecesPerSecond));

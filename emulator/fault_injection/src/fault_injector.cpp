@@ -156,7 +156,7 @@ InjectorOutput FaultInjector::advance(SimTime now) {
   return out;
 }
 
-InjectorOutput FaultInjector::on_request(SimTime now, std::uint16_t service, faults::Transport transport,
+InjectorOutput FaultInjector::on_request(SimTime now, std::uint16_t service, protocol::Transport transport,
                                          faults::RequestSeen seen) {
   InjectorOutput out;
   std::vector<faults::FaultEvent> fault_events;

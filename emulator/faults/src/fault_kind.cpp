@@ -8,35 +8,39 @@ namespace {
 using enum FaultKind;
 constexpr FaultClass kDevice = FaultClass::device;
 constexpr FaultClass kWire = FaultClass::wire;
+constexpr Transport kTcp = Transport::tcp;
+constexpr Transport kSerial = Transport::serial;
+constexpr Transport kCan = Transport::can;
+constexpr Transport kLpt = Transport::lpt;
 
 // Indexed by FaultKind. D11 lists the transports of each wire fault; device faults act on the
 // device itself, whatever transport the host uses.
 constexpr std::array<FaultKindInfo, kFaultKindCount> kCatalogue{{
-    {motor_stall, "motor_stall", kDevice, false, false, false, false, false},
-    {motor_overspeed, "motor_overspeed", kDevice, false, false, false, false, false},
-    {encoder_error, "encoder_error", kDevice, false, false, false, false, false},
-    {power_cycle, "power_cycle", kDevice, false, false, false, false, true},
-    {reset_spontaneous, "reset_spontaneous", kDevice, false, false, false, false, true},
-    {blind, "blind", kDevice, false, false, false, false, false},
-    {window_dirt, "window_dirt", kDevice, false, false, false, false, false},
-    {drop_reply, "drop_reply", kWire, true, true, true, false, false},
-    {delay_reply, "delay_reply", kWire, true, true, true, false, false},
-    {duplicate_reply, "duplicate_reply", kWire, true, true, true, false, false},
-    {truncate_reply, "truncate_reply", kWire, true, true, true, false, false},
+    {motor_stall, "motor_stall", kDevice, {}, false},
+    {motor_overspeed, "motor_overspeed", kDevice, {}, false},
+    {encoder_error, "encoder_error", kDevice, {}, false},
+    {power_cycle, "power_cycle", kDevice, {}, true},
+    {reset_spontaneous, "reset_spontaneous", kDevice, {}, true},
+    {blind, "blind", kDevice, {}, false},
+    {window_dirt, "window_dirt", kDevice, {}, false},
+    {drop_reply, "drop_reply", kWire, {kTcp, kSerial, kCan}, false},
+    {delay_reply, "delay_reply", kWire, {kTcp, kSerial, kCan}, false},
+    {duplicate_reply, "duplicate_reply", kWire, {kTcp, kSerial, kCan}, false},
+    {truncate_reply, "truncate_reply", kWire, {kTcp, kSerial, kCan}, false},
     // CAN frames carry their own CRC (D1): the checksum D11 corrupts is TCP's XOR or serial's CRC.
-    {corrupt_checksum, "corrupt_checksum", kWire, true, true, false, false, false},
-    {garbage, "garbage", kWire, true, true, true, false, false},
-    {tcp_reset, "tcp_reset", kWire, true, false, false, false, false},
-    {tcp_stall, "tcp_stall", kWire, true, false, false, false, false},
-    {bandwidth, "bandwidth", kWire, true, false, false, false, false},
-    {isotp_drop_cf, "isotp_drop_cf", kWire, false, false, true, false, false},
-    {isotp_repeat_cf, "isotp_repeat_cf", kWire, false, false, true, false, false},
-    {isotp_bad_sn, "isotp_bad_sn", kWire, false, false, true, false, false},
-    {isotp_fc_overflow, "isotp_fc_overflow", kWire, false, false, true, false, false},
-    {isotp_fc_wait, "isotp_fc_wait", kWire, false, false, true, false, false},
-    {can_silence, "can_silence", kWire, false, false, true, false, false},
-    {lpt_lose_steps, "lpt_lose_steps", kWire, false, false, false, true, false},
-    {lpt_jam, "lpt_jam", kWire, false, false, false, true, false},
+    {corrupt_checksum, "corrupt_checksum", kWire, {kTcp, kSerial}, false},
+    {garbage, "garbage", kWire, {kTcp, kSerial, kCan}, false},
+    {tcp_reset, "tcp_reset", kWire, {kTcp}, false},
+    {tcp_stall, "tcp_stall", kWire, {kTcp}, false},
+    {bandwidth, "bandwidth", kWire, {kTcp}, false},
+    {isotp_drop_cf, "isotp_drop_cf", kWire, {kCan}, false},
+    {isotp_repeat_cf, "isotp_repeat_cf", kWire, {kCan}, false},
+    {isotp_bad_sn, "isotp_bad_sn", kWire, {kCan}, false},
+    {isotp_fc_overflow, "isotp_fc_overflow", kWire, {kCan}, false},
+    {isotp_fc_wait, "isotp_fc_wait", kWire, {kCan}, false},
+    {can_silence, "can_silence", kWire, {kCan}, false},
+    {lpt_lose_steps, "lpt_lose_steps", kWire, {kLpt}, false},
+    {lpt_jam, "lpt_jam", kWire, {kLpt}, false},
 }};
 
 constexpr bool catalogue_is_in_enum_order() {
@@ -46,8 +50,6 @@ constexpr bool catalogue_is_in_enum_order() {
   return true;
 }
 static_assert(catalogue_is_in_enum_order());
-
-constexpr std::array<std::string_view, 4> kTransportNames{"tcp", "serial", "can", "lpt"};
 
 }  // namespace
 
@@ -62,16 +64,7 @@ std::optional<FaultKind> fault_kind_from_name(std::string_view name) {
   return std::nullopt;
 }
 
-bool applies_to(FaultKind kind, Transport transport) {
-  const FaultKindInfo& entry = info(kind);
-  switch (transport) {
-    case Transport::tcp: return entry.tcp;
-    case Transport::serial: return entry.serial;
-    case Transport::can: return entry.can;
-    case Transport::lpt: return entry.lpt;
-  }
-  return false;
-}
+bool applies_to(FaultKind kind, Transport transport) { return info(kind).transports.contains(transport); }
 
 bool accepts(FaultKind kind, FaultParam param) {
   switch (param) {
@@ -84,17 +77,6 @@ bool accepts(FaultKind kind, FaultParam param) {
     case FaultParam::off_s: return kind == power_cycle;
   }
   return false;
-}
-
-std::string_view transport_name(Transport transport) {
-  return kTransportNames.at(static_cast<std::size_t>(transport));
-}
-
-std::optional<Transport> transport_from_name(std::string_view name) {
-  for (std::size_t i = 0; i < kTransportNames.size(); ++i) {
-    if (kTransportNames[i] == name) return static_cast<Transport>(i);
-  }
-  return std::nullopt;
 }
 
 std::string_view all_fault_names() {

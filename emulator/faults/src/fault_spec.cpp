@@ -181,7 +181,7 @@ std::optional<FieldError> FaultEntryBuilder::set(std::string_view key, const Fie
       spec_.transport.reset();
       return std::nullopt;
     }
-    const auto transport = transport_from_name(name);
+    const auto transport = protocol::transport_from_name(name);
     if (!transport) return error(FieldErrorKind::out_of_range, key, "must be tcp, serial, can, lpt or any");
     spec_.transport = *transport;
     return std::nullopt;
@@ -264,7 +264,7 @@ std::variant<FaultSpec, FieldError> FaultEntryBuilder::finish() const {
     }
     if (!applies_to(spec_.kind, *spec_.transport)) {
       return error(FieldErrorKind::conflicting_keys, "transport",
-                   std::string(kind.name) + " does not apply to " + std::string(transport_name(*spec_.transport)));
+                   std::string(kind.name) + " does not apply to " + std::string(protocol::transport_name(*spec_.transport)));
     }
   }
   if (spec_.service && kind.fault_class == FaultClass::device) {
@@ -304,7 +304,7 @@ std::string describe(const FaultSpec& spec) {
   if (const auto* draw = std::get_if<TriggerProbability>(&spec.trigger)) out << " probability=" << draw->probability;
   if (spec.duration) out << " duration_s=" << seconds(*spec.duration);
   if (spec.count) out << " count=" << *spec.count;
-  if (spec.transport) out << " transport=" << transport_name(*spec.transport);
+  if (spec.transport) out << " transport=" << protocol::transport_name(*spec.transport);
   if (spec.service) out << " service=" << protocol::service_name(*spec.service);
   if (spec.from_ticks) out << " from_deg=" << *spec.from_ticks / kTicksPerDegree;
   if (spec.to_ticks) out << " to_deg=" << *spec.to_ticks / kTicksPerDegree;

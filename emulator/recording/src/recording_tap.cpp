@@ -1,22 +1,9 @@
 #include "ldoem/recording/recording_tap.hpp"
 
 namespace ldoem::recording {
-namespace {
-
-protocol::WireTransport wire_transport(control::TransportKind kind) {
-  switch (kind) {
-    case control::TransportKind::tcp: return protocol::WireTransport::tcp;
-    case control::TransportKind::serial: return protocol::WireTransport::serial;
-    case control::TransportKind::can: return protocol::WireTransport::can;
-  }
-  return protocol::WireTransport::tcp;
-}
-
-}  // namespace
-
-void RecordingTap::on_connection_closed(control::ConnectionId connection, base::SimTime at, bool reset) {
+void RecordingTap::on_connection_closed(protocol::ConnectionId connection, base::SimTime at, bool reset) {
   if (!failed_) {
-    if (const capture::Written closed = recorder_.connection_closed(at, wire_transport(connection.kind), connection.index, reset);
+    if (const capture::Written closed = recorder_.connection_closed(at, connection.kind, connection.index, reset);
         !closed) {
       failed_ = true;
       logger_.log(endpoints::LogLevel::error, "--record: " + closed.error() + "; recording stopped, the device goes on");
@@ -27,7 +14,7 @@ void RecordingTap::on_connection_closed(control::ConnectionId connection, base::
 
 void RecordingTap::record(const endpoints::WireTelegram& telegram) {
   if (failed_) return;
-  const capture::Written written = recorder_.record(telegram.at, wire_transport(telegram.connection.kind),
+  const capture::Written written = recorder_.record(telegram.at, telegram.connection.kind,
                                                     telegram.connection.index, telegram.direction, telegram.payload);
   if (!written) {
     failed_ = true;

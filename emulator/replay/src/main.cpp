@@ -59,7 +59,7 @@ int main(int argc, char** argv) {
   const auto& capture_counters = loaded->conversation.counters;
   std::cerr << "ldoem-replay: " << options->capture.string() << ": " << exchanges.size() << " exchanges ("
             << protocol::transport_name(*transport);
-  if (*transport == protocol::WireTransport::tcp) {
+  if (*transport == protocol::Transport::tcp) {
     std::cerr << ", device port " << loaded->conversation.tcp_port
               << (loaded->conversation.tcp_port_detected ? " (detected)" : "");
   }

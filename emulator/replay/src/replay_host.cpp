@@ -13,7 +13,7 @@
 namespace ldoem::replay {
 
 namespace ep = endpoints;
-using control::ConnectionId;
+using protocol::ConnectionId;
 
 struct ReplayHost::Impl final : ep::EndpointSink, ep::LptSink, ep::Scheduler {
   Impl(ReplayDevice device_in, std::ostream& log_stream, const ReplayOptions& options_in)
@@ -25,7 +25,7 @@ struct ReplayHost::Impl final : ep::EndpointSink, ep::LptSink, ep::Scheduler {
   std::unique_ptr<io::EventLoop> loop;
   io::MonotonicTime start = io::EventLoop::now();
   std::vector<std::unique_ptr<ep::HostEndpoint>> endpoints;
-  std::map<control::TransportKind, ep::HostEndpoint*> route;
+  std::map<protocol::Transport, ep::HostEndpoint*> route;
   std::optional<ep::EndpointContext> context;
   ep::Counters counters;
   std::uint64_t activity = 0;
@@ -59,8 +59,8 @@ struct ReplayHost::Impl final : ep::EndpointSink, ep::LptSink, ep::Scheduler {
   void on_telegram(ConnectionId from, protocol::Bytes payload) override {
     ++counters.telegrams_received;
     ReplayAnswer answer = device.on_request(now(), payload);
-    logger.log(ep::LogLevel::info, [&] { return control::to_string(from) + " -> " + protocol::format_telegram(payload); });
-    if (answer.diagnostic) logger.log(ep::LogLevel::warn, control::to_string(from) + ": " + *answer.diagnostic);
+    logger.log(ep::LogLevel::info, [&] { return protocol::to_string(from) + " -> " + protocol::format_telegram(payload); });
+    if (answer.diagnostic) logger.log(ep::LogLevel::warn, protocol::to_string(from) + ": " + *answer.diagnostic);
     auto& queue = outgoing[from];
     for (auto& telegram : answer.telegrams) queue.push_back(std::move(telegram));
     pump(from);

@@ -58,9 +58,9 @@ struct Reader {
       }
       options.speed = *speed;
     } else if (name == "--transport") {
-      if (text == "tcp") options.transport = protocol::WireTransport::tcp;
-      else if (text == "serial") options.transport = protocol::WireTransport::serial;
-      else if (text == "can") options.transport = protocol::WireTransport::can;
+      if (text == "tcp") options.transport = protocol::Transport::tcp;
+      else if (text == "serial") options.transport = protocol::Transport::serial;
+      else if (text == "can") options.transport = protocol::Transport::can;
       else return "--transport: must be tcp, serial or can, got `" + text + "`";
     } else if (name == "--port") {
       const auto port = base::parse_integer<std::uint16_t>(text);

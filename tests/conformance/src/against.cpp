@@ -75,7 +75,7 @@ int run_against(const Options& options, std::ostream& out, std::ostream& err) {
   const std::vector<p::Exchange> exchanges = p::exchanges_of(telegrams, *transport_kind);
   out << "against " << *options.against << " (" << capture::format_name(loaded->format) << ", "
       << p::transport_name(*transport_kind);
-  if (*transport_kind == p::WireTransport::tcp) {
+  if (*transport_kind == p::Transport::tcp) {
     out << ", device port " << loaded->conversation.tcp_port << (loaded->conversation.tcp_port_detected ? " (detected)" : "");
   }
   out << "): " << exchanges.size() << " requests\n";

@@ -5,13 +5,7 @@
 
 namespace ldoem::conformance {
 
-TransportKind kind_of(const driver::Endpoint& endpoint) {
-  if (std::holds_alternative<driver::CanEndpoint>(endpoint)) return TransportKind::can;
-  if (std::holds_alternative<driver::SerialEndpoint>(endpoint)) return TransportKind::serial;
-  return TransportKind::tcp;
-}
-
-bool Case::applies_to(TransportKind kind, Target target) const {
+bool Case::applies_to(protocol::Transport kind, Target target) const {
   if (emulator_only && target != Target::emulator) return false;
   return transports.empty() || std::find(transports.begin(), transports.end(), kind) != transports.end();
 }

@@ -12,10 +12,6 @@
 
 namespace ldoem::conformance {
 
-enum class TransportKind : std::uint8_t { can, tcp, serial };
-
-TransportKind kind_of(const driver::Endpoint& endpoint);
-
 struct Case {
   std::string name;
   std::function<void(Session&)> run;
@@ -24,9 +20,9 @@ struct Case {
   // Restore the baseline (IDLE, D4 configuration) before running; off only for power-up.
   bool needs_baseline = true;
   // Transports the case applies to; empty = all.
-  std::vector<TransportKind> transports;
+  std::vector<protocol::Transport> transports;
 
-  bool applies_to(TransportKind kind, Target target) const;
+  bool applies_to(protocol::Transport kind, Target target) const;
 };
 
 // Group builders, one file each.

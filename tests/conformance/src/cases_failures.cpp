@@ -9,7 +9,7 @@ namespace ldoem::conformance {
 namespace {
 
 using namespace protocol;
-using Kinds = std::vector<TransportKind>;
+using Kinds = std::vector<protocol::Transport>;
 
 void expect_failure(Session& session, std::string_view what, const Bytes& payload, std::uint16_t code,
                     FailureReason reason) {
@@ -172,9 +172,9 @@ void add_failure_cases(std::vector<Case>& cases) {
                                FailureReason::wrong_length));
   // Odd lengths and a lone byte exist only where the transport carries bytes (serial pads WORDs).
   cases.push_back(failure_case("failures/wrong_length_GET_STATUS_odd_byte", {0x01, 0x02, 0x00}, 0x0102,
-                               FailureReason::wrong_length, {TransportKind::tcp, TransportKind::can}));
+                               FailureReason::wrong_length, {protocol::Transport::tcp, protocol::Transport::can}));
   cases.push_back(failure_case("failures/wrong_length_no_room_for_a_code", {0x01}, 0x0000, FailureReason::wrong_length,
-                               {TransportKind::tcp, TransportKind::can}));
+                               {protocol::Transport::tcp, protocol::Transport::can}));
   cases.push_back(Case{"failures/trailing_zero_word_accepted",
                        [](Session& session) {
                          session.expect("GET_STATUS + 0x0000", Bytes{0x01, 0x02, 0x00, 0x00},
@@ -198,17 +198,17 @@ void add_failure_cases(std::vector<Case>& cases) {
   cases.push_back(failure_case("failures/out_of_range_SET_FILTER_item_2", encode_request(SetFilter{2, 1}), 0x0209,
                                FailureReason::out_of_range));
   // Reason 5 and D1: framing, per transport.
-  cases.push_back(Case{"failures/framing_tcp_bad_checksum", tcp_bad_checksum, true, true, {TransportKind::tcp}});
-  cases.push_back(Case{"failures/framing_serial_bad_crc", serial_bad_crc, true, true, {TransportKind::serial}});
-  cases.push_back(Case{"failures/framing_serial_bad_hex", serial_bad_hex, true, true, {TransportKind::serial}});
+  cases.push_back(Case{"failures/framing_tcp_bad_checksum", tcp_bad_checksum, true, true, {protocol::Transport::tcp}});
+  cases.push_back(Case{"failures/framing_serial_bad_crc", serial_bad_crc, true, true, {protocol::Transport::serial}});
+  cases.push_back(Case{"failures/framing_serial_bad_hex", serial_bad_hex, true, true, {protocol::Transport::serial}});
   cases.push_back(Case{"failures/framing_serial_length_word_mismatch", serial_length_word_mismatch, true, true,
-                       {TransportKind::serial}});
+                       {protocol::Transport::serial}});
   cases.push_back(Case{"failures/framing_can_wrong_sequence_number_dropped", can_wrong_sequence_number, true, true,
-                       {TransportKind::can}});
+                       {protocol::Transport::can}});
   cases.push_back(Case{"failures/framing_can_unexpected_consecutive_frame_dropped", can_unexpected_consecutive_frame, true,
-                       true, {TransportKind::can}});
+                       true, {protocol::Transport::can}});
   cases.push_back(Case{"failures/framing_can_first_frame_timeout_dropped", can_first_frame_timeout, true, true,
-                       {TransportKind::can}});
+                       {protocol::Transport::can}});
 
   // In-band errors (spec 3.3 [C] for the codes; D2 for the values).
   cases.push_back(Case{"in-band/SET_CONFIG_speed_25_Hz_refused",

@@ -9,12 +9,6 @@
 namespace ldoem::conformance {
 namespace {
 
-protocol::WireTransport wire_transport(const driver::Endpoint& endpoint) {
-  if (std::holds_alternative<driver::CanEndpoint>(endpoint)) return protocol::WireTransport::can;
-  if (std::holds_alternative<driver::SerialEndpoint>(endpoint)) return protocol::WireTransport::serial;
-  return protocol::WireTransport::tcp;
-}
-
 // The one capture file of a run: opened with the first transport, closed at exit.
 struct RunRecording {
   std::unique_ptr<capture::CaptureWriter> writer;
@@ -23,7 +17,7 @@ struct RunRecording {
   std::uint32_t connections = 0;
   bool failed = false;
 
-  void record(protocol::WireTransport transport, std::uint32_t connection, protocol::WireDirection direction,
+  void record(protocol::Transport transport, std::uint32_t connection, protocol::WireDirection direction,
               protocol::ByteView payload) {
     if (failed || !recorder) return;
     const auto time = std::chrono::duration_cast<base::SimTime>(driver::Clock::now() - start);
@@ -41,7 +35,7 @@ RunRecording& run_recording() {
 
 class RecordingTransport final : public driver::Transport {
  public:
-  RecordingTransport(std::unique_ptr<driver::Transport> inner, protocol::WireTransport transport, std::uint32_t connection)
+  RecordingTransport(std::unique_ptr<driver::Transport> inner, protocol::Transport transport, std::uint32_t connection)
       : inner_(std::move(inner)), transport_(transport), connection_(connection) {}
 
   driver::Status send(protocol::ByteView payload, driver::Deadline deadline) override {
@@ -60,7 +54,7 @@ class RecordingTransport final : public driver::Transport {
 
  private:
   std::unique_ptr<driver::Transport> inner_;
-  protocol::WireTransport transport_;
+  protocol::Transport transport_;
   std::uint32_t connection_;
 };
 
@@ -80,7 +74,7 @@ base::Expected<std::unique_ptr<driver::Transport>, std::string> open_suite_trans
     recording.recorder.emplace(*recording.writer, ids);
   }
   return std::unique_ptr<driver::Transport>(
-      new RecordingTransport(std::move(*transport), wire_transport(*options.endpoint), recording.connections++));
+      new RecordingTransport(std::move(*transport), driver::transport_of(*options.endpoint), recording.connections++));
 }
 
 }  // namespace ldoem::conformance

@@ -9,16 +9,9 @@
 namespace ldoem::conformance {
 namespace {
 
-std::string_view prefix_of(TransportKind kind) {
-  switch (kind) {
-    case TransportKind::can: return "can";
-    case TransportKind::tcp: return "tcp";
-    case TransportKind::serial: return "serial";
-  }
-  return "?";
-}
+std::string_view prefix_of(protocol::Transport kind) { return protocol::transport_name(kind); }
 
-std::vector<const Case*> select(const std::vector<Case>& cases, const Options& options, TransportKind kind) {
+std::vector<const Case*> select(const std::vector<Case>& cases, const Options& options, protocol::Transport kind) {
   std::vector<const Case*> selected;
   for (const Case& c : cases) {
     const std::string name = std::string(prefix_of(kind)) + "/" + c.name;
@@ -46,9 +39,9 @@ void recover(Session& session, std::ostream& err) {
 
 void list_cases(const Options& options, const VectorTable& vectors, std::ostream& out) {
   const std::vector<Case> cases = all_cases(vectors);
-  std::vector<TransportKind> kinds{TransportKind::tcp, TransportKind::can, TransportKind::serial};
-  if (options.endpoint) kinds = {kind_of(*options.endpoint)};
-  for (TransportKind kind : kinds) {
+  std::vector<protocol::Transport> kinds{protocol::Transport::tcp, protocol::Transport::can, protocol::Transport::serial};
+  if (options.endpoint) kinds = {driver::transport_of(*options.endpoint)};
+  for (protocol::Transport kind : kinds) {
     for (const Case* c : select(cases, options, kind)) out << prefix_of(kind) << '/' << c->name << '\n';
   }
 }
@@ -56,7 +49,7 @@ void list_cases(const Options& options, const VectorTable& vectors, std::ostream
 int run_cases(const Options& options, const VectorTable& vectors, std::ostream& out, std::ostream& err) {
   // A --filter or --exclude that selects nothing is a typo, not a green run.
   const std::vector<Case> cases = all_cases(vectors);
-  const TransportKind kind = kind_of(*options.endpoint);
+  const protocol::Transport kind = driver::transport_of(*options.endpoint);
   if (select(cases, options, kind).empty()) {
     err << "ldoem-conformance: --filter/--exclude select no " << prefix_of(kind)
         << " case (--list with the same options shows what they select)\n";

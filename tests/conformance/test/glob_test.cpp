@@ -41,8 +41,8 @@ TEST(Cases, DeviceTarget_DropsEmulatorOnlyCases) {
   std::size_t emulator = 0;
   std::size_t device = 0;
   for (const Case& c : all_cases(*vectors)) {
-    emulator += c.applies_to(TransportKind::tcp, Target::emulator);
-    device += c.applies_to(TransportKind::tcp, Target::device);
+    emulator += c.applies_to(protocol::Transport::tcp, Target::emulator);
+    device += c.applies_to(protocol::Transport::tcp, Target::device);
   }
   EXPECT_LT(device, emulator);
   EXPECT_GT(device, 40u);

@@ -28,11 +28,11 @@ class TelegramRecorder {
   TelegramRecorder(CaptureWriter& writer, RecorderCanIds ids = {}) : writer_(writer), ids_(ids) {}
 
   // The error when the telegram was not written.
-  [[nodiscard]] Written record(base::SimTime time, protocol::WireTransport transport, std::uint32_t connection,
+  [[nodiscard]] Written record(base::SimTime time, protocol::Transport transport, std::uint32_t connection,
                                    WireDirection direction, ByteView payload);
   // TCP: FIN both ways, or RST from the device when `reset` (CaptureWriter::close_tcp); the
   // other transports have no connections to close.
-  [[nodiscard]] Written connection_closed(base::SimTime time, protocol::WireTransport transport, std::uint32_t connection,
+  [[nodiscard]] Written connection_closed(base::SimTime time, protocol::Transport transport, std::uint32_t connection,
                                               bool reset = false);
   void set_can_ids(RecorderCanIds ids) { ids_ = ids; }
 

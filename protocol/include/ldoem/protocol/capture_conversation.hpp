@@ -19,15 +19,13 @@
 #include "ldoem/protocol/serial_framing.hpp"
 #include "ldoem/base/sim_time.hpp"
 #include "ldoem/protocol/tcp_framing.hpp"
+#include "ldoem/protocol/transport.hpp"
 
 namespace ldoem::protocol {
 
-enum class WireTransport : std::uint8_t { tcp, serial, can };
-std::string_view transport_name(WireTransport transport);
-
 struct CapturedTelegram {
   base::SimTime time{};  // when its last byte or frame was captured
-  WireTransport transport = WireTransport::tcp;
+  Transport transport = Transport::tcp;
   WireDirection direction = WireDirection::host_to_device;
   std::uint32_t stream = 0;  // TCP: connection index in order of appearance; serial, CAN: 0
   Bytes payload;             // service WORD then parameters
@@ -75,7 +73,7 @@ class ConversationExtractor {
   void add_tcp(base::SimTime time, const TcpSegment& segment);
   void add_can(base::SimTime time, const CanFrame& frame);
   void add_serial(base::SimTime time, const SerialChunk& chunk);
-  void deliver(base::SimTime time, WireTransport transport, WireDirection direction, std::uint32_t stream,
+  void deliver(base::SimTime time, Transport transport, WireDirection direction, std::uint32_t stream,
                std::vector<DeframerEvent> events);
 
   ConversationConfig config_;
@@ -125,9 +123,9 @@ struct Exchange {
 
 // The exchanges of one transport (all its streams, in capture order). What the device sent
 // before the first request is dropped.
-std::vector<Exchange> exchanges_of(const std::vector<CapturedTelegram>& telegrams, WireTransport transport);
+std::vector<Exchange> exchanges_of(const std::vector<CapturedTelegram>& telegrams, Transport transport);
 
 // The transport with the most telegrams, or nothing for an empty conversation.
-std::optional<WireTransport> busiest_transport(const std::vector<CapturedTelegram>& telegrams);
+std::optional<Transport> busiest_transport(const std::vector<CapturedTelegram>& telegrams);
 
 }  // namespace ldoem::protocol

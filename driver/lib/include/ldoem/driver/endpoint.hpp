@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "ldoem/base/endpoint.hpp"
+#include "ldoem/protocol/transport.hpp"
 
 namespace ldoem::driver {
 
@@ -34,5 +35,13 @@ inline base::Expected<Endpoint, EndpointError> parse_endpoint(std::string_view t
 // The canonical text of an endpoint (parse_endpoint(format_endpoint(e)) == e); used as the
 // `object` of every DriverError about it.
 inline std::string format_endpoint(const Endpoint& endpoint) { return base::to_string(endpoint); }
+
+// The transport a connection to this endpoint uses.
+inline protocol::Transport transport_of(const Endpoint& endpoint) {
+  if (std::holds_alternative<CanEndpoint>(endpoint)) return protocol::Transport::can;
+  if (std::holds_alternative<SerialEndpoint>(endpoint)) return protocol::Transport::serial;
+  if (std::holds_alternative<LptEndpoint>(endpoint)) return protocol::Transport::lpt;
+  return protocol::Transport::tcp;
+}
 
 }  // namespace ldoem::driver

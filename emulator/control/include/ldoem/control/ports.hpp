@@ -13,25 +13,17 @@
 
 #include "ldoem/protocol/bytes.hpp"
 #include "ldoem/protocol/config.hpp"
+#include "ldoem/protocol/transport.hpp"
 #include "ldoem/base/sim_time.hpp"
 
 namespace ldoem::control {
 
 using base::SimTime;
 
-// The transport a connection uses. TCP and serial telegrams are capped at 5816 payload bytes,
-// ISO-TP over CAN is not (D3).
-enum class TransportKind : std::uint8_t { tcp, serial, can };
-
-// One host connection (a TCP session, a serial line, a CAN identifier pair). `index` is the
-// daemon's number for it, unique per kind while the connection lives.
-struct ConnectionId {
-  TransportKind kind = TransportKind::tcp;
-  std::uint32_t index = 0;
-  auto operator<=>(const ConnectionId&) const = default;
-};
-
-std::string to_string(ConnectionId connection);
+// Who a telegram came from: a host connection on one transport (protocol/transport.hpp). TCP
+// and serial telegrams are capped at 5816 payload bytes, ISO-TP over CAN is not (D3).
+using protocol::ConnectionId;
+using protocol::Transport;
 
 // Names a timer the control unit asked for. The daemon calls on_timer(at, id) once simulated
 // time reaches `at`; ids never repeat. A timer the control unit no longer wants is named in

@@ -67,9 +67,9 @@ class DeviceInstance final : public endpoints::EndpointSink,
   }
   endpoints::WireTap* wire_tap() const { return tap_; }
   // For a tap that delays or resets: these do not pass the tap again.
-  void deliver_from_host(control::ConnectionId from, protocol::Bytes payload);
-  void send_to_host(control::ConnectionId to, protocol::ByteView payload, bool is_profile);
-  void disconnect(control::ConnectionId connection);
+  void deliver_from_host(protocol::ConnectionId from, protocol::Bytes payload);
+  void send_to_host(protocol::ConnectionId to, protocol::ByteView payload, bool is_profile);
+  void disconnect(protocol::ConnectionId connection);
   // D11 power_cycle: every endpoint goes dark, resets its old connections, serves again.
   void set_power(endpoints::DevicePower power) {
     for (const auto& endpoint : endpoints_) endpoint->set_power(power);
@@ -87,12 +87,12 @@ class DeviceInstance final : public endpoints::EndpointSink,
   void perform_actions(base::SimTime at, const control::Actions& actions) { perform(at, actions); }
 
   // --- EndpointSink ---
-  void on_telegram(control::ConnectionId from, protocol::Bytes payload) override;
-  void on_framing_error(control::ConnectionId from, const protocol::FramingError& error) override;
-  void on_connection_closed(control::ConnectionId connection) override;
-  void on_connection_opened(control::ConnectionId connection, std::string_view peer) override;
+  void on_telegram(protocol::ConnectionId from, protocol::Bytes payload) override;
+  void on_framing_error(protocol::ConnectionId from, const protocol::FramingError& error) override;
+  void on_connection_closed(protocol::ConnectionId connection) override;
+  void on_connection_opened(protocol::ConnectionId connection, std::string_view peer) override;
   // Told of every host connection opened and closed (the control socket's CONNECTION events).
-  using ConnectionObserver = std::function<void(bool opened, control::ConnectionId connection, std::string_view peer)>;
+  using ConnectionObserver = std::function<void(bool opened, protocol::ConnectionId connection, std::string_view peer)>;
   void set_connection_observer(ConnectionObserver observer) { connection_observer_ = std::move(observer); }
   // --- LptSink ---
   void on_register_write(base::SimTime at, std::uint8_t register_value) override;
@@ -101,7 +101,7 @@ class DeviceInstance final : public endpoints::EndpointSink,
   std::uint64_t steps_seen() const override;
 
  private:
-  bool busy(control::ConnectionId connection) const override;  // D10, asked by the control unit
+  bool busy(protocol::ConnectionId connection) const override;  // D10, asked by the control unit
   // The control unit's flash store: a write the file store refuses is logged, and the unit
   // answers the service's error (L-flash-1).
   protocol::Bytes load() const override { return flash_->load(); }
@@ -116,11 +116,11 @@ class DeviceInstance final : public endpoints::EndpointSink,
   std::unique_ptr<control::FlashStore> flash_;
   std::unique_ptr<control::ControlUnit> unit_;
   std::vector<std::unique_ptr<HostEndpoint>> endpoints_;
-  std::map<control::TransportKind, HostEndpoint*> route_;
+  std::map<protocol::Transport, HostEndpoint*> route_;
   std::map<std::uint64_t, endpoints::Scheduler::Key> timer_keys_;  // the control unit's queued timers
   std::optional<endpoints::EndpointContext> context_;
   endpoints::WireTap* tap_ = nullptr;
-  std::optional<control::ConnectionId> resetting_;  // inside disconnect(): its close is a reset
+  std::optional<protocol::ConnectionId> resetting_;  // inside disconnect(): its close is a reset
   ConnectionObserver connection_observer_;
   int performing_ = 0;
   std::deque<std::function<void()>> deferred_input_;

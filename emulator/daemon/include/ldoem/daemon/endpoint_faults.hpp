@@ -13,8 +13,6 @@
 
 namespace ldoem::daemon {
 
-faults::Transport transport_of(control::TransportKind kind);
-
 // The request a telegram to the host answers: its code without the response bit, the request
 // code inside a SERVICE_FAILURE, GET_PROFILE for a profile.
 std::uint16_t answered_request(protocol::ByteView payload);
@@ -26,18 +24,18 @@ class EndpointFaults final : public endpoints::WireFaultHook {
   EndpointFaults(fault_injection::FaultInjector& injector, std::function<void(fault_injection::InjectorOutput)> take)
       : injector_(injector), take_(std::move(take)) {}
 
-  endpoints::TelegramFaults on_outgoing_telegram(control::ConnectionId to, protocol::ByteView payload,
+  endpoints::TelegramFaults on_outgoing_telegram(protocol::ConnectionId to, protocol::ByteView payload,
                                                  base::SimTime now) override;
-  std::optional<base::SimTime> stalled_until(control::ConnectionId connection, base::SimTime now) override;
-  std::optional<std::uint32_t> bytes_per_second(control::ConnectionId connection, base::SimTime now) override;
-  endpoints::FirstFrameFault on_host_first_frame(control::ConnectionId from, std::uint16_t service,
+  std::optional<base::SimTime> stalled_until(protocol::ConnectionId connection, base::SimTime now) override;
+  std::optional<std::uint32_t> bytes_per_second(protocol::ConnectionId connection, base::SimTime now) override;
+  endpoints::FirstFrameFault on_host_first_frame(protocol::ConnectionId from, std::uint16_t service,
                                                  base::SimTime now) override;
-  bool keeps_host_waiting(control::ConnectionId from, base::SimTime now) override;
+  bool keeps_host_waiting(protocol::ConnectionId from, base::SimTime now) override;
   bool loses_step(base::SimTime at) override;
 
  private:
   // Takes one telegram's worth of `kind` (its count) and publishes what that used up.
-  std::optional<faults::ActiveFault> take(base::SimTime now, faults::FaultKind kind, faults::Transport transport,
+  std::optional<faults::ActiveFault> take(base::SimTime now, faults::FaultKind kind, protocol::Transport transport,
                                           std::optional<std::uint16_t> service);
 
   fault_injection::FaultInjector& injector_;

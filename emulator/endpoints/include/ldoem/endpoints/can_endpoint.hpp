@@ -30,7 +30,7 @@ class CanEndpoint final : public HostEndpoint {
   explicit CanEndpoint(CanEndpointSetup setup) : setup_(std::move(setup)) {}
 
   std::string_view name() const override { return "can"; }
-  std::optional<TransportKind> transport() const override { return TransportKind::can; }
+  std::optional<protocol::Transport> transport() const override { return protocol::Transport::can; }
   std::optional<OpenFailure> open(EndpointContext& context) override;
   bool busy(ConnectionId connection) const override;
   void send(ConnectionId to, protocol::ByteView payload) override;

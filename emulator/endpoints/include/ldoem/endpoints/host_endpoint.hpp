@@ -31,8 +31,8 @@
 
 namespace ldoem::endpoints {
 
-using control::ConnectionId;
-using control::TransportKind;
+using protocol::ConnectionId;
+using protocol::Transport;
 
 // D11 power_cycle as a host sees it (docs/decisions-local.md L-faults-5). `off`: the device is
 // dark: no byte read or written, no new connection completed, established ones left as they
@@ -96,7 +96,7 @@ class HostEndpoint {
 
   virtual std::string_view name() const = 0;
   // The kind of connection this endpoint carries; none for the LPT.
-  virtual std::optional<TransportKind> transport() const = 0;
+  virtual std::optional<protocol::Transport> transport() const = 0;
 
   [[nodiscard]] virtual std::optional<OpenFailure> open(EndpointContext& context) = 0;
   virtual bool busy(ConnectionId connection) const = 0;

@@ -16,7 +16,7 @@ class LptGpioEndpoint final : public HostEndpoint {
   explicit LptGpioEndpoint(std::string chip) : chip_(std::move(chip)) {}
 
   std::string_view name() const override { return "lpt-gpio"; }
-  std::optional<TransportKind> transport() const override { return std::nullopt; }
+  std::optional<protocol::Transport> transport() const override { return std::nullopt; }
   std::optional<OpenFailure> open(EndpointContext& context) override;
   bool busy(ConnectionId) const override { return false; }
   void send(ConnectionId, protocol::ByteView) override {}

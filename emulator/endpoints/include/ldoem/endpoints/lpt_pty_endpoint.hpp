@@ -21,7 +21,7 @@ class LptPtyEndpoint final : public HostEndpoint {
   explicit LptPtyEndpoint(std::filesystem::path link_path) : link_path_(std::move(link_path)) {}
 
   std::string_view name() const override { return "lpt"; }
-  std::optional<TransportKind> transport() const override { return std::nullopt; }
+  std::optional<protocol::Transport> transport() const override { return std::nullopt; }
   std::optional<OpenFailure> open(EndpointContext& context) override;
   bool busy(ConnectionId) const override { return false; }
   void send(ConnectionId, protocol::ByteView) override {}

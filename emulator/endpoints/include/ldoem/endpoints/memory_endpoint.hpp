@@ -24,10 +24,10 @@ class MemoryEndpoint final : public HostEndpoint {
     protocol::Bytes payload;
   };
 
-  explicit MemoryEndpoint(TransportKind kind = TransportKind::tcp) : kind_(kind) {}
+  explicit MemoryEndpoint(protocol::Transport kind = protocol::Transport::tcp) : kind_(kind) {}
 
   std::string_view name() const override { return "memory"; }
-  std::optional<TransportKind> transport() const override { return kind_; }
+  std::optional<protocol::Transport> transport() const override { return kind_; }
   std::optional<OpenFailure> open(EndpointContext& context) override;
   bool busy(ConnectionId connection) const override { return busy_.contains(connection.index); }
   void send(ConnectionId to, protocol::ByteView payload) override;
@@ -50,7 +50,7 @@ class MemoryEndpoint final : public HostEndpoint {
   const std::vector<protocol::CanConfig>& can_configs() const { return can_configs_; }
 
  private:
-  TransportKind kind_;
+  protocol::Transport kind_;
   EndpointContext* context_ = nullptr;
   std::set<std::uint32_t> busy_;
   std::set<std::uint32_t> closed_;

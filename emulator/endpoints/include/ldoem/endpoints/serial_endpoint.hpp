@@ -21,7 +21,7 @@ class SerialEndpoint final : public HostEndpoint {
       : link_path_(std::move(link_path)), inter_byte_timeout_(inter_byte_timeout) {}
 
   std::string_view name() const override { return "serial"; }
-  std::optional<TransportKind> transport() const override { return TransportKind::serial; }
+  std::optional<protocol::Transport> transport() const override { return protocol::Transport::serial; }
   std::optional<OpenFailure> open(EndpointContext& context) override;
   bool busy(ConnectionId) const override { return !output_.empty(); }
   void send(ConnectionId to, protocol::ByteView payload) override;

@@ -27,7 +27,7 @@ class TcpEndpoint final : public HostEndpoint {
       : address_(std::move(address)), port_(port), limits_(limits), indices_(indices) {}
 
   std::string_view name() const override { return "tcp"; }
-  std::optional<TransportKind> transport() const override { return TransportKind::tcp; }
+  std::optional<protocol::Transport> transport() const override { return protocol::Transport::tcp; }
   std::optional<OpenFailure> open(EndpointContext& context) override;
   bool busy(ConnectionId connection) const override;
   void send(ConnectionId to, protocol::ByteView payload) override;

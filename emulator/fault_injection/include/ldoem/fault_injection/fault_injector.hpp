@@ -51,7 +51,7 @@ class FaultInjector {
   InjectorOutput advance(SimTime now);
   // A request of `service` arrived on `transport` (before the control unit sees it); `seen`: all
   // of it, or the first frame or the rest of a multi-frame ISO-TP request (fault_scheduler.hpp).
-  InjectorOutput on_request(SimTime now, std::uint16_t service, faults::Transport transport,
+  InjectorOutput on_request(SimTime now, std::uint16_t service, protocol::Transport transport,
                             faults::RequestSeen seen = faults::RequestSeen::whole);
   // The control socket's inject-fault; `id` is 0 when the entry waits for its trigger.
   InjectorOutput inject(SimTime now, faults::FaultSpec spec, faults::FaultId& id);

@@ -8,6 +8,8 @@
 #include <span>
 #include <string_view>
 
+#include "ldoem/protocol/transport.hpp"
+
 namespace ldoem::faults {
 
 enum class FaultKind : std::uint8_t {
@@ -26,8 +28,10 @@ inline constexpr std::size_t kFaultKindCount = 24;
 
 enum class FaultClass : std::uint8_t { device, wire };
 
-// Where a fault can act. `any` in a fault entry means "every transport the kind applies to".
-enum class Transport : std::uint8_t { tcp, serial, can, lpt };
+// Where a fault can act (protocol/transport.hpp). `any` in a fault entry means "every transport
+// the kind applies to".
+using protocol::Transport;
+using protocol::TransportSet;
 
 // Extra parameters a kind accepts (besides trigger, duration_s, count, transport, service).
 enum class FaultParam : std::uint8_t {
@@ -44,7 +48,7 @@ struct FaultKindInfo {
   FaultKind kind;
   std::string_view name;
   FaultClass fault_class;
-  bool tcp, serial, can, lpt;  // the transports it applies to (all false: not a wire fault)
+  TransportSet transports;  // the transports it applies to (empty: a device fault)
   // One-shot kinds act once when triggered (power_cycle, reset_spontaneous); others stay active
   // for their duration or count.
   bool one_shot;
@@ -55,8 +59,6 @@ std::string_view fault_name(FaultKind kind);
 std::optional<FaultKind> fault_kind_from_name(std::string_view name);
 bool applies_to(FaultKind kind, Transport transport);
 bool accepts(FaultKind kind, FaultParam param);
-std::string_view transport_name(Transport transport);
-std::optional<Transport> transport_from_name(std::string_view name);
 // "motor_stall, motor_overspeed, ..." for error messages.
 std::string_view all_fault_names();
 

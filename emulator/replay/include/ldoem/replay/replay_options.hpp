@@ -21,7 +21,7 @@ struct ReplayOptions {
   std::filesystem::path capture;
   daemon::Options endpoints;  // only the endpoint fields, log level and timeout are used
   double speed = 1.0;         // recorded seconds per replayed second
-  std::optional<protocol::WireTransport> transport;  // which recorded transport; default: busiest
+  std::optional<protocol::Transport> transport;  // which recorded transport; default: busiest
   std::optional<std::uint16_t> capture_tcp_port;     // --port: the device's port in the capture; default: detected
   bool help = false;
   bool help_all = false;  // --help-all: the full usage text; --help prints the brief one
