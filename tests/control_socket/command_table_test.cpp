@@ -13,7 +13,8 @@ namespace {
 
 using nlohmann::json;
 
-json ask(FakeTarget& target, const json& request) { return json::parse(handle_line(request.dump(), target)); }
+// Not `ask`: the unity build (asan preset) puts this file beside control_protocol_test.cpp.
+json ask_request(FakeTarget& target, const json& request) { return json::parse(handle_line(request.dump(), target)); }
 
 TEST(CommandTable, EveryEntryHasANameAOneLineHelpAHandlerAndDistinctArguments) {
   std::set<std::string> names;
@@ -38,7 +39,7 @@ TEST(CommandTable, EveryEntryHasANameAOneLineHelpAHandlerAndDistinctArguments) {
 
 TEST(CommandTable, QueryCommandsIsTheTable) {
   FakeTarget target;
-  const json reply = ask(target, {{"execute", "query-commands"}});
+  const json reply = ask_request(target, {{"execute", "query-commands"}});
   json expected = json::array();
   for (const CommandSpec& command : command_table()) {
     json schema = json::object();
@@ -67,7 +68,7 @@ TEST(CommandTable, QueryCommandsIsTheTable) {
 TEST(CommandTable, AnArgumentNotInTheSchemaIsAGenericErrorForEveryCommand) {
   for (const CommandSpec& command : command_table()) {
     FakeTarget target;
-    const json reply = ask(target, {{"execute", command.name}, {"arguments", {{"bogus", 1}}}, {"id", 5}});
+    const json reply = ask_request(target, {{"execute", command.name}, {"arguments", {{"bogus", 1}}}, {"id", 5}});
     ASSERT_TRUE(reply.contains("error")) << command.name << " -> " << reply.dump();
     EXPECT_EQ(reply["error"]["class"], "GenericError") << reply.dump();
     EXPECT_NE(reply["error"]["desc"].get<std::string>().find(command.name + ": unknown argument 'bogus'"), std::string::npos)
@@ -79,20 +80,20 @@ TEST(CommandTable, AnArgumentNotInTheSchemaIsAGenericErrorForEveryCommand) {
 
 TEST(CommandTable, TypesAndRequiredArgumentsAreCheckedBeforeTheHandler) {
   FakeTarget target;
-  EXPECT_EQ(ask(target, {{"execute", "inject-fault"}, {"arguments", {{"duration_s", 2}}}})["error"]["desc"],
+  EXPECT_EQ(ask_request(target, {{"execute", "inject-fault"}, {"arguments", {{"duration_s", 2}}}})["error"]["desc"],
             "inject-fault: needs kind (a D11 fault name (motor_stall, drop_reply, ...))");
-  EXPECT_EQ(ask(target, {{"execute", "power-cycle"}, {"arguments", {{"off_s", "long"}}}})["error"]["desc"],
+  EXPECT_EQ(ask_request(target, {{"execute", "power-cycle"}, {"arguments", {{"off_s", "long"}}}})["error"]["desc"],
             "off_s: must be a number");
-  EXPECT_EQ(ask(target, {{"execute", "clear-fault"}, {"arguments", {{"id", -1}}}})["error"]["desc"],
+  EXPECT_EQ(ask_request(target, {{"execute", "clear-fault"}, {"arguments", {{"id", -1}}}})["error"]["desc"],
             "id: must be a fault id (query-faults)");
-  EXPECT_EQ(ask(target, {{"execute", "move-object"}, {"arguments", {{"name", "door"}, {"position_m", "here"}}}})["error"]["desc"],
+  EXPECT_EQ(ask_request(target, {{"execute", "move-object"}, {"arguments", {{"name", "door"}, {"position_m", "here"}}}})["error"]["desc"],
             "position_m: must be a list of three numbers (metres)");
-  EXPECT_EQ(ask(target, {{"execute", "add-object"}, {"arguments", {{"object", "box"}}}})["error"]["desc"],
+  EXPECT_EQ(ask_request(target, {{"execute", "add-object"}, {"arguments", {{"object", "box"}}}})["error"]["desc"],
             "object: must be one entry of a scene's objects list (docs/scenes.md)");
   EXPECT_TRUE(target.injected.empty());
   EXPECT_TRUE(target.cleared.empty());
   // A well-typed request goes on to the handler (here: a target without a world says so).
-  EXPECT_EQ(ask(target, {{"execute", "remove-object"}, {"arguments", {{"name", "crate"}}}})["error"]["class"], "CommandNotFound");
+  EXPECT_EQ(ask_request(target, {{"execute", "remove-object"}, {"arguments", {{"name", "crate"}}}})["error"]["class"], "CommandNotFound");
 }
 
 }  // namespace
