@@ -61,10 +61,10 @@ constexpr std::uint16_t kServices[] = {0x0101, 0x0102, 0x0104, 0x0105, 0x0106, 0
                                        0x0205, 0x0209, 0x020A, 0x020B, 0x0301, 0x0302, 0x0401, 0x0402, 0x0403,
                                        0x0404, 0x0601, 0x0701, 0x0801, 0x1234};
 
-const c::ConnectionId kConnections[] = {{c::protocol::Transport::tcp, 1},
-                                        {c::protocol::Transport::tcp, 2},
-                                        {c::protocol::Transport::serial, 1},
-                                        {c::protocol::Transport::can, 1}};
+const c::ConnectionId kConnections[] = {{p::Transport::tcp, 1},
+                                        {p::Transport::tcp, 2},
+                                        {p::Transport::serial, 1},
+                                        {p::Transport::can, 1}};
 
 std::uint16_t service_of(p::ByteView payload) {
   return payload.size() >= 2 ? static_cast<std::uint16_t>(payload[0] << 8 | payload[1]) : 0;
