@@ -9,12 +9,10 @@
 namespace ldoem::conformance {
 namespace {
 
-std::string_view prefix_of(protocol::Transport kind) { return protocol::transport_name(kind); }
-
 std::vector<const Case*> select(const std::vector<Case>& cases, const Options& options, protocol::Transport kind) {
   std::vector<const Case*> selected;
   for (const Case& c : cases) {
-    const std::string name = std::string(prefix_of(kind)) + "/" + c.name;
+    const std::string name = std::string(protocol::transport_name(kind)) + "/" + c.name;
     // matches_any is true for an empty list (no --filter: all), so an empty --exclude is checked first.
     const bool excluded = !options.excludes.empty() && matches_any(options.excludes, name);
     if (c.applies_to(kind, options.target) && matches_any(options.filters, name) && !excluded) selected.push_back(&c);
@@ -42,7 +40,7 @@ void list_cases(const Options& options, const VectorTable& vectors, std::ostream
   std::vector<protocol::Transport> kinds{protocol::Transport::tcp, protocol::Transport::can, protocol::Transport::serial};
   if (options.endpoint) kinds = {driver::transport_of(*options.endpoint)};
   for (protocol::Transport kind : kinds) {
-    for (const Case* c : select(cases, options, kind)) out << prefix_of(kind) << '/' << c->name << '\n';
+    for (const Case* c : select(cases, options, kind)) out << protocol::transport_name(kind) << '/' << c->name << '\n';
   }
 }
 
@@ -51,7 +49,7 @@ int run_cases(const Options& options, const VectorTable& vectors, std::ostream& 
   const std::vector<Case> cases = all_cases(vectors);
   const protocol::Transport kind = driver::transport_of(*options.endpoint);
   if (select(cases, options, kind).empty()) {
-    err << "ldoem-conformance: --filter/--exclude select no " << prefix_of(kind)
+    err << "ldoem-conformance: --filter/--exclude select no " << protocol::transport_name(kind)
         << " case (--list with the same options shows what they select)\n";
     return kExitUsageError;
   }
@@ -66,7 +64,7 @@ int run_cases(const Options& options, const VectorTable& vectors, std::ostream& 
   int failed = 0;
   int inconclusive = 0;
   for (const Case* c : select(cases, options, kind)) {
-    const std::string name = std::string(prefix_of(kind)) + "/" + c->name;
+    const std::string name = std::string(protocol::transport_name(kind)) + "/" + c->name;
     const std::uint64_t dropped_before = session.transport_counters().dropped_frames;
     // Every case runs with the probe: its verdict decides a failure of the host's side (a wall-
     // clock check, a wait that timed out, telegrams the link lost), never a device-clock one.
