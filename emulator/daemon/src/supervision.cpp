@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "ldoem/fault_injection/fault_tap.hpp"
+#include "ldoem/monitor/monitor.hpp"
 
 namespace ldoem::daemon {
 
@@ -33,6 +34,8 @@ struct Supervision::Scanner final : fault_injection::FaultedDevice, monitor::Dev
 };
 
 Supervision::~Supervision() = default;
+
+control_socket::ControlTarget& Supervision::control_target() { return *monitor_; }
 
 base::Expected<std::unique_ptr<Supervision>, std::string> Supervision::create(
     const scene::Scene& scene, const std::vector<std::unique_ptr<DeviceInstance>>& devices, const Options& options,

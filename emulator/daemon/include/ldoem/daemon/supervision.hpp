@@ -12,10 +12,14 @@
 #include <vector>
 
 #include "ldoem/base/expected.hpp"
+#include "ldoem/control_socket/control_protocol.hpp"
 #include "ldoem/daemon/device_instance.hpp"
 #include "ldoem/daemon/options.hpp"
-#include "ldoem/monitor/monitor.hpp"
 #include "ldoem/scene/scene.hpp"
+
+namespace ldoem::monitor {
+class Monitor;
+}  // namespace ldoem::monitor
 
 namespace ldoem::daemon {
 
@@ -35,7 +39,7 @@ class Supervision {
   Supervision& operator=(const Supervision&) = delete;
 
   // What the control socket's commands act on.
-  control_socket::ControlTarget& control_target() { return *monitor_; }
+  control_socket::ControlTarget& control_target();
   // The fault machinery's counters, every scanner's: injections, delayed replies dropped, event
   // log write errors.
   void fill_counters(endpoints::Counters& counters) const;
