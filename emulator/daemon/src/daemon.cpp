@@ -12,10 +12,10 @@
 
 #include "ldoem/daemon/device_instance.hpp"
 #include "ldoem/daemon/endpoint_registry.hpp"
-#include "ldoem/daemon/fault_wiring.hpp"
 #include "ldoem/daemon/file_flash_store.hpp"
 #include "ldoem/daemon/scanner_options.hpp"
 #include "ldoem/daemon/sim_clock.hpp"
+#include "ldoem/daemon/supervision.hpp"
 #include "ldoem/endpoints/tcp_endpoint.hpp"
 #include "ldoem/io/event_loop.hpp"
 #include "ldoem/plant/scene_device_defaults.hpp"
@@ -56,8 +56,8 @@ struct Daemon::Impl final : endpoints::Scheduler {
   std::vector<std::unique_ptr<scene::Scene>> views;
   std::vector<std::unique_ptr<DeviceInstance>> devices;  // one per scanner, in the scene's order
   // D11: only when the scene names faults or --control/--event-log ask (D9: nothing otherwise).
-  // Declared after the devices: it is the first device's wire tap and goes first.
-  std::unique_ptr<FaultWiring> faults;
+  // Declared after the devices: its taps plug into them and go first.
+  std::unique_ptr<Supervision> supervision;
 
   std::uint64_t activity = 0;  // fd callbacks that did something (virtual time: is anything ready?)
   WallTime last_activity_wall{};
@@ -200,21 +200,15 @@ std::optional<StartFailure> Daemon::Impl::open_device(std::size_t index, const O
 endpoints::Counters Daemon::Impl::counters() const {
   endpoints::Counters all;
   for (const auto& device : devices) all += device->counters();
-  if (faults) faults->fill_counters(all);
+  if (supervision) supervision->fill_counters(all);
   return all;
 }
 
 std::optional<StartFailure> Daemon::Impl::build_faults() {
   if (scene.faults.empty() && !options.control_path && !options.event_log_path) return std::nullopt;
-  FaultWiring::Setup setup;
-  if (options.control_path) setup.control_path = options.control_path->string();
-  if (options.event_log_path) setup.event_log_path = options.event_log_path->string();
-  setup.version = LDOEM_VERSION;
-  setup.world = world.get();
-  setup.imports_off_loop = !options.virtual_time;  // issue 27: a stopped virtual clock keeps imports deterministic
-  auto wiring = FaultWiring::create(scene, devices, *this, *loop, logger, std::move(setup), [this] { loop->stop(); });
-  if (!wiring) return StartFailure{kExitUsageError, wiring.error()};
-  faults = std::move(*wiring);
+  auto built = Supervision::create(scene, devices, options, world.get(), *this, *loop, logger, [this] { loop->stop(); });
+  if (!built) return StartFailure{kExitUsageError, built.error()};
+  supervision = std::move(*built);
   if (options.control_path) out << "control " << options.control_path->string() << "\n";
   return std::nullopt;
 }
@@ -398,6 +392,8 @@ std::size_t Daemon::device_count() const { return impl_->devices.size(); }
 
 SimTime Daemon::now() const { return impl_->now(); }
 
-control_socket::ControlTarget* Daemon::control_target() { return impl_->faults.get(); }
+control_socket::ControlTarget* Daemon::control_target() {
+  return impl_->supervision ? &impl_->supervision->control_target() : nullptr;
+}
 
 }  // namespace ldoem::daemon

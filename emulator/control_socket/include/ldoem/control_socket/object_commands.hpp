@@ -1,7 +1,7 @@
 // The control socket's object commands (D12 runtime changes, docs/faults.md "Control socket"):
-// their arguments, checked here without touching the world (the daemon acts on them:
-// emulator/daemon/src/object_control.cpp). Pure: JSON in, a request or the reason it is refused
-// out. Its own library (ldoem_object_commands): it needs the scene loader, the protocol does not.
+// their arguments, checked here without touching the world (the daemon's monitor acts on them:
+// monitor/src/object_control.cpp). Pure: JSON in, a request or the reason it is refused out.
+// Its own library (ldoem_object_commands): it needs the scene loader, the protocol does not.
 //
 //   move-object    {"name": "door", "position_m": [x, y, z], "rpy_deg": [r, p, y],
 //                   "at_s": 2.5, "keep_velocity": false}

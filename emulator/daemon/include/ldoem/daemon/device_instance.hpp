@@ -81,7 +81,7 @@ class DeviceInstance final : public endpoints::EndpointSink,
   [[nodiscard]] bool close();
   Counters counters() const;
   const control::ControlUnit& unit() const { return *unit_; }
-  // The fault machinery (D11, fault_wiring.hpp) acts on the control unit directly and hands the
+  // The fault machinery (D11, fault_tap.hpp) acts on the control unit directly and hands the
   // Actions it got back here, like any other event's.
   control::ControlUnit& unit_for_faults() { return *unit_; }
   void perform_actions(base::SimTime at, const control::Actions& actions) { perform(at, actions); }

@@ -8,7 +8,7 @@
 // framing. Without faults in the scene the daemon sets no hook: each point costs one null-pointer
 // test, and the bytes are those of a daemon without the fault machinery (D9's rule, D11).
 //
-// The daemon's implementation (emulator/daemon, endpoint_faults.hpp) reads the fault scheduler;
+// The implementation (emulator/faults/injection, endpoint_faults.hpp) reads the fault scheduler;
 // answers are deterministic for a given scene, seed and conversation. A hook never calls back into
 // the endpoint.
 #pragma once

@@ -1,8 +1,9 @@
-// The daemon's fault machinery without I/O (D11). It owns the fault scheduler and acts on the
-// control unit: motor faults, spontaneous resets, power cycles and beam faults. The daemon
-// feeds it time and requests, performs the control-unit Actions it returns, puts its endpoints
-// in the power states it names (Power), and broadcasts its event lines. Wire faults are read from scheduler() by the
-// daemon's wire tap. Deterministic: no clock, no global random state.
+// A device's fault machinery without I/O (D11). It owns the fault scheduler and acts on the
+// control unit: motor faults, spontaneous resets, power cycles and beam faults. Its caller, the
+// device's FaultTap (fault_tap.hpp), feeds it time and requests, performs the control-unit Actions
+// it returns, puts the endpoints in the power states it names (Power) and hands its events on;
+// the tap and the endpoints' hook read the wire faults from scheduler(). Deterministic: no
+// clock, no global random state.
 #pragma once
 
 #include <cstdint>
@@ -66,7 +67,7 @@ class FaultInjector {
   nlohmann::json query_faults() const;
   faults::FaultScheduler& scheduler() { return scheduler_; }
   const faults::FaultScheduler& scheduler() const { return scheduler_; }
-  // Events the wire tap produced (count used): turned into event lines by the caller.
+  // Events the wire faults produced (count used): turned into event lines by the caller.
   void events_from(const std::vector<faults::FaultEvent>& fault_events, InjectorOutput& out);
 
   std::uint64_t injections() const { return injections_; }

@@ -12,7 +12,7 @@
 
 #include "ldoem/endpoints/logger.hpp"
 
-namespace ldoem::daemon {
+namespace ldoem::monitor {
 
 class EventLog {
  public:
@@ -36,4 +36,4 @@ class EventLog {
   std::string record_;              // reused buffer: the line and its newline
 };
 
-}  // namespace ldoem::daemon
+}  // namespace ldoem::monitor

@@ -1,9 +1,10 @@
-#include "ldoem/daemon/endpoint_faults.hpp"
+#include "ldoem/fault_injection/endpoint_faults.hpp"
 
+#include "ldoem/protocol/bytes.hpp"
 #include "ldoem/protocol/isotp.hpp"
 #include "ldoem/protocol/service_codes.hpp"
 
-namespace ldoem::daemon {
+namespace ldoem::fault_injection {
 
 using endpoints::ConsecutiveFrameFault;
 using endpoints::FirstFrameFault;
@@ -21,9 +22,9 @@ constexpr SimTime kOpenStallRecheck = std::chrono::milliseconds(100);
 
 std::uint16_t answered_request(protocol::ByteView payload) {
   if (payload.size() < 2) return 0;
-  const auto code = static_cast<std::uint16_t>((payload[0] << 8) | payload[1]);
+  const std::uint16_t code = protocol::read_word_be(payload, 0);
   if (code == protocol::code_of(protocol::Service::service_failure)) {
-    return payload.size() >= 4 ? static_cast<std::uint16_t>((payload[2] << 8) | payload[3]) : 0;
+    return payload.size() >= 4 ? protocol::read_word_be(payload, 2) : 0;
   }
   return static_cast<std::uint16_t>(code & ~protocol::kResponseBit);
 }
@@ -34,7 +35,7 @@ std::optional<faults::ActiveFault> EndpointFaults::take(SimTime now, FaultKind k
   std::vector<faults::FaultEvent> used;
   auto fault = injector_.scheduler().take_wire_fault(now, kind, transport, service, used);
   if (!used.empty()) {
-    fault_injection::InjectorOutput output;
+    InjectorOutput output;
     injector_.events_from(used, output);
     take_(std::move(output));
   }
@@ -82,7 +83,7 @@ std::optional<std::uint32_t> EndpointFaults::bytes_per_second(protocol::Connecti
 FirstFrameFault EndpointFaults::on_host_first_frame(protocol::ConnectionId from, std::uint16_t service, SimTime now) {
   const Transport transport = from.kind;
   // The request's triggers of the first-frame kinds count it here, so that `on: {service, nth}`
-  // refuses or holds that very request; the others count it once it is complete (FaultWiring).
+  // refuses or holds that very request; the others count it once it is complete (FaultTap::on_telegram).
   take_(injector_.on_request(now, service, transport, faults::RequestSeen::first_frame));
   if (take(now, FaultKind::isotp_fc_overflow, transport, service)) return FirstFrameFault::overflow;
   if (take(now, FaultKind::isotp_fc_wait, transport, service)) return FirstFrameFault::wait;
@@ -98,4 +99,4 @@ bool EndpointFaults::loses_step(SimTime at) {
   return take(at, FaultKind::lpt_lose_steps, Transport::lpt, std::nullopt).has_value();
 }
 
-}  // namespace ldoem::daemon
+}  // namespace ldoem::fault_injection

@@ -1,5 +1,5 @@
-// FaultWiring's D12 commands (move-object, add-object, remove-object) and the CONNECTION events:
-// the control socket's side of the world, kept apart from the fault machinery in fault_wiring.cpp.
+// The monitor's D12 commands (move-object, add-object, remove-object): the control socket's side
+// of the world. They act on the daemon (the shared world), not on one scanner.
 // Each command runs on the loop's thread, between revolutions, so the casters are never busy;
 // only add-object's parse, mesh import and the mesh's collision tree may be built on a worker
 // thread (issue 27), and the result comes back to the loop's thread before it touches the world.
@@ -12,11 +12,13 @@
 #include <mutex>
 #include <thread>
 
-#include "ldoem/daemon/fault_wiring.hpp"
+#include "ldoem/base/unique_fd.hpp"
 #include "ldoem/control_socket/object_commands.hpp"
+#include "ldoem/monitor/monitor.hpp"
+#include "ldoem/plant/scene_plant.hpp"
 #include "ldoem/raycast/ode_world.hpp"
 
-namespace ldoem::daemon {
+namespace ldoem::monitor {
 
 using control_socket::AddObjectRequest;
 using control_socket::command_time;
@@ -59,7 +61,7 @@ base::Expected<double, std::string> guarded(std::string_view command, std::uint6
 
 }  // namespace
 
-CommandResult FaultWiring::move_object(const json& arguments) {
+CommandResult Monitor::move_object(const json& arguments) {
   auto parsed = parse_move_object(arguments);
   if (!parsed) return refused(parsed.error());
   const MoveObjectRequest& request = *parsed;
@@ -76,13 +78,13 @@ CommandResult FaultWiring::move_object(const json& arguments) {
             {"rpy_deg", vector_json(request.rpy_deg)},
             {"at_s", *moved},
             {"keep_velocity", request.keep_velocity}};
-  publish({"OBJECT_MOVED", data, now});
+  publish_daemon({"OBJECT_MOVED", data, now});
   return json{{"name", request.name}, {"at_s", *moved}};
 }
 
 // The one add-object whose mesh is being imported. Shared with the worker, which may outlive the
-// wiring (the daemon stops mid-import): it owns its eventfd, and it touches nothing else.
-struct FaultWiring::Import {
+// monitor (the daemon stops mid-import): it owns its eventfd, and it touches nothing else.
+struct Monitor::Import {
   base::UniqueFd done;  // eventfd: written by the worker when `parsed` is set
   json arguments;
   ReplyLine reply_line;
@@ -93,7 +95,7 @@ struct FaultWiring::Import {
   std::shared_ptr<const raycast::TriMeshData> mesh;  // the imported mesh's trimesh data
 };
 
-CommandResult FaultWiring::add_object(const json& arguments) {
+CommandResult Monitor::add_object(const json& arguments) {
   const bool mesh = arguments.contains("object") && arguments["object"].is_object() && arguments["object"].contains("mesh");
   if (mesh && import_) return refused("add-object: another add-object is still importing its mesh; ask again when it has answered");
   return add_parsed(arguments, parse_add_object(arguments), scheduler_.now());
@@ -102,13 +104,13 @@ CommandResult FaultWiring::add_object(const json& arguments) {
 // Issue 27 (D8): the project's own large-rock.obj kept the loop, and so every host, unanswered
 // for 657 ms while assimp read it. A mesh is now parsed and imported on a worker thread; the
 // world changes on the loop's thread when it is done. One import at a time.
-bool FaultWiring::add_object_later(const json& arguments, ReplyLine reply_line) {
+bool Monitor::add_object_later(const json& arguments, ReplyLine reply_line) {
   const bool mesh = arguments.contains("object") && arguments["object"].is_object() && arguments["object"].contains("mesh");
-  if (!imports_off_loop_ || !mesh || import_ || server_ == nullptr || loop_ == nullptr || world_ == nullptr) return false;
+  if (!imports_off_loop_ || !mesh || import_ || server_ == nullptr || world_ == nullptr) return false;
   auto job = std::make_shared<Import>();
   job->done.reset(::eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK));
   if (!job->done.valid()) return false;  // no eventfd: import on the loop as before
-  if (!loop_->watch(job->done.get(), io::Interest::readable, [this](io::Readiness) { finish_import(); })) return false;
+  if (!loop_.watch(job->done.get(), io::Interest::readable, [this](io::Readiness) { finish_import(); })) return false;
   job->arguments = arguments;
   job->reply_line = std::move(reply_line);
   job->asked_at = scheduler_.now();
@@ -140,10 +142,10 @@ bool FaultWiring::add_object_later(const json& arguments, ReplyLine reply_line) 
   return true;
 }
 
-void FaultWiring::finish_import() {
+void Monitor::finish_import() {
   const std::shared_ptr<Import> job = std::move(import_);
   if (!job) return;
-  loop_->unwatch(job->done.get());
+  loop_.unwatch(job->done.get());
   control_socket::ParsedAddObject parsed{base::Unexpected(std::string())};
   std::shared_ptr<const raycast::TriMeshData> mesh;
   {
@@ -163,16 +165,16 @@ void FaultWiring::finish_import() {
 // The daemon stops during an import: the worker is given a bounded time to finish, so that it is
 // not still inside assimp while the process runs its exit handlers; after that it is left alone
 // (it owns everything it touches).
-void FaultWiring::abandon_import() {
+void Monitor::abandon_import() {
   if (!import_) return;
-  if (loop_ != nullptr) loop_->unwatch(import_->done.get());
+  loop_.unwatch(import_->done.get());
   pollfd done{import_->done.get(), POLLIN, 0};
   while (::poll(&done, 1, static_cast<int>(kImportGrace.count())) < 0 && errno == EINTR) {
   }
   import_.reset();
 }
 
-CommandResult FaultWiring::add_parsed(const json& arguments, control_socket::ParsedAddObject parsed,
+CommandResult Monitor::add_parsed(const json& arguments, control_socket::ParsedAddObject parsed,
                                       base::SimTime now, std::shared_ptr<const raycast::TriMeshData> mesh) {
   if (!parsed) return refused(parsed.error());
   AddObjectRequest& request = *parsed;
@@ -184,11 +186,11 @@ CommandResult FaultWiring::add_parsed(const json& arguments, control_socket::Par
     return world_->add_object(std::move(request.object), *at_s, std::move(mesh));
   });
   if (!added) return refused(added.error());
-  publish({"OBJECT_ADDED", json{{"name", name}, {"at_s", *added}, {"object", arguments["object"]}}, now});
+  publish_daemon({"OBJECT_ADDED", json{{"name", name}, {"at_s", *added}, {"object", arguments["object"]}}, now});
   return json{{"name", name}, {"at_s", *added}};
 }
 
-CommandResult FaultWiring::remove_object(const json& arguments) {
+CommandResult Monitor::remove_object(const json& arguments) {
   auto parsed = parse_remove_object(arguments);
   if (!parsed) return refused(parsed.error());
   const RemoveObjectRequest& request = *parsed;
@@ -199,24 +201,8 @@ CommandResult FaultWiring::remove_object(const json& arguments) {
   auto removed = guarded("remove-object", mesh_trees_on_loop_,
                          [&] { return world_->remove_object(request.name, *at_s); });
   if (!removed) return refused(removed.error());
-  publish({"OBJECT_REMOVED", json{{"name", request.name}, {"at_s", *removed}}, now});
+  publish_daemon({"OBJECT_REMOVED", json{{"name", request.name}, {"at_s", *removed}}, now});
   return json{{"name", request.name}, {"at_s", *removed}};
 }
 
-void FaultWiring::on_connection(bool opened, control::ConnectionId connection, std::string_view peer) {
-  const std::string label = protocol::to_string(connection);  // "tcp#3"
-  json data{{"transport", label.substr(0, label.find('#'))}, {"connection", connection.index}};
-  if (opened) {
-    peers_[connection] = std::string(peer);
-    data["peer"] = std::string(peer);
-  } else {
-    forget_delayed(connection);
-    if (const auto known = peers_.find(connection); known != peers_.end()) {
-      data["peer"] = known->second;
-      peers_.erase(known);
-    }
-  }
-  publish({opened ? "CONNECTION_OPENED" : "CONNECTION_CLOSED", data, scheduler_.now()});
-}
-
-}  // namespace ldoem::daemon
+}  // namespace ldoem::monitor

@@ -1,4 +1,4 @@
-#include "ldoem/daemon/event_log.hpp"
+#include "ldoem/monitor/event_log.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -8,7 +8,7 @@
 
 #include "ldoem/base/regular_file.hpp"
 
-namespace ldoem::daemon {
+namespace ldoem::monitor {
 
 EventLog::~EventLog() {
   if (fd_ >= 0) ::close(fd_);
@@ -53,4 +53,4 @@ void EventLog::write(std::string_view line, const endpoints::Logger& logger) {
   }
 }
 
-}  // namespace ldoem::daemon
+}  // namespace ldoem::monitor

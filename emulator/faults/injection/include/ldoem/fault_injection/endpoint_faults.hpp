@@ -1,17 +1,16 @@
-// The daemon's WireFaultHook (endpoints/wire_fault_hook.hpp): the D11 wire faults that act inside
-// the endpoints, read from the fault scheduler. FaultWiring owns it and hands it to every
-// endpoint of the device; it exists only when FaultWiring does (D9: no faults, no hook).
+// The endpoints' WireFaultHook (endpoints/wire_fault_hook.hpp): the D11 wire faults that act inside
+// the endpoints, read from the fault scheduler. The device's FaultTap (fault_tap.hpp) owns it and
+// hands it to every endpoint of the device; it exists only when the tap does (D9: no faults, no hook).
 #pragma once
 
 #include <cstdint>
 #include <functional>
 #include <vector>
 
-#include "ldoem/control/ports.hpp"
 #include "ldoem/endpoints/wire_fault_hook.hpp"
 #include "ldoem/fault_injection/fault_injector.hpp"
 
-namespace ldoem::daemon {
+namespace ldoem::fault_injection {
 
 // The request a telegram to the host answers: its code without the response bit, the request
 // code inside a SERVICE_FAILURE, GET_PROFILE for a profile.
@@ -19,9 +18,9 @@ std::uint16_t answered_request(protocol::ByteView payload);
 
 class EndpointFaults final : public endpoints::WireFaultHook {
  public:
-  // `take` acts on what the injector says (FaultWiring::take): the events of a count used up, or
+  // `take` acts on what the injector says (FaultTap::take): the events of a count used up, or
   // of a fault a host's first frame triggered.
-  EndpointFaults(fault_injection::FaultInjector& injector, std::function<void(fault_injection::InjectorOutput)> take)
+  EndpointFaults(FaultInjector& injector, std::function<void(InjectorOutput)> take)
       : injector_(injector), take_(std::move(take)) {}
 
   endpoints::TelegramFaults on_outgoing_telegram(protocol::ConnectionId to, protocol::ByteView payload,
@@ -38,8 +37,8 @@ class EndpointFaults final : public endpoints::WireFaultHook {
   std::optional<faults::ActiveFault> take(base::SimTime now, faults::FaultKind kind, protocol::Transport transport,
                                           std::optional<std::uint16_t> service);
 
-  fault_injection::FaultInjector& injector_;
-  std::function<void(fault_injection::InjectorOutput)> take_;
+  FaultInjector& injector_;
+  std::function<void(InjectorOutput)> take_;
 };
 
-}  // namespace ldoem::daemon
+}  // namespace ldoem::fault_injection
