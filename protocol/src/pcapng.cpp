@@ -51,7 +51,7 @@ Bytes make_block(std::uint32_t type, const Bytes& body) {
 }
 
 // Reads integers in the byte order the current section declared.
-struct Reader {
+struct SectionReader {
   ByteView bytes;
   bool big_endian = false;
 
@@ -94,7 +94,7 @@ std::uint64_t to_nanoseconds(const Interface& interface, std::uint64_t ticks) {
 }
 
 // Options of an IDB: only if_tsresol matters for reading.
-void read_interface_options(const Reader& reader, std::size_t at, std::size_t end, Interface& interface) {
+void read_interface_options(const SectionReader& reader, std::size_t at, std::size_t end, Interface& interface) {
   while (at + 4 <= end) {
     const std::uint16_t code = reader.u16(at);
     const std::uint16_t length = reader.u16(at + 2);
@@ -109,7 +109,7 @@ void read_interface_options(const Reader& reader, std::size_t at, std::size_t en
   }
 }
 
-PacketDirection read_packet_flags(const Reader& reader, std::size_t at, std::size_t end) {
+PacketDirection read_packet_flags(const SectionReader& reader, std::size_t at, std::size_t end) {
   while (at + 4 <= end) {
     const std::uint16_t code = reader.u16(at);
     const std::uint16_t length = reader.u16(at + 2);
@@ -196,17 +196,17 @@ base::Expected<std::vector<CapturePacket>, CaptureFormatFailure> decode_pcapng(B
   if (!looks_like_pcapng(file)) return fail(CaptureFormatError::not_pcapng, 0);
   std::vector<CapturePacket> packets;
   std::vector<Interface> interfaces;
-  Reader reader{file, false};
+  SectionReader reader{file, false};
   std::size_t at = 0;
   while (at < file.size()) {
     if (file.size() - at < kBlockOverhead) return fail(CaptureFormatError::truncated, at);
     const bool section = file[at] == 0x0A && file[at + 1] == 0x0D && file[at + 2] == 0x0D && file[at + 3] == 0x0A;
     if (section) {
       if (file.size() - at < 16) return fail(CaptureFormatError::truncated, at);
-      const std::uint32_t magic_le = Reader{file, false}.u32(at + 8);
+      const std::uint32_t magic_le = SectionReader{file, false}.u32(at + 8);
       if (magic_le == kPcapngByteOrderMagic) {
         reader.big_endian = false;
-      } else if (Reader{file, true}.u32(at + 8) == kPcapngByteOrderMagic) {
+      } else if (SectionReader{file, true}.u32(at + 8) == kPcapngByteOrderMagic) {
         reader.big_endian = true;
       } else {
         return fail(CaptureFormatError::bad_byte_order, at);

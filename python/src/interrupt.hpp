@@ -28,9 +28,9 @@ bool python_signal_raised();
 // Waits `pause` in slices; returns false (early) once a handler raised.
 bool sliced_sleep(std::chrono::milliseconds pause, InterruptState& state);
 
-class InterruptibleTransport final : public driver::Transport {
+class InterruptibleTransport final : public driver::TelegramTransport {
  public:
-  InterruptibleTransport(std::unique_ptr<driver::Transport> inner, std::shared_ptr<InterruptState> state)
+  InterruptibleTransport(std::unique_ptr<driver::TelegramTransport> inner, std::shared_ptr<InterruptState> state)
       : inner_(std::move(inner)), state_(std::move(state)) {}
   driver::Status send(driver::ByteView payload, driver::Deadline deadline) override;
   driver::Expected<driver::Bytes, driver::DriverError> receive(driver::Deadline deadline) override;
@@ -41,7 +41,7 @@ class InterruptibleTransport final : public driver::Transport {
 
  private:
   driver::DriverError interrupted_error(const char* operation) const;
-  std::unique_ptr<driver::Transport> inner_;
+  std::unique_ptr<driver::TelegramTransport> inner_;
   std::shared_ptr<InterruptState> state_;
 };
 

@@ -69,10 +69,10 @@ py::object scan(const std::string& device, std::optional<std::string> lpt, doubl
   device_options.stepper.step_rate_hz = options.step_rate_hz;
   const driver::Endpoint scanner_endpoint = *options.device;
   driver::TransportFactory open_transport = [scanner_endpoint, state]()
-      -> driver::Expected<std::unique_ptr<driver::Transport>, driver::DriverError> {
+      -> driver::Expected<std::unique_ptr<driver::TelegramTransport>, driver::DriverError> {
     auto transport = driver::open_transport(scanner_endpoint);
     if (!transport) return driver::fail(transport.error());
-    return std::unique_ptr<driver::Transport>(std::make_unique<InterruptibleTransport>(std::move(*transport), state));
+    return std::unique_ptr<driver::TelegramTransport>(std::make_unique<InterruptibleTransport>(std::move(*transport), state));
   };
   driver::LptFactory open_lpt;
   if (options.lpt) open_lpt = [endpoint = *options.lpt] { return driver::open_lpt_port(endpoint); };

@@ -182,11 +182,11 @@ class PyScanner {
   double tilt_deg() const { return stepper_ ? stepper_->tilt_angle_deg() : 0.0; }
 
  private:
-  static driver::Expected<std::unique_ptr<driver::Transport>, driver::DriverError> open(
+  static driver::Expected<std::unique_ptr<driver::TelegramTransport>, driver::DriverError> open(
       const driver::Endpoint& endpoint, const std::shared_ptr<InterruptState>& state) {
     auto transport = driver::open_transport(endpoint);
     if (!transport) return driver::fail(transport.error());
-    return std::unique_ptr<driver::Transport>(std::make_unique<InterruptibleTransport>(std::move(*transport), state));
+    return std::unique_ptr<driver::TelegramTransport>(std::make_unique<InterruptibleTransport>(std::move(*transport), state));
   }
 
   driver::TiltStepper& tilt_stepper() {
@@ -212,9 +212,9 @@ class PyScanner {
 
 // `for profile in scanner.profiles(...)`: the stream runs from construction; a finite count ends
 // the iteration after that many profiles; leaving a `with` block (or close()) cancels it.
-class ProfileStream {
+class PyProfileStream {
  public:
-  ProfileStream(PyScanner& scanner, std::uint16_t count, std::uint16_t format, double timeout_s)
+  PyProfileStream(PyScanner& scanner, std::uint16_t count, std::uint16_t format, double timeout_s)
       : scanner_(scanner), left_(count), endless_(count == 0), timeout_s_(timeout_s) {
     scanner_.start_stream(count, format);
   }
@@ -253,14 +253,14 @@ void bind_scanner(py::module_& m) {
         return "<ldoem.Profile count=" + std::to_string(p.profile_count) + " points=" + std::to_string(p.points.size()) + ">";
       });
 
-  py::class_<ProfileStream>(m, "ProfileStream", "An iterator over a profile stream (Scanner.profiles)")
-      .def("__iter__", [](ProfileStream& s) -> ProfileStream& { return s; })
-      .def("__next__", &ProfileStream::next)
-      .def("close", &ProfileStream::close)
-      .def("__enter__", [](ProfileStream& s) -> ProfileStream& { return s; })
+  py::class_<PyProfileStream>(m, "ProfileStream", "An iterator over a profile stream (Scanner.profiles)")
+      .def("__iter__", [](PyProfileStream& s) -> PyProfileStream& { return s; })
+      .def("__next__", &PyProfileStream::next)
+      .def("close", &PyProfileStream::close)
+      .def("__enter__", [](PyProfileStream& s) -> PyProfileStream& { return s; })
       // Leaving the block because of an error: that error goes on, not a failing cancel after it
       // (a lost connection fails both); Ctrl-C during the cancel still wins.
-      .def("__exit__", [](ProfileStream& s, const py::object& type, const py::object&, const py::object&) {
+      .def("__exit__", [](PyProfileStream& s, const py::object& type, const py::object&, const py::object&) {
         if (type.is_none()) {
           s.close();
           return;
@@ -301,7 +301,7 @@ void bind_scanner(py::module_& m) {
       .def(
           "profiles",
           [](PyScanner& s, std::uint16_t count, std::uint16_t format, double timeout) {
-            return std::make_unique<ProfileStream>(s, count, format, timeout);
+            return std::make_unique<PyProfileStream>(s, count, format, timeout);
           },
           py::arg("count") = 0, py::arg("format") = protocol::kFormatRangeEcho, py::arg("timeout") = 5.0,
           py::keep_alive<0, 1>())

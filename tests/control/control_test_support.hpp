@@ -59,7 +59,7 @@ class AngleDerivedSource final : public MeasurementSource {
   }
 };
 
-class FakeTransport final : public TransportQuery {
+class FakeTransportQuery final : public TransportQuery {
  public:
   std::set<ConnectionId> busy_connections;
   bool busy(ConnectionId connection) const override { return busy_connections.count(connection) != 0; }
@@ -87,7 +87,7 @@ class Bench {
  public:
   FixedSpinUpHead head;
   AngleDerivedSource source;
-  FakeTransport transport;
+  FakeTransportQuery transport;
   ControlUnit unit;
   SimTime now{};
   std::vector<Sent> log;

@@ -71,7 +71,7 @@ class ProportionalHead final : public HeadModel {
 TEST(MotorFaults, StallWithHeadDynamics_NibbleFourBelowNinetyPercent) {
   ProportionalHead head;
   AngleDerivedSource source;
-  FakeTransport transport;  // never busy
+  FakeTransportQuery transport;  // never busy
   ControlUnit unit({}, head, source);
   // 0 -> 10 Hz takes 1 s with this head.
   Actions spin = unit.handle_request(0s, kTcp1, telegram("TRANS_ROTATE 0000"), transport);
@@ -311,7 +311,7 @@ TEST(BeamFaults, WindowDirtScalesEchoAndDropsBelowThreshold) {
   for (const auto& [dirt, distance, echo] : {std::tuple{0.4, 512, 1200}, std::tuple{0.6, 0, 0}}) {
     FixedSpinUpHead head;
     BrightSource source;
-    FakeTransport transport;  // never busy
+    FakeTransportQuery transport;  // never busy
     ControlUnit unit({}, head, source);
     unit.set_beam_faults(BeamFaults{{}, dirt, 1});
     Actions spin = unit.handle_request(0s, kTcp1, telegram("TRANS_ROTATE 0000"), transport);

@@ -6,14 +6,14 @@
 namespace ldoem::control::test {
 namespace {
 
-struct Case {
+struct ReplyFailureCase {
   const char* request;  // text form; raw hex WORDs where the text grammar cannot express it
   const char* reply;
 };
 
-void PrintTo(const Case& c, std::ostream* os) { *os << c.request; }
+void PrintTo(const ReplyFailureCase& c, std::ostream* os) { *os << c.request; }
 
-class InvalidRequest : public ::testing::TestWithParam<Case> {};
+class InvalidRequest : public ::testing::TestWithParam<ReplyFailureCase> {};
 
 TEST_P(InvalidRequest, IsAnsweredAsD2Decides) {
   Bench bench;
@@ -25,28 +25,28 @@ INSTANTIATE_TEST_SUITE_P(
     D2, InvalidRequest,
     ::testing::Values(
         // 0x0001 unknown service (and a response code sent to the LD).
-        Case{"0500 0001", "SERVICE_FAILURE 0500 0001"}, Case{"0103", "SERVICE_FAILURE 0103 0001"},
-        Case{"GET_STATUS reply 0000 0001", "SERVICE_FAILURE 8102 0001"},
-        Case{"SERVICE_FAILURE", "SERVICE_FAILURE ff00 0001"},
-        Case{"SAVE 0001", "SERVICE_FAILURE 0702 0001"},
+        ReplyFailureCase{"0500 0001", "SERVICE_FAILURE 0500 0001"}, ReplyFailureCase{"0103", "SERVICE_FAILURE 0103 0001"},
+        ReplyFailureCase{"GET_STATUS reply 0000 0001", "SERVICE_FAILURE 8102 0001"},
+        ReplyFailureCase{"SERVICE_FAILURE", "SERVICE_FAILURE ff00 0001"},
+        ReplyFailureCase{"SAVE 0001", "SERVICE_FAILURE 0702 0001"},
         // 0x0002 wrong length: missing or surplus WORDs; only one trailing 0x0000 is accepted.
-        Case{"GET_STATUS 0000 0000", "SERVICE_FAILURE 0102 0002"},
-        Case{"GET_STATUS 0001", "SERVICE_FAILURE 0102 0002"},
-        Case{"TRANS_ROTATE", "SERVICE_FAILURE 0403 0002"},
-        Case{"GET_PROFILE 0000", "SERVICE_FAILURE 0301 0002"},
-        Case{"SET_FUNCTION 0000 0003 0870", "SERVICE_FAILURE 020a 0002"},
-        Case{"DO_RESET 0002 0000", "SERVICE_FAILURE 0401 0002"},
-        Case{"0102 00", "SERVICE_FAILURE 0102 0002"},
-        Case{"01", "SERVICE_FAILURE 0000 0002"},  // too short for a code: request code 0
+        ReplyFailureCase{"GET_STATUS 0000 0000", "SERVICE_FAILURE 0102 0002"},
+        ReplyFailureCase{"GET_STATUS 0001", "SERVICE_FAILURE 0102 0002"},
+        ReplyFailureCase{"TRANS_ROTATE", "SERVICE_FAILURE 0403 0002"},
+        ReplyFailureCase{"GET_PROFILE 0000", "SERVICE_FAILURE 0301 0002"},
+        ReplyFailureCase{"SET_FUNCTION 0000 0003 0870", "SERVICE_FAILURE 020a 0002"},
+        ReplyFailureCase{"DO_RESET 0002 0000", "SERVICE_FAILURE 0401 0002"},
+        ReplyFailureCase{"0102 00", "SERVICE_FAILURE 0102 0002"},
+        ReplyFailureCase{"01", "SERVICE_FAILURE 0000 0002"},  // too short for a code: request code 0
         // 0x0004 parameter out of range.
-        Case{"GET_IDENTIFICATION 0005", "SERVICE_FAILURE 0101 0004"},
-        Case{"GET_IDENTIFICATION 0023", "SERVICE_FAILURE 0101 0004"},
-        Case{"GET_FUNCTION 0008", "SERVICE_FAILURE 020b 0004"},
-        Case{"GET_CONFIG 0003", "SERVICE_FAILURE 0202 0004"},
-        Case{"SET_FILTER 0002 0001", "SERVICE_FAILURE 0209 0004"},
-        Case{"SET_FILTER 0001 0002", "SERVICE_FAILURE 0209 0004"},
-        Case{"TRANS_ROTATE 0003", "SERVICE_FAILURE 0403 0004"},
-        Case{"DO_RESET 0004", "SERVICE_FAILURE 0401 0004"}));
+        ReplyFailureCase{"GET_IDENTIFICATION 0005", "SERVICE_FAILURE 0101 0004"},
+        ReplyFailureCase{"GET_IDENTIFICATION 0023", "SERVICE_FAILURE 0101 0004"},
+        ReplyFailureCase{"GET_FUNCTION 0008", "SERVICE_FAILURE 020b 0004"},
+        ReplyFailureCase{"GET_CONFIG 0003", "SERVICE_FAILURE 0202 0004"},
+        ReplyFailureCase{"SET_FILTER 0002 0001", "SERVICE_FAILURE 0209 0004"},
+        ReplyFailureCase{"SET_FILTER 0001 0002", "SERVICE_FAILURE 0209 0004"},
+        ReplyFailureCase{"TRANS_ROTATE 0003", "SERVICE_FAILURE 0403 0004"},
+        ReplyFailureCase{"DO_RESET 0004", "SERVICE_FAILURE 0401 0004"}));
 
 TEST(FramingError, IsAnsweredWithReasonFiveAndTheCodeTheFrameCarried) {
   Bench bench;

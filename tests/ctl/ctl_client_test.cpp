@@ -20,7 +20,7 @@ namespace {
 using nlohmann::json;
 using namespace std::chrono_literals;
 
-class Target final : public control_socket::ControlTarget {
+class StubTarget final : public control_socket::ControlTarget {
  public:
   control_socket::CommandResult inject_fault(const faults::FaultSpec&) override { return json{{"id", 3}}; }
   control_socket::CommandResult clear_fault(std::optional<std::uint64_t>) override {
@@ -72,7 +72,7 @@ class CtlRun : public ::testing::Test {
   }
 
   std::string path_;
-  Target target_;
+  StubTarget target_;
   std::unique_ptr<io::EventLoop> loop_;
   std::unique_ptr<control_socket::ControlServer> server_;
   std::thread thread_;

@@ -232,7 +232,7 @@ TEST(DaemonMemory, CanConfigChange_IsPassedToTheEndpointsOnceAfterItsReply) {
 
 // ----------------------------------------------------------------------------------- wire tap
 
-struct RecordingTap final : endpoints::WireTap {
+struct CollectingTap final : endpoints::WireTap {
   std::vector<endpoints::WireTelegram> seen;
   bool drop_replies = false;
   bool corrupt_requests = false;
@@ -249,7 +249,7 @@ struct RecordingTap final : endpoints::WireTap {
 TEST(DaemonWireTap, SeesEveryTelegramInAndOut) {
   InProcess d;
   ASSERT_TRUE(d.daemon) << d.failure;
-  RecordingTap tap;
+  CollectingTap tap;
   d.daemon->device().set_wire_tap(&tap);
   EXPECT_EQ(d.reply_text(3, "GET_STATUS"), "GET_STATUS reply 0000 0001");
   ASSERT_EQ(tap.seen.size(), 2u);
@@ -264,7 +264,7 @@ TEST(DaemonWireTap, SeesEveryTelegramInAndOut) {
 TEST(DaemonWireTap, DroppedReply_NeverReachesTheHost_AndAlteredRequestIsWhatTheDeviceSees) {
   InProcess d;
   ASSERT_TRUE(d.daemon) << d.failure;
-  RecordingTap tap;
+  CollectingTap tap;
   d.daemon->device().set_wire_tap(&tap);
   tap.drop_replies = true;
   d.host->host_sends(1, telegram("GET_STATUS"));

@@ -203,16 +203,16 @@ TEST(DaemonObjects, SameCommandsAtTheSameDeviceTimes_GiveTheSameBytes) {
 
 // Profiles of a fixed conversation: start, then `count` profiles, with `commands` handed over
 // after the start (at device times given in them).
-struct Conversation {
+struct ScriptedConversation {
   std::vector<MemoryEndpoint::Sent> profiles;
   std::vector<json> replies;
   std::string events;
 };
 
-Conversation converse(const std::string& scene_text, bool with_control, const std::vector<json>& commands,
+ScriptedConversation converse(const std::string& scene_text, bool with_control, const std::vector<json>& commands,
                       std::size_t count = 24) {
   ObjectDaemon d(scene_text, with_control);
-  Conversation c;
+  ScriptedConversation c;
   EXPECT_TRUE(d.daemon) << d.failure;
   if (!d.daemon) return c;
   d.start_measuring();

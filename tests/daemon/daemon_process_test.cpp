@@ -25,11 +25,11 @@ using namespace std::chrono_literals;
 using test_support::open_raw;
 
 // A daemon on an ephemeral TCP port, no CAN, flash in memory unless the test names one.
-struct Running {
+struct RunningDaemon {
   TempDir dir;
   std::optional<DaemonProcess> process;
 
-  explicit Running(std::vector<std::string> extra = {}, bool virtual_time = true) {
+  explicit RunningDaemon(std::vector<std::string> extra = {}, bool virtual_time = true) {
     const std::string scene = dir.write("scene.yaml", minimal_scene_text());
     std::vector<std::string> arguments{"--scene", scene, "--no-can", "--tcp", "tcp:127.0.0.1:0"};
     if (virtual_time) arguments.push_back("--virtual-time");
@@ -52,7 +52,7 @@ std::string exchange(TcpHost& host, std::string_view request_text) {
 std::string frame_hex(std::string_view payload_text) { return to_hex(protocol::encode_tcp_frame(telegram(payload_text))); }
 
 TEST(DaemonTcp, S1Conversation_RepliesAreByteExact) {
-  Running daemon;
+  RunningDaemon daemon;
   ASSERT_TRUE(daemon.ready()) << daemon.process->stderr_text();
   auto host = TcpHost::connect(daemon.process->tcp_port());
   ASSERT_TRUE(host);
@@ -106,7 +106,7 @@ TEST(DaemonTcp, S1Conversation_RepliesAreByteExact) {
 }
 
 TEST(DaemonTcp, GarbageAndBadChecksum_AnsweredFramingFailureAndDaemonStaysUp) {
-  Running daemon;
+  RunningDaemon daemon;
   ASSERT_TRUE(daemon.ready()) << daemon.process->stderr_text();
   auto host = TcpHost::connect(daemon.process->tcp_port());
   ASSERT_TRUE(host);
@@ -118,7 +118,7 @@ TEST(DaemonTcp, GarbageAndBadChecksum_AnsweredFramingFailureAndDaemonStaysUp) {
 }
 
 TEST(DaemonTcp, HalfOpenClient_DoesNotBlockOthers) {
-  Running daemon;
+  RunningDaemon daemon;
   ASSERT_TRUE(daemon.ready()) << daemon.process->stderr_text();
   auto stalled = TcpHost::connect(daemon.process->tcp_port());
   ASSERT_TRUE(stalled);
@@ -132,7 +132,7 @@ TEST(DaemonTcp, HalfOpenClient_DoesNotBlockOthers) {
 }
 
 TEST(DaemonTcp, ClientThatNeverReads_IsDroppedWhileOthersAreServed) {
-  Running daemon;
+  RunningDaemon daemon;
   ASSERT_TRUE(daemon.ready()) << daemon.process->stderr_text();
   auto flooding = io::TcpConnection::connect("127.0.0.1", daemon.process->tcp_port());
   ASSERT_TRUE(flooding);
@@ -169,7 +169,7 @@ TEST(DaemonTcp, ClientThatNeverReads_IsDroppedWhileOthersAreServed) {
 }
 
 TEST(DaemonTcp, StreamToAHostThatDoesNotRead_SkipsProfilesAndCountsThem) {
-  Running daemon;
+  RunningDaemon daemon;
   ASSERT_TRUE(daemon.ready()) << daemon.process->stderr_text();
   auto host = TcpHost::connect(daemon.process->tcp_port());
   ASSERT_TRUE(host);
@@ -221,7 +221,7 @@ TEST(DaemonTcp, StreamToAHostThatDoesNotRead_SkipsProfilesAndCountsThem) {
 }
 
 TEST(DaemonTcp, TwoConnections_ProfilesGoOnlyToTheOneThatAsked) {
-  Running daemon;
+  RunningDaemon daemon;
   ASSERT_TRUE(daemon.ready()) << daemon.process->stderr_text();
   auto asking = TcpHost::connect(daemon.process->tcp_port());
   auto other = TcpHost::connect(daemon.process->tcp_port());
@@ -287,7 +287,7 @@ std::optional<std::uint16_t> distance_ahead(TcpHost& host) {
 
 TEST(DaemonLpt, StepsWrittenToThePty_TiltTheBeamInLaterProfiles) {
   TempDir lpt_dir;
-  Running daemon({"--lpt", "lpt:pty:" + lpt_dir.path("lpt")});
+  RunningDaemon daemon({"--lpt", "lpt:pty:" + lpt_dir.path("lpt")});
   ASSERT_TRUE(daemon.ready()) << daemon.process->stderr_text();
   auto host = TcpHost::connect(daemon.process->tcp_port());
   ASSERT_TRUE(host);
@@ -365,7 +365,7 @@ TEST(DaemonExit, MissingCanInterface_StopsStartUpWithOneLine) {
 }
 
 TEST(DaemonExit, CountProfiles_StopsWithExitZero) {
-  Running daemon({"--count-profiles", "2"});
+  RunningDaemon daemon({"--count-profiles", "2"});
   ASSERT_TRUE(daemon.ready()) << daemon.process->stderr_text();
   auto host = TcpHost::connect(daemon.process->tcp_port());
   ASSERT_TRUE(host);
@@ -386,7 +386,7 @@ TEST(DaemonExit, Sigterm_SavesFlashAndExits143_AndTheFlashSurvivesARestart) {
   TempDir flash_dir;
   const std::string flash = flash_dir.path("scene.flash");
   {
-    Running daemon({"--flash", flash});
+    RunningDaemon daemon({"--flash", flash});
     ASSERT_TRUE(daemon.ready()) << daemon.process->stderr_text();
     auto host = TcpHost::connect(daemon.process->tcp_port());
     ASSERT_TRUE(host);
@@ -400,7 +400,7 @@ TEST(DaemonExit, Sigterm_SavesFlashAndExits143_AndTheFlashSurvivesARestart) {
   EXPECT_EQ(image.rfind("ldoem-flash 1\n", 0), 0u) << image;
   EXPECT_NE(image.find("sector 0 3 1440\n"), std::string::npos) << image;
 
-  Running restarted({"--flash", flash});
+  RunningDaemon restarted({"--flash", flash});
   ASSERT_TRUE(restarted.ready()) << restarted.process->stderr_text();
   auto host = TcpHost::connect(restarted.process->tcp_port());
   ASSERT_TRUE(host);
@@ -410,7 +410,7 @@ TEST(DaemonExit, Sigterm_SavesFlashAndExits143_AndTheFlashSurvivesARestart) {
 }
 
 TEST(DaemonLog, InfoLevel_LogsEachRequestAndReplyInTextForm) {
-  Running daemon({"--log-level", "info"});
+  RunningDaemon daemon({"--log-level", "info"});
   ASSERT_TRUE(daemon.ready()) << daemon.process->stderr_text();
   auto host = TcpHost::connect(daemon.process->tcp_port());
   ASSERT_TRUE(host);
@@ -428,7 +428,7 @@ namespace ldoem::daemon::test {
 namespace {
 
 TEST(DaemonTime, ScaledClock_SpinUpAndProfilesComeOnWallDeadlines) {
-  Running daemon({"--time-scale", "20"}, /*virtual_time=*/false);  // D7: 2 s spin-up in 0.1 s
+  RunningDaemon daemon({"--time-scale", "20"}, /*virtual_time=*/false);  // D7: 2 s spin-up in 0.1 s
   ASSERT_TRUE(daemon.ready()) << daemon.process->stderr_text();
   auto host = TcpHost::connect(daemon.process->tcp_port());
   ASSERT_TRUE(host);

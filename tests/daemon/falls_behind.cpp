@@ -25,7 +25,7 @@ double ms_between(Clock::time_point from, Clock::time_point to) {
   return std::chrono::duration<double, std::milli>(to - from).count();
 }
 
-std::optional<p::Bytes> next_reply(driver::Transport& host, std::chrono::milliseconds limit) {
+std::optional<p::Bytes> next_reply(driver::TelegramTransport& host, std::chrono::milliseconds limit) {
   const auto deadline = Clock::now() + limit;
   while (true) {
     auto received = host.receive(deadline);
@@ -40,7 +40,7 @@ struct Arrived {
   std::uint64_t dropped = 0;  // the transport's dropped frames when it arrived
 };
 
-std::optional<Arrived> next_profile(driver::Transport& host) {
+std::optional<Arrived> next_profile(driver::TelegramTransport& host) {
   // Three revolutions of device time, plus the slack a loaded machine needs to deliver them.
   auto received = host.receive(Clock::now() + 5s);
   if (!received) return std::nullopt;
@@ -63,7 +63,7 @@ std::optional<DaemonProcess> start_real_time_daemon(TempDir& dir, std::vector<st
 void expect_stop_is_skipped(DaemonProcess& daemon, const driver::Endpoint& endpoint, std::chrono::milliseconds stop) {
   auto opened = driver::open_transport(endpoint);
   ASSERT_TRUE(opened) << driver::describe(opened.error());
-  driver::Transport& host = **opened;
+  driver::TelegramTransport& host = **opened;
   // D4 baseline: 10 Hz, sector 0 measuring. TRANS_ROTATE answers after the ~2 s spin-up (D7).
   ASSERT_TRUE(host.send(p::encode_request(p::TransRotate{0}), Clock::now() + 5s));
   ASSERT_TRUE(next_reply(host, 20s)) << "no TRANS_ROTATE reply";

@@ -8,12 +8,12 @@
 namespace ldoem::driver {
 namespace {
 
-struct GoodRow {
+struct ParsedRow {
   std::string text;
   Endpoint expected;
 };
 
-std::vector<GoodRow> good_rows() {
+std::vector<ParsedRow> good_rows() {
   return {
       {"can:vcan0", CanEndpoint{"vcan0", 0x6C0, 0x6C1, false}},
       {"can:vcan0:6C0:6C1", CanEndpoint{"vcan0", 0x6C0, 0x6C1, false, true}},
@@ -38,7 +38,7 @@ std::vector<GoodRow> good_rows() {
 }
 
 TEST(ParseEndpoint, ValidStrings_GiveTypedEndpoints) {
-  for (const GoodRow& row : good_rows()) {
+  for (const ParsedRow& row : good_rows()) {
     auto parsed = parse_endpoint(row.text);
     ASSERT_TRUE(parsed) << row.text << ": " << describe(parsed.error());
     EXPECT_EQ(*parsed, row.expected) << row.text;
@@ -46,7 +46,7 @@ TEST(ParseEndpoint, ValidStrings_GiveTypedEndpoints) {
 }
 
 TEST(ParseEndpoint, FormattedEndpoint_ParsesBackToItself) {
-  for (const GoodRow& row : good_rows()) {
+  for (const ParsedRow& row : good_rows()) {
     const std::string text = format_endpoint(row.expected);
     auto parsed = parse_endpoint(text);
     ASSERT_TRUE(parsed) << text;
@@ -61,13 +61,13 @@ TEST(ParseEndpoint, DefaultCanIds_AreD1Values) {
   EXPECT_EQ(format_endpoint(CanEndpoint{"vcan0"}), "can:vcan0");
 }
 
-struct BadRow {
+struct RefusedRow {
   std::string text;
   EndpointErrorKind kind;
 };
 
 TEST(ParseEndpoint, InvalidStrings_GiveTypedErrors) {
-  const std::vector<BadRow> rows = {
+  const std::vector<RefusedRow> rows = {
       {"", EndpointErrorKind::empty},
       {"udp:1.2.3.4", EndpointErrorKind::unknown_scheme},
       {"vcan0", EndpointErrorKind::old_spelling},  // write can:vcan0 (docs/endpoints.md)
@@ -96,7 +96,7 @@ TEST(ParseEndpoint, InvalidStrings_GiveTypedErrors) {
       {"lpt:pty:", EndpointErrorKind::missing_field},
       {"lpt:gpio:", EndpointErrorKind::missing_field},
   };
-  for (const BadRow& row : rows) {
+  for (const RefusedRow& row : rows) {
     auto parsed = parse_endpoint(row.text);
     ASSERT_FALSE(parsed) << row.text << " parsed";
     EXPECT_EQ(parsed.error().kind, row.kind) << row.text << ": " << describe(parsed.error());

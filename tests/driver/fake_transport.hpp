@@ -1,4 +1,4 @@
-// A scripted Transport for Scanner tests (tests only: the driver ships no mock). Each sent
+// A scripted TelegramTransport for Scanner tests (tests only: the driver ships no mock). Each sent
 // payload is recorded with its deadline; a responder decides which telegrams (or errors) the
 // following receive() calls return. An empty inbox answers receive() with a timeout.
 #pragma once
@@ -13,7 +13,7 @@
 
 namespace ldoem::driver::test {
 
-class FakeTransport final : public Transport {
+class FakeTransport final : public TelegramTransport {
  public:
   using Incoming = std::variant<Bytes, DriverError>;
   using Responder = std::function<std::vector<Incoming>(const Bytes& request)>;

@@ -189,12 +189,12 @@ TEST_F(ScannerFaultTest, Reconnect_TriesABoundedNumberOfTimesThenSucceeds) {
   ScannerOptions options;
   options.reconnect = ReconnectPolicy{5, 250ms};
   options.sleep = [&pauses](std::chrono::milliseconds pause) { pauses.push_back(pause); };
-  options.reopen = [&]() -> Expected<std::unique_ptr<Transport>, DriverError> {
+  options.reopen = [&]() -> Expected<std::unique_ptr<TelegramTransport>, DriverError> {
     ++opened;
     if (opened < 3) {  // the device is still off: the peer closes at once
       return fail(make_error(ErrorKind::connection_closed, "connect", "fake"));
     }
-    return std::unique_ptr<Transport>(make_transport(reopened_log_));
+    return std::unique_ptr<TelegramTransport>(make_transport(reopened_log_));
   };
   build(options);
   auto lost = scanner_->get_signal();  // nothing scripted: times out; pretend the peer reset
@@ -214,7 +214,7 @@ TEST_F(ScannerFaultTest, Reconnect_GivesUpAfterItsAttempts) {
   ScannerOptions options;
   options.reconnect = ReconnectPolicy{4, 1ms};
   options.sleep = [](std::chrono::milliseconds) {};
-  options.reopen = [&]() -> Expected<std::unique_ptr<Transport>, DriverError> {
+  options.reopen = [&]() -> Expected<std::unique_ptr<TelegramTransport>, DriverError> {
     ++opened;
     return fail(make_error(ErrorKind::system, "connect", "fake", "connection refused"));
   };
@@ -233,7 +233,7 @@ TEST_F(ScannerFaultTest, Reconnect_BacksOffUpToItsLongestPause) {
   ScannerOptions options;
   options.reconnect = ReconnectPolicy{6, 100ms, 2.0, 300ms};
   options.sleep = [&pauses](std::chrono::milliseconds pause) { pauses.push_back(pause); };
-  options.reopen = [&]() -> Expected<std::unique_ptr<Transport>, DriverError> {
+  options.reopen = [&]() -> Expected<std::unique_ptr<TelegramTransport>, DriverError> {
     ++opened;
     return fail(make_error(ErrorKind::connection_closed, "connect", "fake"));
   };

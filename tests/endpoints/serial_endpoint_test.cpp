@@ -18,15 +18,15 @@ namespace {
 
 using namespace std::chrono_literals;
 
-struct SerialHost {
+struct PtyHost {
   int fd;
-  explicit SerialHost(const std::string& path) : fd(::open(path.c_str(), O_RDWR | O_NOCTTY | O_CLOEXEC)) {
+  explicit PtyHost(const std::string& path) : fd(::open(path.c_str(), O_RDWR | O_NOCTTY | O_CLOEXEC)) {
     termios settings{};
     ::tcgetattr(fd, &settings);
     ::cfmakeraw(&settings);
     ::tcsetattr(fd, TCSANOW, &settings);
   }
-  ~SerialHost() { ::close(fd); }
+  ~PtyHost() { ::close(fd); }
   void write(const std::string& text) { ASSERT_EQ(::write(fd, text.data(), text.size()), static_cast<ssize_t>(text.size())); }
 };
 
@@ -35,10 +35,10 @@ TEST(SerialEndpointLimits, PackageLeftIncomplete_IsDroppedAfterTheInterByteTimeo
   char folder_template[] = "/tmp/ldoem-serial-test-XXXXXX";
   ASSERT_NE(::mkdtemp(folder_template), nullptr);
   const std::string link = std::string(folder_template) + "/serial";
-  SerialEndpoint endpoint(link, 100ms);
+  SerialHostEndpoint endpoint(link, 100ms);
   ASSERT_FALSE(endpoint.open(harness.context).has_value());
   {
-    SerialHost host(link);
+    PtyHost host(link);
     ASSERT_GE(host.fd, 0);
     host.write("\x02" "0010000300");  // the start of spec 7.4's GET_STATUS, then nothing
     ASSERT_TRUE(harness.run_until([&] { return !harness.framing_errors.empty(); }, 2s));

@@ -23,9 +23,9 @@ namespace {
 using namespace std::chrono_literals;
 
 // A blocking loopback client socket.
-class Client {
+class LoopbackClient {
  public:
-  explicit Client(std::uint16_t port, int receive_buffer = 0) : fd_(::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0)) {
+  explicit LoopbackClient(std::uint16_t port, int receive_buffer = 0) : fd_(::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0)) {
     if (receive_buffer > 0) ::setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &receive_buffer, sizeof receive_buffer);
     sockaddr_in address{};
     address.sin_family = AF_INET;
@@ -33,9 +33,9 @@ class Client {
     address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
     connected_ = ::connect(fd_, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0;
   }
-  ~Client() { close(); }
-  Client(const Client&) = delete;
-  Client& operator=(const Client&) = delete;
+  ~LoopbackClient() { close(); }
+  LoopbackClient(const LoopbackClient&) = delete;
+  LoopbackClient& operator=(const LoopbackClient&) = delete;
 
   bool connected() const { return connected_; }
   void send(protocol::ByteView bytes) { ASSERT_EQ(::send(fd_, bytes.data(), bytes.size(), MSG_NOSIGNAL), static_cast<ssize_t>(bytes.size())); }
@@ -69,11 +69,11 @@ const protocol::Bytes kGetStatus{0x01, 0x02};  // GET_STATUS (service 0x0102), n
 
 struct TcpFixture : ::testing::Test {
   EndpointHarness harness;
-  std::unique_ptr<TcpEndpoint> endpoint;
+  std::unique_ptr<TcpHostEndpoint> endpoint;
   std::uint16_t port = 0;
 
   void open(HostLimits limits = {}, ConnectionIndices indices = ConnectionIndices()) {
-    endpoint = std::make_unique<TcpEndpoint>("127.0.0.1", 0, limits, indices);
+    endpoint = std::make_unique<TcpHostEndpoint>("127.0.0.1", 0, limits, indices);
     ASSERT_FALSE(endpoint->open(harness.context).has_value());
     port = *endpoint->port();
   }
@@ -93,8 +93,8 @@ struct TcpFixture : ::testing::Test {
 // ASan and UBSan see it in CI, and each client must be reported closed exactly once.
 TEST_F(TcpFixture, ClientsResetDuringTheExitFlush_AreEachDroppedOnce) {
   open();
-  std::vector<std::unique_ptr<Client>> clients;
-  for (int i = 0; i < 4; ++i) clients.push_back(std::make_unique<Client>(port, 4096));
+  std::vector<std::unique_ptr<LoopbackClient>> clients;
+  for (int i = 0; i < 4; ++i) clients.push_back(std::make_unique<LoopbackClient>(port, 4096));
   ASSERT_TRUE(accepted(4));
   const protocol::Bytes big(protocol::kMaxTelegramPayload, 0x5A);
   for (std::uint32_t index = 1; index <= 4; ++index) {
@@ -119,16 +119,16 @@ TEST_F(TcpFixture, ClientsResetDuringTheExitFlush_AreEachDroppedOnce) {
 // and a number comes back only once its connection is gone.
 TEST_F(TcpFixture, ConnectionNumbers_NeverReuseALiveOne) {
   open({}, ConnectionIndices(3));
-  Client first(port), second(port), third(port);
+  LoopbackClient first(port), second(port), third(port);
   ASSERT_TRUE(accepted(3));
-  Client fourth(port);
+  LoopbackClient fourth(port);
   EXPECT_TRUE(fourth.closed_by_peer(harness, 5s));
   second.close();
   ASSERT_TRUE(harness.run_until([&] { return harness.closed.size() == 1; }));
   EXPECT_EQ(harness.closed[0].index, 2u);
-  Client fifth(port);
+  LoopbackClient fifth(port);
   ASSERT_TRUE(accepted(4));
-  for (Client* client : {&first, &third, &fifth}) client->send(frame(kGetStatus));
+  for (LoopbackClient* client : {&first, &third, &fifth}) client->send(frame(kGetStatus));
   ASSERT_TRUE(harness.run_until([&] { return harness.telegrams.size() == 3; }));
   auto indices = telegram_indices();
   std::sort(indices.begin(), indices.end());
@@ -157,7 +157,7 @@ TEST_F(TcpFixture, FrameLeftIncomplete_IsDroppedAfterTheInterByteTimeout) {
   HostLimits limits;
   limits.inter_byte_timeout = 100ms;
   open(limits);
-  Client host(port);
+  LoopbackClient host(port);
   ASSERT_TRUE(accepted(1));
   const protocol::Bytes stale{0x02, 0x55, 0x53, 0x50, 0x00, 0x00, 0x01, 0x2C, 0x00};  // 300 bytes announced
   host.send(stale);
@@ -173,7 +173,7 @@ TEST_F(TcpFixture, FrameInPiecesWithinTheTimeout_IsWhole) {
   HostLimits limits;
   limits.inter_byte_timeout = 300ms;
   open(limits);
-  Client host(port);
+  LoopbackClient host(port);
   ASSERT_TRUE(accepted(1));
   const protocol::Bytes whole = frame(kGetStatus);
   for (const std::uint8_t byte : whole) {
@@ -188,8 +188,8 @@ TEST_F(TcpFixture, ConnectionThatNeverSpeaks_IsClosedAfterTheSilentTimeout) {
   HostLimits limits;
   limits.silent_timeout = 200ms;
   open(limits);
-  Client silent(port);
-  Client speaker(port);
+  LoopbackClient silent(port);
+  LoopbackClient speaker(port);
   ASSERT_TRUE(accepted(2));
   speaker.send(frame(kGetStatus));
   EXPECT_TRUE(silent.closed_by_peer(harness, 5s));
@@ -201,8 +201,8 @@ TEST_F(TcpFixture, IdleConnection_IsClosedAfterTheIdleTimeoutButABusyOneIsNot) {
   HostLimits limits;
   limits.idle_timeout = 300ms;
   open(limits);
-  Client idle(port);
-  Client chatty(port);
+  LoopbackClient idle(port);
+  LoopbackClient chatty(port);
   ASSERT_TRUE(accepted(2));
   idle.send(frame(kGetStatus));
   for (int i = 0; i < 10; ++i) {  // 1 s of requests every 100 ms
@@ -221,9 +221,9 @@ TEST_F(TcpFixture, BeyondMaxClients_TheNewConnectionIsClosedAndTheOthersAreServe
   HostLimits limits;
   limits.max_tcp_clients = 2;
   open(limits);
-  Client first(port), second(port);
+  LoopbackClient first(port), second(port);
   ASSERT_TRUE(accepted(2));
-  Client third(port);
+  LoopbackClient third(port);
   EXPECT_TRUE(third.closed_by_peer(harness, 5s));
   EXPECT_EQ(harness.counters.tcp_refused, 1u);
   EXPECT_EQ(harness.counters.tcp_connections, 2u);
@@ -233,7 +233,7 @@ TEST_F(TcpFixture, BeyondMaxClients_TheNewConnectionIsClosedAndTheOthersAreServe
   EXPECT_TRUE(harness.closed.empty());
   first.close();
   ASSERT_TRUE(harness.run_until([&] { return harness.closed.size() == 1; }, 2s));
-  Client fourth(port);
+  LoopbackClient fourth(port);
   ASSERT_TRUE(accepted(3));
   fourth.send(frame(kGetStatus));
   ASSERT_TRUE(harness.run_until([&] { return harness.telegrams.size() == 3; }, 2s));
@@ -249,8 +249,8 @@ TEST_F(TcpFixture, ResetFloodBeyondMaxClients_LeavesAPlaceForTheNextHost) {
   open(limits);
   // 12 + 1 connections wait in the listener's backlog of 16 (more would block in connect, since
   // this thread also runs the endpoint); all arrive in one round of at most 16 accepts.
-  for (int i = 0; i < 12; ++i) Client(port).reset();
-  Client host(port);
+  for (int i = 0; i < 12; ++i) LoopbackClient(port).reset();
+  LoopbackClient host(port);
   ASSERT_TRUE(harness.run_until([&] { return harness.counters.tcp_connections + harness.counters.tcp_refused >= 13; }, 5s));
   host.send(frame(kGetStatus));
   ASSERT_TRUE(harness.run_until([&] { return !harness.telegrams.empty(); }, 2s))

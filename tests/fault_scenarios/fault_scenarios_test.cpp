@@ -21,15 +21,15 @@ using driver::ErrorKind;
 using driver::Recovery;
 using namespace std::chrono_literals;
 
-struct Beam {
+struct ExpectedBeam {
   double angle_deg;
   std::uint16_t distance;
   std::uint16_t echo;
 };
 
 // Every point of a profile with its head angle (STARTDIR + k DIRSTEP, spec 3.5).
-std::vector<Beam> beams_of(const p::Profile& profile) {
-  std::vector<Beam> beams;
+std::vector<ExpectedBeam> beams_of(const p::Profile& profile) {
+  std::vector<ExpectedBeam> beams;
   for (const auto& sector : profile.sectors) {
     for (std::size_t k = 0; k < sector.points.size(); ++k) {
       const auto ticks = (sector.start_dir_ticks + k * sector.dir_step_ticks) % base::kTicksPerTurn;
@@ -287,7 +287,7 @@ TEST(FaultScenario, BlindedSector_DistanceZeroThere_OtherBeamsUnchanged) {
   ASSERT_TRUE(profile) << failure;
   int blinded = 0;
   int seen_wall = 0;
-  for (const Beam& beam : beams_of(*profile)) {
+  for (const ExpectedBeam& beam : beams_of(*profile)) {
     const bool in_sector = beam.angle_deg >= 350.0 || beam.angle_deg < 10.0;
     if (in_sector) {
       ++blinded;
@@ -316,7 +316,7 @@ std::pair<int, int> valid_returns(const std::string& scene_path, std::string& fa
   if (!profile) return {-1, -1};
   int far = 0;
   int near = 0;
-  for (const Beam& beam : beams_of(*profile)) {
+  for (const ExpectedBeam& beam : beams_of(*profile)) {
     if (beam.distance == 0) continue;
     if (beam.angle_deg >= 160.0 && beam.angle_deg <= 200.0) ++far;
     if (beam.angle_deg <= 40.0 || beam.angle_deg >= 320.0) ++near;

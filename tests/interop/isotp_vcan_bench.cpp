@@ -39,7 +39,7 @@ using Clock = std::chrono::steady_clock;
 constexpr std::uint32_t kDataId = ldoem::protocol::kIsoTpDeviceToHostId;         // 0x6C1, as the LD
 constexpr std::uint32_t kFlowControlId = ldoem::protocol::kIsoTpHostToDeviceId;  // 0x6C0, as the host
 
-struct Options {
+struct BenchOptions {
   std::string interface_name = "vcan0";
   std::size_t messages = 200;
   std::size_t message_bytes = 5800;  // a 0.125 deg profile, D1
@@ -64,8 +64,8 @@ bool parse_number(const char* text, T& out) {
   return value.has_value();
 }
 
-std::optional<Options> parse_options(int argc, char** argv) {
-  Options options;
+std::optional<BenchOptions> parse_options(int argc, char** argv) {
+  BenchOptions options;
   for (int i = 1; i < argc; ++i) {
     const std::string name = argv[i];
     const char* value = i + 1 < argc ? argv[i + 1] : nullptr;
@@ -157,7 +157,7 @@ bool send_message(RawCanSocket& socket, ldoem::protocol::IsoTpSender& sender, co
   return true;
 }
 
-SenderResult run_sender(RawCanSocket& socket, const Options& options) {
+SenderResult run_sender(RawCanSocket& socket, const BenchOptions& options) {
   SenderResult result;
   ldoem::protocol::IsoTpSender sender(ldoem::protocol::IsoTpSenderConfig{kDataId, false, ldoem::protocol::kIsoTpDefaultTimeout});
   for (std::size_t i = 0; i < options.messages; ++i) {
@@ -181,7 +181,7 @@ struct ReceiverResult {
   bool socket_failed = false;
 };
 
-void handle(ldoem::protocol::IsoTpReceiveResult received, RawCanSocket& socket, const Options& options,
+void handle(ldoem::protocol::IsoTpReceiveResult received, RawCanSocket& socket, const BenchOptions& options,
             ReceiverResult& result) {
   if (received.flow_control) {
     if (!write_frame(socket, *received.flow_control, result.full_queue_waits)) result.socket_failed = true;
@@ -193,7 +193,7 @@ void handle(ldoem::protocol::IsoTpReceiveResult received, RawCanSocket& socket, 
 }
 
 // Feeds every frame waiting on the socket to the receiver; false on a socket error.
-bool drain_frames(RawCanSocket& socket, ldoem::protocol::IsoTpReceiver& receiver, const Options& options,
+bool drain_frames(RawCanSocket& socket, ldoem::protocol::IsoTpReceiver& receiver, const BenchOptions& options,
                   ReceiverResult& result) {
   for (;;) {
     auto read = socket.read();
@@ -211,7 +211,7 @@ bool drain_frames(RawCanSocket& socket, ldoem::protocol::IsoTpReceiver& receiver
 
 // Reads until every message is in, or the sender is done and the bus has been quiet for 300 ms
 // (everything in flight has arrived).
-ReceiverResult run_receiver(RawCanSocket& socket, const Options& options, const std::atomic<bool>& sender_done) {
+ReceiverResult run_receiver(RawCanSocket& socket, const BenchOptions& options, const std::atomic<bool>& sender_done) {
   ReceiverResult result;
   ldoem::protocol::IsoTpReceiverConfig config;
   config.flow_control_id = kFlowControlId;
@@ -238,7 +238,7 @@ ReceiverResult run_receiver(RawCanSocket& socket, const Options& options, const 
   return result;
 }
 
-std::optional<RawCanSocket> open_socket(const Options& options, std::uint32_t receive_id,
+std::optional<RawCanSocket> open_socket(const BenchOptions& options, std::uint32_t receive_id,
                                         std::optional<int> receive_buffer_bytes) {
   auto socket = RawCanSocket::open(options.interface_name,
                                    RawCanOptions{receive_id, true, receive_buffer_bytes});
@@ -249,7 +249,7 @@ std::optional<RawCanSocket> open_socket(const Options& options, std::uint32_t re
   return std::move(*socket);
 }
 
-void report(const Options& options, int receive_buffer, const SenderResult& sent, const ReceiverResult& received,
+void report(const BenchOptions& options, int receive_buffer, const SenderResult& sent, const ReceiverResult& received,
             double seconds) {
   const double frames = static_cast<double>(received.data_frames + sent.flow_controls_heard);
   const std::uint64_t lost = sent.data_frames - std::min(sent.data_frames, received.data_frames);

@@ -135,7 +135,7 @@ struct DriverSession {
   std::vector<Bytes> received;
 };
 
-void exchange(driver::Transport& transport, const Bytes& request, DriverSession& session) {
+void exchange(driver::TelegramTransport& transport, const Bytes& request, DriverSession& session) {
   const auto sent = transport.send(request, driver::Clock::now() + 5s);
   ASSERT_TRUE(sent) << driver::describe(sent.error());
   session.sent.push_back(request);

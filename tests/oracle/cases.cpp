@@ -290,9 +290,9 @@ raycast::Ray make_ray(Bytes& in, const scene::Scene& scene, const Vector3d& cent
 
 }  // namespace
 
-Case make_case(std::span<const std::uint8_t> bytes) {
+OracleCase make_case(std::span<const std::uint8_t> bytes) {
   Bytes in(bytes);
-  Case c;
+  OracleCase c;
   const std::uint8_t header = in.u8();
   Vector3d centre = Vector3d::Zero();
   double s = 1.0;

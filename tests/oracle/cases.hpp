@@ -18,12 +18,12 @@
 
 namespace ldoem::oracle {
 
-struct Case {
+struct OracleCase {
   scene::Scene scene;
   std::vector<raycast::Ray> rays;  // ignored_object set for rays from inside a housing
 };
 
-Case make_case(std::span<const std::uint8_t> bytes);
+OracleCase make_case(std::span<const std::uint8_t> bytes);
 
 // The explicit form of `scene`'s objects (meshes with at most 64 triangles), followed by
 // `ray_bytes` bytes of ray choices: the seed corpus is written with it.

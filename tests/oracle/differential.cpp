@@ -207,7 +207,7 @@ std::string Stats::text() const {
   return s.str();
 }
 
-void run_case(const Case& c, Stats& stats, const std::string& describe) {
+void run_case(const OracleCase& c, Stats& stats, const std::string& describe) {
   ++stats.cases;
   if (c.scene.objects.empty()) return;
   const raycast::OdeWorld world(c.scene);
@@ -244,7 +244,7 @@ void run_case(const Case& c, Stats& stats, const std::string& describe) {
   }
   for (const raycast::Ray& ray : c.rays) {
     // The caster's own view of the ray: the reach capped at 1e9 m (ray_probe.hpp).
-    const Ray r{vec(ray.origin_m), vec(ray.direction), std::min(ray.max_range_m, 1e9)};
+    const OracleRay r{vec(ray.origin_m), vec(ray.direction), std::min(ray.max_range_m, 1e9)};
     const auto answer = [](const std::optional<raycast::Hit>& h) {
       return h ? CasterAnswer{true, h->object_index, h->range_m} : CasterAnswer{};
     };

@@ -49,6 +49,6 @@ std::vector<Part> parts_of(const raycast::OdeWorld& world);
 // Builds the scene's casters (EmbreeRayCaster; MovingRayCaster over its non-plane objects at
 // fixed poses), casts every ray of the case with each and judges the answers. `describe` tags
 // worst cases and faults with the case (hex of its bytes, for the sweep) when given.
-void run_case(const Case& c, Stats& stats, const std::string& describe = {});
+void run_case(const OracleCase& c, Stats& stats, const std::string& describe = {});
 
 }  // namespace ldoem::oracle

@@ -30,7 +30,7 @@ struct Incidence {
 
 // The surface normal where the ray meets `part` at range t (in double: only the bound uses it).
 // Within `edge_gap` of an edge of a box or a cylinder, the least cosine of the faces there.
-Incidence incidence(const Part& part, const Ray& ray, double t, double edge_gap = 0.0) {
+Incidence incidence(const Part& part, const OracleRay& ray, double t, double edge_gap = 0.0) {
   const Vec d = unit(ray.direction);
   const Vec x{ray.origin[0] + t * d[0], ray.origin[1] + t * d[1], ray.origin[2] + t * d[2]};
   if (part.kind == Kind::plane) return {std::abs(dot(unit(part.normal), d)), false};
@@ -80,7 +80,7 @@ Incidence incidence(const Part& part, const Ray& ray, double t, double edge_gap 
   }
 }
 
-double magnitude(const Part& part, const PartScale& scale, const Ray& ray, double t) {
+double magnitude(const Part& part, const PartScale& scale, const OracleRay& ray, double t) {
   const double from_reference = part.kind == Kind::plane ? norm(ray.origin) + std::abs(part.offset)
                                                          : norm(minus(ray.origin, scale.reference));
   return from_reference + scale.size_m + std::abs(t);
@@ -91,7 +91,7 @@ double magnitude(const Part& part, const PartScale& scale, const Ray& ray, doubl
 // it (|n . d| <= 1e-6), then Embree's float distance stays.
 constexpr double kEmbreeRefineCosine = 1e-6;
 
-bool float_range(const Part& part, const Ray& ray, double t, Engine engine) {
+bool float_range(const Part& part, const OracleRay& ray, double t, Engine engine) {
   if (part.kind != Kind::triangle) return false;
   (void)engine;
   return incidence(part, ray, t).cosine <= kEmbreeRefineCosine;
@@ -126,7 +126,7 @@ double ulp(double x) {
 
 }  // namespace
 
-double range_bound(const Part& part, const PartScale& scale, const Ray& ray, double t, Engine engine) {
+double range_bound(const Part& part, const PartScale& scale, const OracleRay& ray, double t, Engine engine) {
   const Incidence in = incidence(part, ray, t);
   const bool single = !float_range(part, ray, t, engine);
   const double k_u = single ? kDoubleOps * kDoubleRoundoff : kFloatOps * kFloatRoundoff;
@@ -134,7 +134,7 @@ double range_bound(const Part& part, const PartScale& scale, const Ray& ray, dou
   return k_u * magnitude(part, scale, ray, t) / cosine;
 }
 
-double boundary_bound(const Part& part, const PartScale& scale, const Ray& ray, double t, Engine engine) {
+double boundary_bound(const Part& part, const PartScale& scale, const OracleRay& ray, double t, Engine engine) {
   if (part.kind != Kind::triangle) return kDoubleOps * kDoubleRoundoff * magnitude(part, scale, ray, t);
   // Whether a float triangle is hit is decided in float, whatever precision the range gets
   // afterwards; in the plane, the ray's rounding moves the crossing point by that over cos.
@@ -142,7 +142,7 @@ double boundary_bound(const Part& part, const PartScale& scale, const Ray& ray, 
   return kFloatOps * kFloatRoundoff * magnitude(part, scale, ray, t) / cosine + pose_rounding(part, scale, ray, t, engine);
 }
 
-double pose_rounding(const Part& part, const PartScale& scale, const Ray& ray, double t, Engine engine) {
+double pose_rounding(const Part& part, const PartScale& scale, const OracleRay& ray, double t, Engine engine) {
   if (engine != Engine::moving || part.kind != Kind::triangle) return 0.0;
   // The moving caster tests the mesh's float vertices in the object's frame, exactly; the oracle
   // (and the caster's double range) is given its world vertices, pose + R v rounded to double,
@@ -153,7 +153,7 @@ double pose_rounding(const Part& part, const PartScale& scale, const Ray& ray, d
   return 4.0 * kDoubleRoundoff * (norm(scale.reference) + scale.size_m) / cosine;
 }
 
-double order_bound(const Part& part, const PartScale& scale, const Ray& ray, double t, Engine engine) {
+double order_bound(const Part& part, const PartScale& scale, const OracleRay& ray, double t, Engine engine) {
   if (part.kind != Kind::triangle) return range_bound(part, scale, ray, t, engine);
   const double cosine = std::max(incidence(part, ray, t).cosine, 1e-300);
   // Embree orders a triangle by its float distance, which for the moving caster is that of the
@@ -180,7 +180,7 @@ namespace {
 // tangent or (its origin) to the surface. Ranges are measured from the true origin.
 // `grow` moves the boundary, `shift` the origin (by the range bound: where the origin lies
 // within it of the surface, whether the surface is ahead, behind or at 0 is not decided).
-std::vector<PartAnswer> variants(const Part& part, const Ray& ray, double grow, double shift_m) {
+std::vector<PartAnswer> variants(const Part& part, const OracleRay& ray, double grow, double shift_m) {
   std::vector<PartAnswer> out;
   // A bound beyond any scene's size (a ray grazing at 1e-300) moves the origin 1e12 m at most.
   grow = std::min(grow, 1e12);
@@ -189,7 +189,7 @@ std::vector<PartAnswer> variants(const Part& part, const Ray& ray, double grow, 
   out.push_back(cast_part(part, ray, -grow));
   const Vec d = unit(ray.direction);
   for (const double shift : {-shift_m, shift_m}) {
-    Ray moved = ray;
+    OracleRay moved = ray;
     for (int i = 0; i < 3; ++i) moved.origin[i] += shift * d[i];
     PartAnswer a = cast_part(part, moved);
     a.range_m += shift;
@@ -198,7 +198,7 @@ std::vector<PartAnswer> variants(const Part& part, const Ray& ray, double grow, 
   return out;
 }
 
-std::string describe(const Ray& ray) {
+std::string describe(const OracleRay& ray) {
   std::ostringstream s;
   s.precision(17);
   s << "origin (" << ray.origin[0] << ", " << ray.origin[1] << ", " << ray.origin[2] << ") direction (" << ray.direction[0]
@@ -208,7 +208,7 @@ std::string describe(const Ray& ray) {
 
 }  // namespace
 
-Verdict judge(std::span<const Part> parts, std::span<const PartScale> scales, const Ray& ray, std::uint32_t ignored,
+Verdict judge(std::span<const Part> parts, std::span<const PartScale> scales, const OracleRay& ray, std::uint32_t ignored,
               const CasterAnswer& answer, Engine engine) {
   Verdict v;
   std::ostringstream what;

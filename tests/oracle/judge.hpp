@@ -37,18 +37,18 @@ inline constexpr double kFloatOps = 16.0;
 // t: K u (P + S + t) / cos, P = |origin - reference|, S the part's size, cos the cosine of the
 // incidence (at least sqrt(K u) on curved surfaces, where the half chord's square root caps
 // the loss), u the roundoff of the arithmetic that produced the range.
-double range_bound(const Part& part, const PartScale& scale, const Ray& ray, double t, Engine engine);
+double range_bound(const Part& part, const PartScale& scale, const OracleRay& ray, double t, Engine engine);
 // How far the part's boundary may be misplaced (grown or shrunk) by the caster's arithmetic: a
 // ray passing that close to an edge or a tangent may hit or miss.
-double boundary_bound(const Part& part, const PartScale& scale, const Ray& ray, double t, Engine engine);
+double boundary_bound(const Part& part, const PartScale& scale, const OracleRay& ray, double t, Engine engine);
 // The bound on choosing between a triangle and another surface (Embree compares float
 // distances; the moving caster compares a mesh's with the reach its query gets, the range of the
 // nearest object found so far).
-double order_bound(const Part& part, const PartScale& scale, const Ray& ray, double t, Engine engine);
+double order_bound(const Part& part, const PartScale& scale, const OracleRay& ray, double t, Engine engine);
 // The moving caster's float test sees a mesh's triangle unrounded (pose + R v), its double range
 // and the oracle see it rounded to double: how far along the ray that moves a hit (0 for other
 // engines and parts). Part of the triangle's boundary and order bounds.
-double pose_rounding(const Part& part, const PartScale& scale, const Ray& ray, double t, Engine engine);
+double pose_rounding(const Part& part, const PartScale& scale, const OracleRay& ray, double t, Engine engine);
 
 struct CasterAnswer {
   bool hit = false;
@@ -75,8 +75,8 @@ struct Verdict {
   bool exact = false;    // the oracle needed its exact numbers (the filter could not decide)
 };
 
-// `reach` of the ray is the caster's (after its 1e9 m cap); ignored: Ray::ignored_object.
-Verdict judge(std::span<const Part> parts, std::span<const PartScale> scales, const Ray& ray, std::uint32_t ignored,
+// `reach` of the ray is the caster's (after its 1e9 m cap); ignored: OracleRay::ignored_object.
+Verdict judge(std::span<const Part> parts, std::span<const PartScale> scales, const OracleRay& ray, std::uint32_t ignored,
               const CasterAnswer& answer, Engine engine);
 
 }  // namespace ldoem::oracle

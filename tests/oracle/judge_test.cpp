@@ -51,7 +51,7 @@ struct OneUlpApart {
       triangle(1, {hex_vec("0x1.e8480000041bep+19", "-0x1.e8480000008ebp+19", "0x1.24f7fffffa6b1p+18"),
                    hex_vec("0x1.e8480000036e5p+19", "-0x1.e8480000014e5p+19", "0x1.24f7fffffe628p+18"),
                    hex_vec("0x1.e847ffffff68fp+19", "-0x1.e848000002118p+19", "0x1.24f7ffffff455p+18")})};
-  Ray ray{hex_vec("0x1.e8480000041e8p+19", "-0x1.e847fffffe53dp+19", "0x1.24f8000003484p+18"),
+  OracleRay ray{hex_vec("0x1.e8480000041e8p+19", "-0x1.e847fffffe53dp+19", "0x1.24f8000003484p+18"),
           hex_vec("-0x1.11aea84270349p-1", "-0x1.4c62aa583b11fp-1", "-0x1.150f3ac84fcd7p-1"),
           std::strtod("0x1.32dab344b5614p-13", nullptr)};
   // The moving caster's answer: the second copy, at its double range.

@@ -46,19 +46,19 @@ V<NT> cross(const V<NT>& a, const V<NT>& b) {
 
 // A parameter interval [enter, leave] along the ray; an end may be unbounded.
 template <class NT>
-struct Span {
+struct ParamSpan {
   bool empty = false;
   std::optional<NT> enter, leave;  // nothing: unbounded
 };
 template <class NT>
-Span<NT> empty_span() {
-  Span<NT> span;
+ParamSpan<NT> empty_span() {
+  ParamSpan<NT> span;
   span.empty = true;
   return span;
 }
 
 template <class NT>
-void clip_slab(Span<NT>& span, const NT& start, const NT& velocity, const NT& half) {
+void clip_slab(ParamSpan<NT>& span, const NT& start, const NT& velocity, const NT& half) {
   if (span.empty) return;
   if (velocity == NT(0)) {
     if (start > half || start < -half) span.empty = true;
@@ -73,11 +73,11 @@ void clip_slab(Span<NT>& span, const NT& start, const NT& velocity, const NT& ha
 
 // Where |s + l v - centre_z e_z| <= r (a ball about (0, 0, centre_z)).
 template <class NT>
-Span<NT> ball(const V<NT>& s, const V<NT>& v, const NT& centre_z, const NT& r) {
+ParamSpan<NT> ball(const V<NT>& s, const V<NT>& v, const NT& centre_z, const NT& r) {
   const V<NT> w{s.x, s.y, s.z - centre_z};
   const NT a = dot(v, v), b = dot(w, v), c = dot(w, w) - r * r;
   const NT disc = b * b - a * c;
-  Span<NT> span;
+  ParamSpan<NT> span;
   if (disc < NT(0)) return empty_span<NT>();
   const NT root = CGAL::sqrt(disc);
   span.enter = (-b - root) / a;
@@ -87,15 +87,15 @@ Span<NT> ball(const V<NT>& s, const V<NT>& v, const NT& centre_z, const NT& r) {
 
 // Where u_x^2 + u_y^2 <= r^2.
 template <class NT>
-Span<NT> infinite_cylinder(const V<NT>& s, const V<NT>& v, const NT& r) {
+ParamSpan<NT> infinite_cylinder(const V<NT>& s, const V<NT>& v, const NT& r) {
   const NT a = v.x * v.x + v.y * v.y;
   const NT c = s.x * s.x + s.y * s.y - r * r;
-  if (a == NT(0)) return c > NT(0) ? empty_span<NT>() : Span<NT>{};
+  if (a == NT(0)) return c > NT(0) ? empty_span<NT>() : ParamSpan<NT>{};
   const NT b = s.x * v.x + s.y * v.y;
   const NT disc = b * b - a * c;
   if (disc < NT(0)) return empty_span<NT>();
   const NT root = CGAL::sqrt(disc);
-  Span<NT> span;
+  ParamSpan<NT> span;
   span.enter = (-b - root) / a;
   span.leave = (-b + root) / a;
   return span;
@@ -112,7 +112,7 @@ struct Solution {
 // The caster's rule for a solid: the entry if at or ahead of the origin, else the exit; a
 // surface at l = 0 is no hit.
 template <class NT>
-Solution<NT> from_span(Span<NT> span) {
+Solution<NT> from_span(ParamSpan<NT> span) {
   if (span.empty || !span.enter || !span.leave) return {};
   if (*span.enter > *span.leave) return {};
   Solution<NT> out;
@@ -124,7 +124,7 @@ Solution<NT> from_span(Span<NT> span) {
 }
 
 template <class NT>
-Solution<NT> solve(const Part& part, const Ray& ray, double grow_m) {
+Solution<NT> solve(const Part& part, const OracleRay& ray, double grow_m) {
   const V<NT> o = make<NT>(ray.origin), d = make<NT>(ray.direction);
   const NT grow(grow_m);
   if (part.kind == Kind::plane) {
@@ -177,7 +177,7 @@ Solution<NT> solve(const Part& part, const Ray& ray, double grow_m) {
   const NT radius = NT(part.radius) + grow;
   switch (part.kind) {
     case Kind::box: {
-      Span<NT> span;
+      ParamSpan<NT> span;
       const NT half[3] = {NT(part.half[0]) + grow, NT(part.half[1]) + grow, NT(part.half[2]) + grow};
       if (half[0] < NT(0) || half[1] < NT(0) || half[2] < NT(0)) return {};
       clip_slab(span, s.x, v.x, half[0]);
@@ -191,7 +191,7 @@ Solution<NT> solve(const Part& part, const Ray& ray, double grow_m) {
     case Kind::cylinder: {
       const NT half = NT(part.half_length) + grow;
       if (radius < NT(0) || half < NT(0)) return {};
-      Span<NT> span = infinite_cylinder(s, v, radius);
+      ParamSpan<NT> span = infinite_cylinder(s, v, radius);
       clip_slab(span, s.z, v.z, half);
       return from_span(span);
     }
@@ -199,10 +199,10 @@ Solution<NT> solve(const Part& part, const Ray& ray, double grow_m) {
       if (radius < NT(0)) return {};
       const NT half(part.half_length);
       // Convex, the union of its cylinder and end balls: one interval, the hull of the parts'.
-      Span<NT> hull = empty_span<NT>();
-      Span<NT> pieces[3] = {infinite_cylinder(s, v, radius), ball(s, v, -half, radius), ball(s, v, half, radius)};
+      ParamSpan<NT> hull = empty_span<NT>();
+      ParamSpan<NT> pieces[3] = {infinite_cylinder(s, v, radius), ball(s, v, -half, radius), ball(s, v, half, radius)};
       clip_slab(pieces[0], s.z, v.z, half);
-      for (const Span<NT>& piece : pieces) {
+      for (const ParamSpan<NT>& piece : pieces) {
         if (piece.empty || !piece.enter || !piece.leave) continue;
         if (hull.empty) {
           hull = piece;
@@ -223,7 +223,7 @@ struct FilterScope {
   CGAL::Protect_FPU_rounding<true> guard;
 };
 
-PartAnswer interval_answer(const Part& part, const Ray& ray, double grow_m) {
+PartAnswer interval_answer(const Part& part, const OracleRay& ray, double grow_m) {
   FilterScope scope;
   const Solution<Interval> s = solve<Interval>(part, ray, grow_m);
   PartAnswer out;
@@ -239,12 +239,12 @@ PartAnswer interval_answer(const Part& part, const Ray& ray, double grow_m) {
   return out;
 }
 
-Exact exact_range(const Solution<Exact>& s, const Ray& ray) {
+Exact exact_range(const Solution<Exact>& s, const OracleRay& ray) {
   const V<Exact> d = make<Exact>(ray.direction);
   return s.l * CGAL::sqrt(dot(d, d));
 }
 
-PartAnswer exact_answer(const Part& part, const Ray& ray, double grow_m) {
+PartAnswer exact_answer(const Part& part, const OracleRay& ray, double grow_m) {
   const Solution<Exact> s = solve<Exact>(part, ray, grow_m);
   PartAnswer out;
   out.exact = true;
@@ -261,7 +261,7 @@ PartAnswer exact_answer(const Part& part, const Ray& ray, double grow_m) {
   return out;
 }
 
-Answer exact_scene(std::span<const Part> parts, const Ray& ray, std::uint32_t ignored);
+Answer exact_scene(std::span<const Part> parts, const OracleRay& ray, std::uint32_t ignored);
 
 }  // namespace
 
@@ -277,7 +277,7 @@ const char* kind_name(Kind kind) {
   return "?";
 }
 
-PartAnswer cast_part(const Part& part, const Ray& ray, double grow_m, bool exact) {
+PartAnswer cast_part(const Part& part, const OracleRay& ray, double grow_m, bool exact) {
   // Exact numbers of infinities do not exist (CORE aborts on them).
   const auto finite = [](const auto& values) { return std::all_of(values.begin(), values.end(), [](double x) { return std::isfinite(x); }); };
   if (!std::isfinite(grow_m) || !finite(ray.origin) || !finite(ray.direction) || !finite(part.centre) || !finite(part.rotation) ||
@@ -299,7 +299,7 @@ PartAnswer cast_part(const Part& part, const Ray& ray, double grow_m, bool exact
   }
 }
 
-Answer cast(std::span<const Part> parts, const Ray& ray, std::uint32_t ignored) {
+Answer cast(std::span<const Part> parts, const OracleRay& ray, std::uint32_t ignored) {
   // The filter answers each part; only when two hits or a hit and the reach cannot be told
   // apart by their enclosures is the whole scene decided again exactly.
   Answer best;
@@ -340,7 +340,7 @@ Answer cast(std::span<const Part> parts, const Ray& ray, std::uint32_t ignored) 
 
 namespace {
 
-Answer exact_scene(std::span<const Part> parts, const Ray& ray, std::uint32_t ignored) {
+Answer exact_scene(std::span<const Part> parts, const OracleRay& ray, std::uint32_t ignored) {
   Answer best;
   std::optional<Exact> best_exact;
   best.exact = true;
@@ -373,7 +373,7 @@ Answer exact_scene(std::span<const Part> parts, const Ray& ray, std::uint32_t ig
 
 }  // namespace
 
-std::string exact_range_text(const Part& part, const Ray& ray, int digits) {
+std::string exact_range_text(const Part& part, const OracleRay& ray, int digits) {
   const Solution<Exact> s = solve<Exact>(part, ray, 0.0);
   if (!s.hit) return "miss";
   const Exact range = exact_range(s, ray);

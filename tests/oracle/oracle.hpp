@@ -46,7 +46,7 @@ struct Part {
   std::array<Vec, 3> vertices{};  // triangle
 };
 
-struct Ray {
+struct OracleRay {
   Vec origin{};
   Vec direction{};  // any non-zero length; ranges are along its unit vector
   double reach = 0.0;
@@ -70,7 +70,7 @@ struct PartAnswer {
 // passing a sphere 1e-150 m from tangent is not decided. The fuzzer's inputs stay far above.
 // `reach` is ignored here: every hit at s > 0 is reported (the judge compares with the reach).
 // exact = true skips the floating filter (tests pin the exact path with it).
-PartAnswer cast_part(const Part& part, const Ray& ray, double grow_m = 0.0, bool exact = false);
+PartAnswer cast_part(const Part& part, const OracleRay& ray, double grow_m = 0.0, bool exact = false);
 
 // The scene answer: the first part hit in (0, reach], ties broken by the lower object index
 // (the casters' documented rule).
@@ -85,11 +85,11 @@ struct Answer {
   bool at_reach = false;  // the hit is exactly at the reach (one more ulp of reach short: a miss)
   bool exact = false;
 };
-// `ignored` names an object the ray passes through (Ray::ignored_object), or UINT32_MAX.
-Answer cast(std::span<const Part> parts, const Ray& ray, std::uint32_t ignored = UINT32_MAX);
+// `ignored` names an object the ray passes through (OracleRay::ignored_object), or UINT32_MAX.
+Answer cast(std::span<const Part> parts, const OracleRay& ray, std::uint32_t ignored = UINT32_MAX);
 
 // The exact range of `part` (cast_part with exact = true) to `bits` significant bits, as a
 // decimal string: for messages and the report.
-std::string exact_range_text(const Part& part, const Ray& ray, int digits = 40);
+std::string exact_range_text(const Part& part, const OracleRay& ray, int digits = 40);
 
 }  // namespace ldoem::oracle

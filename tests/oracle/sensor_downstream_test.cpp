@@ -59,7 +59,7 @@ void check_scene(const std::filesystem::path& file, std::initializer_list<scene:
       if (sample.distance == 0) continue;
       double nearest = INFINITY, farthest = -INFINITY;
       for (const raycast::Ray& ray : recorder.rays) {
-        const Answer exact = cast(parts, Ray{{ray.origin_m.x(), ray.origin_m.y(), ray.origin_m.z()},
+        const Answer exact = cast(parts, OracleRay{{ray.origin_m.x(), ray.origin_m.y(), ray.origin_m.z()},
                                              {ray.direction.x(), ray.direction.y(), ray.direction.z()}, ray.max_range_m},
                                   ray.ignored_object);
         if (!exact.hit) continue;

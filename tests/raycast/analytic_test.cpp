@@ -11,7 +11,7 @@ using namespace ldoem::raycast::testing;
 constexpr double kTolerance_m = 1e-9;
 constexpr int kRaysPerShape = 2000;
 
-struct Expected {
+struct ExpectedHit {
   double range_m;
   Eigen::Vector3d normal;  // outward
 };
@@ -27,7 +27,7 @@ Eigen::Vector3d random_unit(std::mt19937_64& rng) {
 }
 
 // Sphere: |o + t d - c|^2 = R^2, nearest positive root (origin outside).
-std::optional<Expected> sphere_truth(const Eigen::Vector3d& c, double radius, const Eigen::Vector3d& o,
+std::optional<ExpectedHit> sphere_truth(const Eigen::Vector3d& c, double radius, const Eigen::Vector3d& o,
                                      const Eigen::Vector3d& d) {
   const Eigen::Vector3d q = o - c;
   const double b = q.dot(d);
@@ -35,11 +35,11 @@ std::optional<Expected> sphere_truth(const Eigen::Vector3d& c, double radius, co
   if (disc < 0) return std::nullopt;
   const double t = -b - std::sqrt(disc);
   if (t <= 0) return std::nullopt;
-  return Expected{t, (o + t * d - c).normalized()};
+  return ExpectedHit{t, (o + t * d - c).normalized()};
 }
 
 // Box: slab test in the box frame.
-std::optional<Expected> box_truth(const Eigen::Vector3d& c, const Eigen::Quaterniond& q, const Eigen::Vector3d& size,
+std::optional<ExpectedHit> box_truth(const Eigen::Vector3d& c, const Eigen::Quaterniond& q, const Eigen::Vector3d& size,
                                   const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
   const Eigen::Vector3d lo = q.inverse() * (o - c);
   const Eigen::Vector3d ld = q.inverse() * d;
@@ -59,17 +59,17 @@ std::optional<Expected> box_truth(const Eigen::Vector3d& c, const Eigen::Quatern
   if (t_enter > t_exit || t_enter <= 0 || axis < 0) return std::nullopt;
   Eigen::Vector3d n = Eigen::Vector3d::Zero();
   n[axis] = ld[axis] > 0 ? -1.0 : 1.0;
-  return Expected{t_enter, q * n};
+  return ExpectedHit{t_enter, q * n};
 }
 
 // Finite cylinder along local z with flat caps.
-std::optional<Expected> cylinder_truth(const Eigen::Vector3d& c, const Eigen::Quaterniond& q, double radius,
+std::optional<ExpectedHit> cylinder_truth(const Eigen::Vector3d& c, const Eigen::Quaterniond& q, double radius,
                                        double length, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
   const Eigen::Vector3d lo = q.inverse() * (o - c);
   const Eigen::Vector3d ld = q.inverse() * d;
-  std::optional<Expected> best;
+  std::optional<ExpectedHit> best;
   auto consider = [&](double t, const Eigen::Vector3d& local_normal) {
-    if (t > 0 && (!best || t < best->range_m)) best = Expected{t, q * local_normal};
+    if (t > 0 && (!best || t < best->range_m)) best = ExpectedHit{t, q * local_normal};
   };
   const double a = ld.x() * ld.x() + ld.y() * ld.y();
   if (a > 0) {

@@ -57,9 +57,9 @@ TEST(OracleFindings, TinySphereFromFarAway_IsHit) {
 }
 
 // Every object where the scene put it, for ever.
-class StandStill final : public MotionSource {
+class FixedPoses final : public MotionSource {
  public:
-  explicit StandStill(std::vector<scene::Pose> poses) : poses_(std::move(poses)) {}
+  explicit FixedPoses(std::vector<scene::Pose> poses) : poses_(std::move(poses)) {}
   scene::Pose pose_at(std::size_t k, double) const override { return poses_[k]; }
   scene::PathBounds origin_bounds(std::size_t k, double, double) const override { return {poses_[k].position_m, poses_[k].position_m}; }
   bool keeps_orientation(std::size_t) const override { return true; }
@@ -83,7 +83,7 @@ scene::Mesh closed_cube_mesh() {
 // no hit), and the moving caster answered nothing instead of the face the ray leaves through.
 TEST(OracleFindings, MovingMesh_RayFromItsFaceFindsTheExit) {
   std::vector<scene::SceneObject> objects{make_object(closed_cube_mesh(), Eigen::Vector3d(0, 4, 0))};
-  const StandStill still({objects[0].pose});
+  const FixedPoses still({objects[0].pose});
   MovingRayCaster caster(objects, {0}, still);
   caster.prepare(0.0, 1.0);
   for (const Eigen::Vector3d& direction : {Eigen::Vector3d(0.3, 0.2, 1), Eigen::Vector3d(-0.1, 0.4, 1), Eigen::Vector3d(0, 0, 1)}) {
@@ -103,7 +103,7 @@ TEST(OracleFindings, MovingTinySphereFromFarAway_IsHit) {
   const Eigen::Vector3d centre(-1.7446140151343865, -2.160481332999503, -22.075968050757773);
   std::vector<scene::SceneObject> objects{make_object(scene::Sphere{1.07e-6}, centre),
                                          make_object(scene::Sphere{1.07e-6}, centre + Eigen::Vector3d(-4e-12, 1.6e-11, -9e-12))};
-  const StandStill still({objects[0].pose, objects[1].pose});
+  const FixedPoses still({objects[0].pose, objects[1].pose});
   MovingRayCaster caster(objects, {0, 1}, still);
   caster.prepare(0.0, 1.0);
   for (int i = 0; i < 64; ++i) {
@@ -125,7 +125,7 @@ TEST(OracleFindings, MovingTinySphereFromFarAway_IsHit) {
 TEST(OracleFindings, MovingMesh_RangeFromTheDoublePlane) {
   scene::SceneObject slab = make_object(triangle_mesh({{-60, -50, 3}, {70, -40, -5}, {-5, 65, 1}}), Eigen::Vector3d(1500, 2100, 40));
   slab.pose.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.3, -0.5, 0.8).normalized()));
-  const StandStill still({slab.pose});
+  const FixedPoses still({slab.pose});
   MovingRayCaster moving({slab}, {0}, still);
   moving.prepare(0.0, 1.0);
   auto rig = rig_of<EmbreeRayCaster>({slab});

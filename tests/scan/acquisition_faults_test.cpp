@@ -34,12 +34,12 @@ struct Retry {
   driver::ErrorKind kind;
 };
 
-struct Run {
+struct AcquisitionRun {
   base::Expected<Scan, AcquisitionError> scan;
   std::vector<Retry> retries;
 };
 
-Run scan_with(ScannerBench& bench, const AcquisitionPlan& plan) {
+AcquisitionRun scan_with(ScannerBench& bench, const AcquisitionPlan& plan) {
   std::vector<Retry> retries;
   AcquisitionHooks hooks;
   hooks.sleep = [](std::chrono::milliseconds) {};
@@ -163,7 +163,7 @@ namespace ldoem::scan {
 namespace {
 
 TEST(AcquireFaults, UnreachableDevice_IsFinalAtInitialize_NoRetry) {
-  driver::TransportFactory refused = []() -> driver::Expected<std::unique_ptr<driver::Transport>, driver::DriverError> {
+  driver::TransportFactory refused = []() -> driver::Expected<std::unique_ptr<driver::TelegramTransport>, driver::DriverError> {
     return driver::fail(driver::system_error("connect", "tcp:127.0.0.1:1", ECONNREFUSED));
   };
   driver::ScannerDevice device("nowhere", refused, {}, std::make_unique<test::VirtualSleeper>());

@@ -19,9 +19,9 @@ struct ScannerBench {
 
   explicit ScannerBench(ScriptedLd::RangeFunction range)
       : ld(std::move(range), [this] { return port->position_half_steps(); }) {
-    driver::TransportFactory transport = [this]() -> driver::Expected<std::unique_ptr<driver::Transport>, driver::DriverError> {
+    driver::TransportFactory transport = [this]() -> driver::Expected<std::unique_ptr<driver::TelegramTransport>, driver::DriverError> {
       ++transports_opened;
-      return std::unique_ptr<driver::Transport>(std::make_unique<ScriptedTransport>(ld));
+      return std::unique_ptr<driver::TelegramTransport>(std::make_unique<ScriptedTransport>(ld));
     };
     driver::LptFactory lpt = [this]() -> driver::Expected<std::unique_ptr<driver::LptPort>, driver::DriverError> {
       return std::unique_ptr<driver::LptPort>(std::make_unique<SharedTiltPort>(port));

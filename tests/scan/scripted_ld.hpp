@@ -1,6 +1,6 @@
 // A scripted LD for tests of ldoem-scan and the hub (tests only; it answers like the device
 // from spec 3 and D2..D4, it is not the project's device simulation). ScriptedLd turns one
-// request payload into the reply payloads; ScriptedTransport puts it behind the Transport
+// request payload into the reply payloads; ScriptedTransport puts it behind the TelegramTransport
 // interface; TiltLptPort counts the D8 steps written to it; VirtualSleeper makes step timing
 // instant. Ranges come from a function of (beam index, tilt half-steps) so that tests know
 // every point the scan must produce.
@@ -269,8 +269,8 @@ class ScriptedLd {
   std::size_t profiles_sent_ = 0;
 };
 
-// The scripted LD behind the Transport interface (replies queue up at send time).
-class ScriptedTransport final : public driver::Transport {
+// The scripted LD behind the TelegramTransport interface (replies queue up at send time).
+class ScriptedTransport final : public driver::TelegramTransport {
  public:
   explicit ScriptedTransport(ScriptedLd& device) : device_(device) {}
   driver::Status send(protocol::ByteView payload, driver::Deadline) override {

@@ -23,7 +23,7 @@ TEST(CanUtilsInterop, FrameFromCansend_IsReceivedByTheEndpoint) {
 
 TEST(CanUtilsInterop, FrameFromTheEndpoint_IsLoggedByCandumpWithTheSameBytes) {
   LDOEM_ASSERT_OPEN_CAN(sender, kVcan);
-  auto candump = ChildProcess::start({"candump", "-n", "1", "-L", "vcan0"});
+  auto candump = CapturedProcess::start({"candump", "-n", "1", "-L", "vcan0"});
   ASSERT_TRUE(candump.has_value()) << "cannot start candump (can-utils)";
   const protocol::CanFrame frame = frame_of(0x6C1, {0x00, 0x0A, 0xFF, 0x80, 0x7F});
   // candump is ready only once it has bound its socket, and says nothing when it is: send until

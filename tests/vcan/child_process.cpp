@@ -9,7 +9,7 @@
 
 namespace ldoem::test {
 
-std::optional<ChildProcess> ChildProcess::start(const std::vector<std::string>& argv) {
+std::optional<CapturedProcess> CapturedProcess::start(const std::vector<std::string>& argv) {
   int pipe_fds[2];
   if (::pipe2(pipe_fds, O_CLOEXEC) != 0) {
     return std::nullopt;
@@ -22,22 +22,22 @@ std::optional<ChildProcess> ChildProcess::start(const std::vector<std::string>& 
     ::close(pipe_fds[0]);
     return std::nullopt;
   }
-  return ChildProcess(std::move(*child), pipe_fds[0]);
+  return CapturedProcess(std::move(*child), pipe_fds[0]);
 }
 
-ChildProcess::ChildProcess(ChildProcess&& other) noexcept
+CapturedProcess::CapturedProcess(CapturedProcess&& other) noexcept
     : child_(std::move(other.child_)),
       stdout_fd_(std::exchange(other.stdout_fd_, -1)),
       output_(std::move(other.output_)) {}
 
-ChildProcess::~ChildProcess() {
+CapturedProcess::~CapturedProcess() {
   child_.kill_now();
   if (stdout_fd_ >= 0) {
     ::close(stdout_fd_);
   }
 }
 
-void ChildProcess::collect_output(std::chrono::milliseconds max_wait) {
+void CapturedProcess::collect_output(std::chrono::milliseconds max_wait) {
   pollfd entry{stdout_fd_, POLLIN, 0};
   if (::poll(&entry, 1, static_cast<int>(max_wait.count())) <= 0) {
     return;
@@ -49,9 +49,9 @@ void ChildProcess::collect_output(std::chrono::milliseconds max_wait) {
   }
 }
 
-bool ChildProcess::running() { return !child_.exited(); }
+bool CapturedProcess::running() { return !child_.exited(); }
 
-std::optional<int> ChildProcess::wait(std::chrono::milliseconds limit) {
+std::optional<int> CapturedProcess::wait(std::chrono::milliseconds limit) {
   const auto end = std::chrono::steady_clock::now() + limit;
   while (running()) {
     if (std::chrono::steady_clock::now() > end) {
@@ -71,7 +71,7 @@ std::optional<int> ChildProcess::wait(std::chrono::milliseconds limit) {
 }
 
 std::optional<int> run_program(const std::vector<std::string>& argv) {
-  auto child = ChildProcess::start(argv);
+  auto child = CapturedProcess::start(argv);
   if (!child) {
     return std::nullopt;
   }

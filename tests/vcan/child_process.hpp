@@ -14,13 +14,13 @@
 
 namespace ldoem::test {
 
-class ChildProcess {
+class CapturedProcess {
  public:
   // argv[0] from PATH, stdin /dev/null and stdout captured; stderr inherited.
-  static std::optional<ChildProcess> start(const std::vector<std::string>& argv);
-  ChildProcess(ChildProcess&& other) noexcept;
-  ChildProcess& operator=(ChildProcess&&) = delete;
-  ~ChildProcess();  // kills and reaps a child still running
+  static std::optional<CapturedProcess> start(const std::vector<std::string>& argv);
+  CapturedProcess(CapturedProcess&& other) noexcept;
+  CapturedProcess& operator=(CapturedProcess&&) = delete;
+  ~CapturedProcess();  // kills and reaps a child still running
 
   // Appends whatever stdout has to output(); waits at most `max_wait` for something to arrive.
   void collect_output(std::chrono::milliseconds max_wait);
@@ -30,7 +30,7 @@ class ChildProcess {
   const std::string& output() const { return output_; }
 
  private:
-  ChildProcess(test_support::Child child, int stdout_fd) : child_(std::move(child)), stdout_fd_(stdout_fd) {}
+  CapturedProcess(test_support::Child child, int stdout_fd) : child_(std::move(child)), stdout_fd_(stdout_fd) {}
   test_support::Child child_;
   int stdout_fd_ = -1;
   std::string output_;

@@ -374,7 +374,7 @@ TEST(WireFaultsCan, LossyCanScenario_LibldoemRetriesEveryBrokenProfile) {
   ASSERT_TRUE(d.ready()) << d.diagnostics();
   auto opened = driver::open_transport(*driver::parse_endpoint("can:vcan0"));
   ASSERT_TRUE(opened);
-  driver::Transport& transport = **opened;
+  driver::TelegramTransport& transport = **opened;
   auto ask = [&](std::string_view request, std::chrono::milliseconds limit) -> std::optional<protocol::Bytes> {
     if (!transport.send(telegram(request), driver::Clock::now() + 2s)) return std::nullopt;
     auto reply = transport.receive(driver::Clock::now() + limit);

@@ -41,7 +41,7 @@ Bytes as_bytes(const std::string& text) { return Bytes(text.begin(), text.end())
 
 driver::Deadline in(std::chrono::milliseconds limit) { return driver::Clock::now() + limit; }
 
-std::unique_ptr<driver::Transport> open(const std::string& endpoint_text) {
+std::unique_ptr<driver::TelegramTransport> open(const std::string& endpoint_text) {
   auto endpoint = driver::parse_endpoint(endpoint_text);
   EXPECT_TRUE(endpoint) << endpoint_text;
   if (!endpoint) return nullptr;

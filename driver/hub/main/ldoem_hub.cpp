@@ -20,7 +20,7 @@ using ldoem::driver::ScannerDeviceOptions;
 
 std::vector<DeviceSlot> make_devices(const HubConfig& config) {
   std::vector<DeviceSlot> slots;
-  for (const DeviceConfig& device : config.devices) {
+  for (const HubDeviceConfig& device : config.devices) {
     ScannerDeviceOptions options;
     options.scanner.request_timeout = device.request_timeout;
     options.scanner.reconnect = device.reconnect;

@@ -79,7 +79,7 @@ std::optional<std::string> parse_reconnect(const YAML::Node& node, const std::st
   return std::nullopt;
 }
 
-base::Expected<DeviceConfig, std::string> parse_device(const YAML::Node& node, std::size_t index) {
+base::Expected<HubDeviceConfig, std::string> parse_device(const YAML::Node& node, std::size_t index) {
   const std::string where = "devices[" + std::to_string(index) + "]";
   if (!node.IsMap()) {
     return config_error(where + " is not a map");
@@ -92,7 +92,7 @@ base::Expected<DeviceConfig, std::string> parse_device(const YAML::Node& node, s
       return config_error(where + ": unknown key `" + key + "`");
     }
   }
-  DeviceConfig device;
+  HubDeviceConfig device;
   if (!node["name"] || !is_device_name(node["name"].as<std::string>())) {
     return config_error(where + ".name must be 1..32 of [A-Za-z0-9_.-]");
   }

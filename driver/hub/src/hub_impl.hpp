@@ -31,7 +31,7 @@ inline constexpr std::uint64_t kFirstClientTag = 16;
 // One warning of a kind per this period at most; the next one says how many were held back.
 inline constexpr std::chrono::milliseconds kWarnPeriod{10000};
 
-struct Client {
+struct HubConnection {
   int fd = -1;
   std::string frontend_id;  // FEMH id
   std::string input;
@@ -69,7 +69,7 @@ struct Hub::Impl {
   std::mutex completions_mutex;
   std::deque<BackendResult> completions;
 
-  std::unordered_map<std::uint64_t, Client> clients;  // by epoll tag
+  std::unordered_map<std::uint64_t, HubConnection> clients;  // by epoll tag
   std::unordered_map<std::string, std::uint64_t> tag_by_frontend;
   std::vector<std::uint64_t> resume_parsing;  // clients whose reading was just unpaused
   std::uint64_t next_tag = kFirstClientTag;

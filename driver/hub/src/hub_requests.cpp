@@ -37,7 +37,7 @@ void Hub::Impl::handle_line(std::uint64_t tag, const std::string& line) {
     counters.answered_from_cache.fetch_add(1, std::memory_order_relaxed);
     return;
   }
-  Client& client = clients.at(tag);
+  HubConnection& client = clients.at(tag);
   if (client.total_in_flight >= settings.max_in_flight) {
     counters.errors.fetch_add(1, std::memory_order_relaxed);
     send_reply(tag, error_reply(request->id, "busy",
@@ -67,7 +67,7 @@ bool Hub::Impl::answer_from_cache(std::uint64_t tag, const HubRequest& request, 
     return false;
   }
   const milliseconds max_age = asked.value_or(settings.max_age);
-  const Client& client = clients.at(tag);
+  const HubConnection& client = clients.at(tag);
   const auto in_flight = client.in_flight.find(request.device);
   if (max_age.count() <= 0 || (in_flight != client.in_flight.end() && in_flight->second > 0)) {
     return false;
@@ -124,7 +124,7 @@ void Hub::Impl::deliver_completions() {
     if (tag == tag_by_frontend.end()) {
       continue;  // the client left; its reply has nobody to go to
     }
-    Client& client = clients.at(tag->second);
+    HubConnection& client = clients.at(tag->second);
     if (auto in_flight = client.in_flight.find(result.device);
         in_flight != client.in_flight.end() && in_flight->second > 0) {
       --in_flight->second;

@@ -206,7 +206,7 @@ void Hub::Impl::accept_clients() {
     const int yes = 1;
     (void)::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &yes, sizeof yes);
     const std::uint64_t tag = next_tag++;
-    Client& client = clients[tag];
+    HubConnection& client = clients[tag];
     client.fd = fd;
     client.frontend_id = "F" + std::to_string(next_frontend_number++);
     client.last_activity = Clock::now();
@@ -276,7 +276,7 @@ void Hub::Impl::take_lines(std::uint64_t tag) {
     if (found == clients.end() || found->second.reading_paused) {
       return;  // paused: the lines wait in `input` until the replies drain
     }
-    Client& client = found->second;
+    HubConnection& client = found->second;
     const std::size_t end = client.input.find('\n');
     if (end == std::string::npos) {
       if (client.input.size() > kMaxRequestLineLength) {
@@ -311,7 +311,7 @@ void Hub::Impl::send_reply(std::uint64_t tag, const HubReply& reply) {
   if (found == clients.end()) {
     return;
   }
-  Client& client = found->second;
+  HubConnection& client = found->second;
   client.output.append(format_reply(reply));
   client.output.append("\n");
   const std::uint64_t waiting = client.output.pending();
@@ -331,7 +331,7 @@ void Hub::Impl::flush(std::uint64_t tag) {
   if (found == clients.end()) {
     return;
   }
-  Client& client = found->second;
+  HubConnection& client = found->second;
   while (!client.output.empty()) {
     const ssize_t sent = ::send(client.fd, client.output.data(), client.output.pending(), MSG_NOSIGNAL);
     if (sent < 0) {

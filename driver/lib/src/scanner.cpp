@@ -27,7 +27,7 @@ std::string milliseconds_text(std::chrono::milliseconds timeout) {
 
 }  // namespace
 
-Scanner::Scanner(std::unique_ptr<Transport> transport, ScannerOptions options)
+Scanner::Scanner(std::unique_ptr<TelegramTransport> transport, ScannerOptions options)
     : transport_(std::move(transport)), options_(std::move(options)), stream_format_(options_.stream_format) {}
 
 Scanner::~Scanner() { close(); }
@@ -43,7 +43,7 @@ DriverError Scanner::error_for(ErrorKind kind, std::uint16_t request_code, std::
   return error;
 }
 
-// Transport errors name "send"/"receive"; the caller wants the service it asked for.
+// TelegramTransport errors name "send"/"receive"; the caller wants the service it asked for.
 DriverError Scanner::annotate(DriverError error, std::uint16_t request_code) const {
   error.operation = std::string(p::service_name(request_code));
   error.object = transport_->name();

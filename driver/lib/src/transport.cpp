@@ -7,14 +7,14 @@
 namespace ldoem::driver {
 namespace {
 
-using TransportResult = Expected<std::unique_ptr<Transport>, DriverError>;
+using TransportResult = Expected<std::unique_ptr<TelegramTransport>, DriverError>;
 
 template <class Concrete>
 TransportResult widen(Expected<std::unique_ptr<Concrete>, DriverError> opened) {
   if (!opened) {
     return fail(opened.error());
   }
-  return std::unique_ptr<Transport>(std::move(*opened));
+  return std::unique_ptr<TelegramTransport>(std::move(*opened));
 }
 
 struct Opener {
@@ -34,11 +34,11 @@ struct Opener {
 
 }  // namespace
 
-std::vector<Bytes> Transport::take_arrived(std::size_t) { return {}; }
+std::vector<Bytes> TelegramTransport::take_arrived(std::size_t) { return {}; }
 
 // For the descriptor-based transports: receive() with a deadline already passed polls once
 // without waiting.
-std::vector<Bytes> take_arrived_now(Transport& transport, std::size_t limit) {
+std::vector<Bytes> take_arrived_now(TelegramTransport& transport, std::size_t limit) {
   std::vector<Bytes> arrived;
   const Deadline now = Clock::now();
   while (arrived.size() < limit) {
@@ -51,7 +51,7 @@ std::vector<Bytes> take_arrived_now(Transport& transport, std::size_t limit) {
   return arrived;
 }
 
-Expected<std::unique_ptr<Transport>, DriverError> open_transport(const Endpoint& endpoint) {
+Expected<std::unique_ptr<TelegramTransport>, DriverError> open_transport(const Endpoint& endpoint) {
   return std::visit(Opener{}, endpoint);
 }
 

@@ -383,7 +383,7 @@ DaemonCounters Daemon::counters() const { return impl_->counters(); }
 
 std::optional<std::uint16_t> Daemon::tcp_port(std::size_t scanner) const {
   if (scanner >= impl_->devices.size()) return std::nullopt;
-  const auto* tcp = dynamic_cast<const endpoints::TcpEndpoint*>(impl_->devices[scanner]->endpoint("tcp"));
+  const auto* tcp = dynamic_cast<const endpoints::TcpHostEndpoint*>(impl_->devices[scanner]->endpoint("tcp"));
   return tcp != nullptr ? tcp->port() : std::nullopt;
 }
 

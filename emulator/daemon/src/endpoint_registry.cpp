@@ -13,19 +13,19 @@ using Made = std::unique_ptr<endpoints::HostEndpoint>;
 
 Made make_can(const Options& options, const DeviceFacts& device) {
   if (!options.can_interface) return nullptr;
-  return std::make_unique<endpoints::CanEndpoint>(endpoints::CanEndpointSetup{
+  return std::make_unique<endpoints::CanHostEndpoint>(endpoints::CanEndpointSetup{
       *options.can_interface, options.can_id_pairs, device.can_config,
       device.scene.effects.has(scene::Effect::bus_timing)});
 }
 
 Made make_tcp(const Options& options, const DeviceFacts&) {
   if (!options.tcp) return nullptr;
-  return std::make_unique<endpoints::TcpEndpoint>(options.tcp->address, options.tcp->port, options.host_limits);
+  return std::make_unique<endpoints::TcpHostEndpoint>(options.tcp->address, options.tcp->port, options.host_limits);
 }
 
 Made make_serial(const Options& options, const DeviceFacts&) {
   if (!options.serial_pty) return nullptr;
-  return std::make_unique<endpoints::SerialEndpoint>(*options.serial_pty, options.host_limits.inter_byte_timeout);
+  return std::make_unique<endpoints::SerialHostEndpoint>(*options.serial_pty, options.host_limits.inter_byte_timeout);
 }
 
 Made make_lpt_pty(const Options& options, const DeviceFacts&) {

@@ -104,7 +104,7 @@ const std::map<std::string_view, ValueHandler>& value_options() {
          auto lpt = parse_offered_endpoint("--lpt", v, base::EndpointExpect::lpt);
          if (!lpt) return lpt.error();
          const auto& endpoint = std::get<base::LptEndpoint>(*lpt);
-         o.lpt = LptOption{endpoint.backend == base::LptBackend::gpio ? LptBackend::gpio : LptBackend::pty, endpoint.target};
+         o.lpt = LptOption{endpoint.backend, endpoint.target};
          return std::nullopt;
        }},
       {"--flash", [](std::string_view v, Options& o, Seen& s) -> std::optional<UsageError> {

@@ -26,7 +26,7 @@ IsoTpChannelConfig channel_config(const CanIdPair& ids, const protocol::CanConfi
 
 }  // namespace
 
-std::optional<OpenFailure> CanEndpoint::open(EndpointContext& context) {
+std::optional<OpenFailure> CanHostEndpoint::open(EndpointContext& context) {
   context_ = &context;
   const std::string& name = setup_.interface_name;
   if (auto status = io::check_can_interface(name); !status) {
@@ -58,14 +58,14 @@ std::optional<OpenFailure> CanEndpoint::open(EndpointContext& context) {
   return std::nullopt;
 }
 
-bool CanEndpoint::busy(ConnectionId connection) const {
+bool CanHostEndpoint::busy(ConnectionId connection) const {
   if (connection.index < 1 || connection.index > channels_.size()) return false;
   const IsoTpChannel& channel = channels_[connection.index - 1];
   // With bus_timing a telegram is still being sent while its frames wait for the bus.
   return channel.busy() || (pacer_ && pacer_->pending_for(channel.config().ids.response_id));
 }
 
-bool CanEndpoint::waiting_for_host() const {
+bool CanHostEndpoint::waiting_for_host() const {
   for (const auto& held : held_) {
     if (held) return true;  // D11 isotp_fc_wait: the host waits on our WAITs, alive
   }
@@ -77,7 +77,7 @@ bool CanEndpoint::waiting_for_host() const {
   return false;
 }
 
-void CanEndpoint::on_ready(io::Readiness readiness) {
+void CanHostEndpoint::on_ready(io::Readiness readiness) {
   ++context_->activity;
   if (readiness.writable) {
     flush_backlog();
@@ -100,14 +100,14 @@ void CanEndpoint::on_ready(io::Readiness readiness) {
   }
 }
 
-void CanEndpoint::handle_input(std::size_t channel, IsoTpChannelOutput output) {
+void CanHostEndpoint::handle_input(std::size_t channel, IsoTpChannelOutput output) {
   transmit(channel, output.frames);
   for (const protocol::Bytes& telegram : output.telegrams) {
     context_->sink.on_telegram(ConnectionId{protocol::Transport::can, static_cast<std::uint32_t>(channel + 1)}, telegram);
   }
 }
 
-void CanEndpoint::send(ConnectionId to, protocol::ByteView payload) {
+void CanHostEndpoint::send(ConnectionId to, protocol::ByteView payload) {
   const std::size_t channel = to.index - 1;
   if (to.index < 1 || channel >= channels_.size() || dark_) return;
   const SimTime now = context_->scheduler.now();
@@ -126,7 +126,7 @@ void CanEndpoint::send(ConnectionId to, protocol::ByteView payload) {
   }
 }
 
-void CanEndpoint::transmit(std::size_t channel, const std::vector<protocol::CanFrame>& frames) {
+void CanHostEndpoint::transmit(std::size_t channel, const std::vector<protocol::CanFrame>& frames) {
   if (pacer_) {
     const SimTime at = context_->scheduler.now();
     // Frames waiting for the paced bus and for the socket share the backlog's bound.
@@ -145,7 +145,7 @@ void CanEndpoint::transmit(std::size_t channel, const std::vector<protocol::CanF
   schedule_poll(channel);
 }
 
-void CanEndpoint::schedule_poll(std::size_t channel) {
+void CanHostEndpoint::schedule_poll(std::size_t channel) {
   if (channel >= channels_.size()) return;
   const auto due = channels_[channel].deadline();
   auto& scheduled = scheduled_polls_[channel];
@@ -166,7 +166,7 @@ void CanEndpoint::schedule_poll(std::size_t channel) {
 }
 
 // D9 bus_timing: frames whose last bit is on the bus go to the socket; the next one is a deadline.
-void CanEndpoint::release_paced_frames(SimTime at) {
+void CanHostEndpoint::release_paced_frames(SimTime at) {
   const std::vector<protocol::CanFrame> due_frames = pacer_->take_due(at);
   if (!backlog_.push(due_frames)) note_dropped_frames(due_frames.size());
   flush_backlog();
@@ -179,7 +179,7 @@ void CanEndpoint::release_paced_frames(SimTime at) {
   });
 }
 
-void CanEndpoint::flush_backlog() {
+void CanHostEndpoint::flush_backlog() {
   while (!backlog_.empty()) {
     auto sent = socket_->send(backlog_.front());
     if (!sent) {
@@ -197,13 +197,13 @@ void CanEndpoint::flush_backlog() {
                                                                        : io::Interest::readable | io::Interest::writable);
 }
 
-void CanEndpoint::note_dropped_frames(std::size_t count) {
+void CanHostEndpoint::note_dropped_frames(std::size_t count) {
   context_->counters.can_frames_dropped += count;
   context_->logger.log(LogLevel::info, "can: " + std::to_string(count) + " frames dropped, backlog full (" +
                                            std::to_string(backlog_.max_frames()) + " frames: the bus takes nothing)");
 }
 
-void CanEndpoint::apply_can_config(const protocol::CanConfig& config) {
+void CanHostEndpoint::apply_can_config(const protocol::CanConfig& config) {
   if (pacer_) {
     pacer_->set_bit_rate(can_bit_rate_bps(config.bitrate_code));  // frames from now on (D1, D9)
   }
@@ -218,7 +218,7 @@ void CanEndpoint::apply_can_config(const protocol::CanConfig& config) {
   context_->logger.log(LogLevel::info, "can pair 1 now " + hex_id(config.request_id) + ":" + hex_id(config.response_id));
 }
 
-void CanEndpoint::renew_channel(std::size_t channel, const IsoTpChannelConfig& config) {
+void CanHostEndpoint::renew_channel(std::size_t channel, const IsoTpChannelConfig& config) {
   const IsoTpChannelCounters& old = channels_[channel].counters();
   retired_.receive_errors += old.receive_errors;
   retired_.send_failures += old.send_failures;
@@ -229,7 +229,7 @@ void CanEndpoint::renew_channel(std::size_t channel, const IsoTpChannelConfig& c
   scheduled_polls_[channel].reset();
 }
 
-void CanEndpoint::set_filters() {
+void CanHostEndpoint::set_filters() {
   std::vector<io::CanIdFilter> filters;
   for (const IsoTpChannel& channel : channels_) {
     filters.push_back(io::exact_standard_id(channel.config().ids.request_id));
@@ -239,7 +239,7 @@ void CanEndpoint::set_filters() {
   }
 }
 
-void CanEndpoint::add_counters(Counters& counters) const {
+void CanHostEndpoint::add_counters(Counters& counters) const {
   IsoTpChannelCounters sum = retired_;
   for (const IsoTpChannel& channel : channels_) {
     sum.receive_errors += channel.counters().receive_errors;

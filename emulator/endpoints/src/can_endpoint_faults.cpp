@@ -12,12 +12,12 @@ constexpr SimTime kFlowControlWaitPeriod = std::chrono::milliseconds(500);
 
 }  // namespace
 
-protocol::CanFrame CanEndpoint::flow_control(std::size_t channel, protocol::IsoTpFlowStatus status) const {
+protocol::CanFrame CanHostEndpoint::flow_control(std::size_t channel, protocol::IsoTpFlowStatus status) const {
   const IsoTpChannelConfig& config = channels_[channel].config();
   return protocol::make_flow_control_frame(config.ids.response_id, status, 0, 0, config.pad_frames);
 }
 
-bool CanEndpoint::first_frame_faulted(std::size_t channel, const protocol::CanFrame& frame) {
+bool CanHostEndpoint::first_frame_faulted(std::size_t channel, const protocol::CanFrame& frame) {
   const auto type = protocol::isotp_frame_type(frame);
   if (held_[channel] && type != protocol::IsoTpFrameType::flow_control) {
     release_held_first_frame(channel, false);  // the host gave up waiting and sends something new
@@ -45,7 +45,7 @@ bool CanEndpoint::first_frame_faulted(std::size_t channel, const protocol::CanFr
 
 // `31 00 00` now and every kFlowControlWaitPeriod while the fault lasts; then the first frame
 // goes to the channel, whose flow control lets the host go on.
-void CanEndpoint::keep_host_waiting(std::size_t channel) {
+void CanHostEndpoint::keep_host_waiting(std::size_t channel) {
   HeldFirstFrame& held = *held_[channel];
   held.next_wait.reset();
   transmit(channel, {flow_control(channel, protocol::IsoTpFlowStatus::wait)});
@@ -65,7 +65,7 @@ void CanEndpoint::keep_host_waiting(std::size_t channel) {
   });
 }
 
-void CanEndpoint::release_held_first_frame(std::size_t channel, bool deliver) {
+void CanHostEndpoint::release_held_first_frame(std::size_t channel, bool deliver) {
   if (!held_[channel]) return;
   const HeldFirstFrame held = std::move(*held_[channel]);
   held_[channel].reset();
@@ -73,7 +73,7 @@ void CanEndpoint::release_held_first_frame(std::size_t channel, bool deliver) {
   if (deliver) handle_input(channel, channels_[channel].on_frame(context_->scheduler.now(), held.frame));
 }
 
-void CanEndpoint::set_power(DevicePower power) {
+void CanHostEndpoint::set_power(DevicePower power) {
   const bool was_dark = dark_;
   dark_ = power != DevicePower::on;
   if (!dark_ || was_dark || context_ == nullptr) return;

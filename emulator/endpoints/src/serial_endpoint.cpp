@@ -7,7 +7,7 @@
 
 namespace ldoem::endpoints {
 
-std::optional<OpenFailure> SerialEndpoint::open(EndpointContext& context) {
+std::optional<OpenFailure> SerialHostEndpoint::open(EndpointContext& context) {
   context_ = &context;
   auto pty = io::PseudoTerminal::open(link_path_);
   if (!pty) return OpenFailure{true, pty.error().message()};
@@ -17,7 +17,7 @@ std::optional<OpenFailure> SerialEndpoint::open(EndpointContext& context) {
   return std::nullopt;
 }
 
-void SerialEndpoint::on_ready(io::Readiness readiness) {
+void SerialHostEndpoint::on_ready(io::Readiness readiness) {
   ++context_->activity;
   if (readiness.writable) {
     flush();
@@ -46,7 +46,7 @@ void SerialEndpoint::on_ready(io::Readiness readiness) {
   }
 }
 
-void SerialEndpoint::on_inter_byte_timeout() {
+void SerialHostEndpoint::on_inter_byte_timeout() {
   inter_byte_timer_.reset();
   if (!deframer_.in_frame()) return;
   deframer_.reset();
@@ -57,7 +57,7 @@ void SerialEndpoint::on_inter_byte_timeout() {
                                   protocol::FramingError{protocol::DecodeError::timeout, 0});
 }
 
-void SerialEndpoint::set_power(DevicePower power) {
+void SerialHostEndpoint::set_power(DevicePower power) {
   dark_ = power != DevicePower::on;
   if (!dark_ || context_ == nullptr) return;
   deframer_.reset();  // a package begun before the cut is not joined to one sent after it
@@ -67,7 +67,7 @@ void SerialEndpoint::set_power(DevicePower power) {
   if (pty_) (void)context_->loop.change_interest(pty_->fd(), io::Interest::readable);
 }
 
-void SerialEndpoint::send(ConnectionId to, protocol::ByteView payload) {
+void SerialHostEndpoint::send(ConnectionId to, protocol::ByteView payload) {
   if (dark_) return;
   // All packages of the reply in one write (D10).
   const bool pushed = fault_hook_ == nullptr ? output_.push(protocol::encode_serial_reply(payload))
@@ -82,7 +82,7 @@ void SerialEndpoint::send(ConnectionId to, protocol::ByteView payload) {
 }
 
 // D11 corrupt_checksum (the first package's CRC) and garbage (before the first package).
-protocol::Bytes SerialEndpoint::faulty_reply(ConnectionId to, protocol::ByteView payload) {
+protocol::Bytes SerialHostEndpoint::faulty_reply(ConnectionId to, protocol::ByteView payload) {
   TelegramFaults faults = fault_hook_->on_outgoing_telegram(to, payload, context_->scheduler.now());
   std::vector<protocol::Bytes> packages = protocol::encode_serial_reply_packages(payload);
   if (faults.corrupt_checksum && !packages.empty()) protocol::corrupt_serial_crc(packages.front());
@@ -91,7 +91,7 @@ protocol::Bytes SerialEndpoint::faulty_reply(ConnectionId to, protocol::ByteView
   return reply;
 }
 
-void SerialEndpoint::flush() {
+void SerialHostEndpoint::flush() {
   if (!pty_) return;
   while (!output_.empty()) {
     auto sent = pty_->send(output_.front());
@@ -109,7 +109,7 @@ void SerialEndpoint::flush() {
 
 // Said on the 1st, 10th, 100th, ... time: a host that switches ECHO on before every request
 // must not fill the log.
-void SerialEndpoint::note_echo_resets() {
+void SerialHostEndpoint::note_echo_resets() {
   const std::uint64_t resets = pty_->echo_resets();
   if (resets == echo_resets_logged_) return;
   echo_resets_logged_ = resets;

@@ -12,7 +12,7 @@
 
 namespace ldoem::endpoints {
 
-std::optional<OpenFailure> TcpEndpoint::open(EndpointContext& context) {
+std::optional<OpenFailure> TcpHostEndpoint::open(EndpointContext& context) {
   context_ = &context;
   auto listener = io::TcpListener::listen(port_, address_);
   if (!listener) {
@@ -26,19 +26,19 @@ std::optional<OpenFailure> TcpEndpoint::open(EndpointContext& context) {
   return std::nullopt;
 }
 
-std::optional<std::uint16_t> TcpEndpoint::port() const {
+std::optional<std::uint16_t> TcpHostEndpoint::port() const {
   if (!listener_) return std::nullopt;
   return listener_->port();
 }
 
-bool TcpEndpoint::busy(ConnectionId connection) const {
+bool TcpHostEndpoint::busy(ConnectionId connection) const {
   const auto client = clients_.find(connection.index);
   return client != clients_.end() && !client->second.output.empty();
 }
 
 // At most kAcceptBudget connections per loop round: between rounds the loop serves the clients,
 // so a connect flood does not starve them.
-void TcpEndpoint::on_listener_ready() {
+void TcpHostEndpoint::on_listener_ready() {
   ++context_->activity;
   for (std::size_t round_accepts = 0; round_accepts < kAcceptBudget; ++round_accepts) {
     auto accepted = listener_->accept();
@@ -96,7 +96,7 @@ void TcpEndpoint::on_listener_ready() {
 // At the limit, a place held by a host that has already gone (its EOF or reset not read yet,
 // e.g. a flood of connections reset at once) is freed before the new host is judged, through
 // the usual read path (which drops it). One peek per connection, only when every place is taken.
-void TcpEndpoint::free_places_of_gone_hosts() {
+void TcpHostEndpoint::free_places_of_gone_hosts() {
   std::vector<std::uint32_t> gone;
   for (const auto& [index, client] : clients_) {
     if (client.connection.peer_gone()) gone.push_back(index);
@@ -106,7 +106,7 @@ void TcpEndpoint::free_places_of_gone_hosts() {
 
 // After bytes from the host: a frame left incomplete must be finished within the inter-byte
 // timeout (spec 6), else its start is dropped instead of being joined to whatever comes next.
-void TcpEndpoint::after_receive(std::uint32_t index) {
+void TcpHostEndpoint::after_receive(std::uint32_t index) {
   const auto client = clients_.find(index);
   if (client == clients_.end()) return;
   Client& c = client->second;
@@ -121,7 +121,7 @@ void TcpEndpoint::after_receive(std::uint32_t index) {
   }
 }
 
-void TcpEndpoint::on_inter_byte_timeout(std::uint32_t index) {
+void TcpHostEndpoint::on_inter_byte_timeout(std::uint32_t index) {
   const auto client = clients_.find(index);
   if (client == clients_.end()) return;
   client->second.inter_byte_timer.reset();
@@ -138,7 +138,7 @@ void TcpEndpoint::on_inter_byte_timeout(std::uint32_t index) {
                                   protocol::FramingError{protocol::DecodeError::timeout, 0});
 }
 
-void TcpEndpoint::arm_quiet_timer(std::uint32_t index, std::chrono::steady_clock::time_point at) {
+void TcpHostEndpoint::arm_quiet_timer(std::uint32_t index, std::chrono::steady_clock::time_point at) {
   const auto client = clients_.find(index);
   if (client == clients_.end()) return;
   client->second.quiet_timer = context_->loop.add_timer_at(at, [this, index] { on_quiet_timer(index); });
@@ -146,7 +146,7 @@ void TcpEndpoint::arm_quiet_timer(std::uint32_t index, std::chrono::steady_clock
 
 // One timer per connection, checked lazily: bytes that arrived since it was armed move it on
 // instead of re-arming it for every read.
-void TcpEndpoint::on_quiet_timer(std::uint32_t index) {
+void TcpHostEndpoint::on_quiet_timer(std::uint32_t index) {
   const auto client = clients_.find(index);
   if (client == clients_.end()) return;
   Client& c = client->second;
@@ -175,7 +175,7 @@ void TcpEndpoint::on_quiet_timer(std::uint32_t index) {
 // level-triggered loop would spin on it (issue 11: 1.9 million warnings in 3 s). The listener is
 // unwatched for kListenerRest, or until a client leaves, and the warning is said at most once
 // per kWarnPeriod with the count of the ones held back.
-void TcpEndpoint::rest_listener(const std::string& why) {
+void TcpHostEndpoint::rest_listener(const std::string& why) {
   ++listener_rests_;
   if (auto line = rest_warning_.admit(why + "; not accepting for " + std::to_string(kListenerRest.count()) + " ms")) {
     context_->logger.log(LogLevel::warn, *line);
@@ -186,7 +186,7 @@ void TcpEndpoint::rest_listener(const std::string& why) {
   resume_timer_ = context_->loop.add_timer_after(kListenerRest, [this] { resume_listener(); });
 }
 
-void TcpEndpoint::resume_listener() {
+void TcpHostEndpoint::resume_listener() {
   if (!listener_resting_ || !listener_ || dark_) return;
   listener_resting_ = false;
   context_->loop.cancel_timer(resume_timer_);
@@ -196,7 +196,7 @@ void TcpEndpoint::resume_listener() {
   }
 }
 
-void TcpEndpoint::on_client_ready(std::uint32_t index, io::Readiness readiness) {
+void TcpHostEndpoint::on_client_ready(std::uint32_t index, io::Readiness readiness) {
   ++context_->activity;
   const ConnectionId connection{protocol::Transport::tcp, index};
   if (fault_hook_ != nullptr) {
@@ -257,7 +257,7 @@ void TcpEndpoint::on_client_ready(std::uint32_t index, io::Readiness readiness) 
   }
 }
 
-void TcpEndpoint::send(ConnectionId to, protocol::ByteView payload) {
+void TcpHostEndpoint::send(ConnectionId to, protocol::ByteView payload) {
   const auto client = clients_.find(to.index);
   if (client == clients_.end() || dark_) {
     return;  // the connection closed before its reply was ready, or the device is off (D11)
@@ -281,7 +281,7 @@ void TcpEndpoint::send(ConnectionId to, protocol::ByteView payload) {
   flush(to.index);
 }
 
-void TcpEndpoint::flush(std::uint32_t index) {
+void TcpHostEndpoint::flush(std::uint32_t index) {
   const auto client = clients_.find(index);
   if (client == clients_.end() || dark_) return;
   OutputQueue& output = client->second.output;
@@ -300,7 +300,7 @@ void TcpEndpoint::flush(std::uint32_t index) {
   (void)context_->loop.change_interest(client->second.connection.fd(), interest);
 }
 
-void TcpEndpoint::drop(std::uint32_t index, std::string_view why, bool reset) {
+void TcpHostEndpoint::drop(std::uint32_t index, std::string_view why, bool reset) {
   const auto client = clients_.find(index);
   if (client == clients_.end()) return;
   context_->logger.log(LogLevel::info, "tcp#" + std::to_string(index) + (reset ? " reset: " : " closed: ") + std::string(why));
@@ -319,9 +319,9 @@ void TcpEndpoint::drop(std::uint32_t index, std::string_view why, bool reset) {
   context_->sink.on_connection_closed(ConnectionId{protocol::Transport::tcp, index});
 }
 
-void TcpEndpoint::disconnect(ConnectionId connection) { drop(connection.index, "by a fault (D11)", true); }
+void TcpHostEndpoint::disconnect(ConnectionId connection) { drop(connection.index, "by a fault (D11)", true); }
 
-void TcpEndpoint::close() {
+void TcpHostEndpoint::close() {
   std::vector<std::uint32_t> indices;  // flush() may drop a client: not while iterating
   for (const auto& [index, client] : clients_) indices.push_back(index);
   for (const std::uint32_t index : indices) flush(index);

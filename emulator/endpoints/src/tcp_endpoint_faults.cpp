@@ -21,7 +21,7 @@ SimTime wire_time(std::size_t bytes, std::uint32_t bytes_per_s) {
 
 // tcp_stall: neither read nor write. The descriptor is unwatched (a level-triggered loop would
 // spin on a socket nobody reads) until the hook's time, then asked again.
-bool TcpEndpoint::stalled(std::uint32_t index, Client& client) {
+bool TcpHostEndpoint::stalled(std::uint32_t index, Client& client) {
   if (client.stalled) return true;
   const SimTime now = context_->scheduler.now();
   const auto until = fault_hook_->stalled_until(ConnectionId{protocol::Transport::tcp, index}, now);
@@ -34,7 +34,7 @@ bool TcpEndpoint::stalled(std::uint32_t index, Client& client) {
 }
 
 // bandwidth: one piece at a time, from a deadline; the socket is not watched for writing meanwhile.
-bool TcpEndpoint::paced(std::uint32_t index, Client& client) {
+bool TcpHostEndpoint::paced(std::uint32_t index, Client& client) {
   if (client.fault_resume) return true;  // the next piece is already due at its time
   if (client.output.empty()) return false;
   const SimTime now = context_->scheduler.now();
@@ -61,7 +61,7 @@ bool TcpEndpoint::paced(std::uint32_t index, Client& client) {
   return true;
 }
 
-void TcpEndpoint::resume_after_fault(std::uint32_t index) {
+void TcpHostEndpoint::resume_after_fault(std::uint32_t index) {
   const auto found = clients_.find(index);
   if (found == clients_.end()) return;
   Client& client = found->second;
@@ -78,7 +78,7 @@ void TcpEndpoint::resume_after_fault(std::uint32_t index) {
   flush(index);
 }
 
-void TcpEndpoint::set_power(DevicePower power) {
+void TcpHostEndpoint::set_power(DevicePower power) {
   switch (power) {
     case DevicePower::off: go_dark(); return;
     case DevicePower::booting: reset_dark_connections(); return;
@@ -89,7 +89,7 @@ void TcpEndpoint::set_power(DevicePower power) {
 // Off: the listener stops (its port stays ours; a connect() is refused by the kernel), and each
 // connection is left exactly as it is on the wire: nothing read, nothing written, no timer of
 // ours ends it, what was queued for it is gone with the device's memory.
-void TcpEndpoint::go_dark() {
+void TcpHostEndpoint::go_dark() {
   if (dark_) return;
   dark_ = true;
   if (listener_) {
@@ -116,13 +116,13 @@ void TcpEndpoint::go_dark() {
 
 // Power back: the new firmware knows none of the old connections; each is reset (RST), as the
 // device's stack answers the host's next segment. The listener waits for the end of the boot.
-void TcpEndpoint::reset_dark_connections() {
+void TcpHostEndpoint::reset_dark_connections() {
   std::vector<std::uint32_t> indices;
   for (const auto& [index, client] : clients_) indices.push_back(index);
   for (const std::uint32_t index : indices) drop(index, "the device was switched off (D11 power_cycle)", true);
 }
 
-void TcpEndpoint::wake() {
+void TcpHostEndpoint::wake() {
   if (!dark_) return;
   reset_dark_connections();  // booting skipped (boot_s 0): the same reset first
   dark_ = false;

@@ -42,7 +42,7 @@ struct MeshQuery {
   double skip_m = 0.0;  // Embree's float ray starts this far along the double one
 };
 
-struct Plane {
+struct TrianglePlane {
   Eigen::Vector3d normal;  // unit, zero for a degenerate triangle
   Eigen::Vector3d point;   // the first vertex, world frame
 };
@@ -50,7 +50,7 @@ struct Plane {
 // The triangle's plane from its double world vertices, computed exactly as EmbreeRayCaster
 // (and the oracle's parts_of) computes those vertices from the pose, so that a mesh standing
 // still is the same triangle for both casters.
-Plane world_plane(const MeshQuery& q, unsigned primitive) {
+TrianglePlane world_plane(const MeshQuery& q, unsigned primitive) {
   const auto& t = (*q.triangles)[primitive];
   const auto world = [&](std::uint32_t v) -> Eigen::Vector3d {
     return q.pose->position_m + q.pose->orientation * (*q.vertices)[v].cast<double>();
@@ -63,7 +63,7 @@ Plane world_plane(const MeshQuery& q, unsigned primitive) {
 
 // As EmbreeRayCaster's triangle_range: the double plane's range unless the ray grazes the plane
 // (|n . d| <= 1e-6, zero for a degenerate triangle), then Embree's float distance.
-double range_on(const Plane& plane, const CheckedRay& ray, double embree_m) {
+double range_on(const TrianglePlane& plane, const CheckedRay& ray, double embree_m) {
   const double denominator = plane.normal.dot(ray.direction);
   if (std::abs(denominator) > 1e-6) {
     const double exact_m = plane.normal.dot(plane.point - ray.origin_m) / denominator;
@@ -76,7 +76,7 @@ double range_on(const Plane& plane, const CheckedRay& ray, double embree_m) {
 // on, issue 26), so that traversal goes on to the next one.
 void accept_ahead(const RTCFilterFunctionNArguments* args) {
   const auto* q = reinterpret_cast<const MeshQuery*>(args->context);
-  const Plane plane = world_plane(*q, RTCHitN_primID(args->hit, args->N, 0));
+  const TrianglePlane plane = world_plane(*q, RTCHitN_primID(args->hit, args->N, 0));
   const double range_m = range_on(plane, *q->ray, RTCRayN_tfar(args->ray, args->N, 0) + q->skip_m);
   if (!(range_m > 0.0) || range_m > q->reach_m) args->valid[0] = 0;
 }
@@ -157,7 +157,7 @@ std::optional<Contact> MeshIndex::intersect(const CheckedRay& ray, const scene::
   rayhit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(scene_, &q.embree, &rayhit);
   if (rayhit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
-  const Plane plane = world_plane(q, rayhit.hit.primID);
+  const TrianglePlane plane = world_plane(q, rayhit.hit.primID);
   const double range_m = range_on(plane, ray, rayhit.ray.tfar + q.skip_m);
   if (!(range_m > 0.0) || range_m > reach_m) return std::nullopt;
   return Contact{range_m, plane.normal, object_index};

@@ -32,7 +32,7 @@ Split split(const std::vector<p::RecordedAnswer>& answers) {
 
 // How long to wait for an exchange's telegrams: the recorded spread on the live clock, plus the
 // reply timeout.
-std::chrono::milliseconds wait_for(const Options& options, const p::Exchange& exchange) {
+std::chrono::milliseconds wait_for(const SuiteOptions& options, const p::Exchange& exchange) {
   base::SimTime last{};
   for (const auto& answer : exchange.answers) last = std::max(last, answer.delay);
   const double scale = options.virtual_time ? 1e6 : options.time_scale;
@@ -42,7 +42,7 @@ std::chrono::milliseconds wait_for(const Options& options, const p::Exchange& ex
 }
 
 // Compares one recorded telegram with the live one; appends the report lines. True when equal.
-bool compare(const std::string& label, p::ByteView recorded, p::ByteView live, const Options& options,
+bool compare(const std::string& label, p::ByteView recorded, p::ByteView live, const SuiteOptions& options,
              std::vector<std::string>& lines, std::size_t& differences) {
   const auto diff = compare_fields(reply_fields(recorded), reply_fields(live), options.masks);
   differences += diff.size();
@@ -58,7 +58,7 @@ bool compare(const std::string& label, p::ByteView recorded, p::ByteView live, c
 
 }  // namespace
 
-int run_against(const Options& options, std::ostream& out, std::ostream& err) {
+int run_against(const SuiteOptions& options, std::ostream& out, std::ostream& err) {
   p::ConversationConfig config;
   config.tcp_port = options.against_tcp_port;  // unset: detected from the STX "USP" frames
   auto loaded = capture::read_capture_conversation(*options.against, config);

@@ -12,6 +12,6 @@
 
 namespace ldoem::conformance {
 
-int run_against(const Options& options, std::ostream& out, std::ostream& err);
+int run_against(const SuiteOptions& options, std::ostream& out, std::ostream& err);
 
 }  // namespace ldoem::conformance

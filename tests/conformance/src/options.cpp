@@ -13,16 +13,16 @@ namespace {
 using base::Expected;
 using base::Unexpected;
 
-Unexpected<UsageError> usage(std::string message) { return Unexpected<UsageError>(UsageError{std::move(message)}); }
+Unexpected<SuiteUsageError> usage(std::string message) { return Unexpected<SuiteUsageError>(SuiteUsageError{std::move(message)}); }
 
 using base::parse_double;
 
 struct Parser {
-  Options options;
+  SuiteOptions options;
   int endpoint_options = 0;
 
   // --can, --tcp and --serial take the endpoint grammar of every tool (docs/endpoints.md).
-  Expected<std::monostate, UsageError> take_endpoint(std::string_view name, std::string_view value,
+  Expected<std::monostate, SuiteUsageError> take_endpoint(std::string_view name, std::string_view value,
                                                      base::EndpointExpect expect) {
     ++endpoint_options;
     auto endpoint = base::parse_endpoint(value, base::EndpointUse{base::EndpointSide::connect, expect});
@@ -31,7 +31,7 @@ struct Parser {
     return std::monostate{};
   }
 
-  Expected<std::monostate, UsageError> apply(std::string_view name, std::string_view value) {
+  Expected<std::monostate, SuiteUsageError> apply(std::string_view name, std::string_view value) {
     if (name == "--can") {
       return take_endpoint(name, value, base::EndpointExpect::can);
     } else if (name == "--ids") {
@@ -91,7 +91,7 @@ struct Parser {
     return std::monostate{};
   }
 
-  Expected<std::monostate, UsageError> finish() {
+  Expected<std::monostate, SuiteUsageError> finish() {
     if (endpoint_options > 1) return usage("give only one of --can, --tcp, --serial");
     if (!options.endpoint && !options.list && !options.help && !options.help_all) {
       return usage("no endpoint: give --can can:IF, --tcp tcp:HOST[:PORT] or --serial serial:TTY (try --help)");
@@ -106,7 +106,7 @@ constexpr std::string_view kValueOptions[] = {"--can",     "--ids",    "--tcp", 
 
 }  // namespace
 
-Expected<Options, UsageError> parse_options(std::span<const std::string_view> arguments) {
+Expected<SuiteOptions, SuiteUsageError> parse_options(std::span<const std::string_view> arguments) {
   Parser parser;
   base::CommandLine command_line("ldoem-conformance");
   CLI::App& app = command_line.app();
@@ -144,7 +144,7 @@ Expected<Options, UsageError> parse_options(std::span<const std::string_view> ar
   }
   if (parser.options.against_tcp_port && !parser.options.against) return usage("--port: only with --against");
   auto finished = parser.finish();
-  if (!finished) return Unexpected<UsageError>(finished.error());
+  if (!finished) return Unexpected<SuiteUsageError>(finished.error());
   return parser.options;
 }
 

@@ -24,7 +24,7 @@ enum class Target : std::uint8_t {
   device,    // only the positions spec 7.2 confirms (its last column), so a real LD can pass
 };
 
-struct Options {
+struct SuiteOptions {
   std::optional<driver::Endpoint> endpoint;  // required unless --list or --help
   Target target = Target::emulator;
   double time_scale = 1.0;       // the endpoint's simulated seconds per wall second (D7)
@@ -52,13 +52,13 @@ struct Options {
 inline const std::vector<std::string> kTimeFieldMasks{"*clock_ms", "profile.sector*.tstart", "profile.sector*.tend"};
 inline const std::vector<std::string> kCounterFieldMasks{"profile.sent", "profile.count"};
 
-struct UsageError {
+struct SuiteUsageError {
   std::string message;  // one line naming the option
 };
 
 // `arguments` excludes argv[0]. Values follow their option as the next argument or after '='
 // (parsed with CLI11, base/command_line.hpp).
-[[nodiscard]] base::Expected<Options, UsageError> parse_options(std::span<const std::string_view> arguments);
+[[nodiscard]] base::Expected<SuiteOptions, SuiteUsageError> parse_options(std::span<const std::string_view> arguments);
 
 std::string usage_text(std::string_view program_name);
 // What --help prints: a screen of usage_text (base::brief_help).

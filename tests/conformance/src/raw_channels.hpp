@@ -1,11 +1,11 @@
 // Byte-level side doors for the framing cases, which must put bytes on the wire that no
-// Transport would ever write (a bad TCP checksum, a bad serial CRC, a broken ISO-TP sequence):
+// TelegramTransport would ever write (a bad TCP checksum, a bad serial CRC, a broken ISO-TP sequence):
 //  - RawTcpSession: its own TCP connection with its own deframer (the suite closes its
-//    Transport first, so a device that takes one client at a time still works);
+//    TelegramTransport first, so a device that takes one client at a time still works);
 //  - RawSerialWriter: a second write-only descriptor on the same tty; replies still arrive
-//    through the Transport's reassembler;
+//    through the TelegramTransport's reassembler;
 //  - RawCanWriter: a CAN_RAW socket that writes frames on the request id; replies still arrive
-//    through the Transport on the response id.
+//    through the TelegramTransport on the response id.
 #pragma once
 
 #include <cstdint>

@@ -33,9 +33,9 @@ RunRecording& run_recording() {
   return recording;
 }
 
-class RecordingTransport final : public driver::Transport {
+class RecordingTransport final : public driver::TelegramTransport {
  public:
-  RecordingTransport(std::unique_ptr<driver::Transport> inner, protocol::Transport transport, std::uint32_t connection)
+  RecordingTransport(std::unique_ptr<driver::TelegramTransport> inner, protocol::Transport transport, std::uint32_t connection)
       : inner_(std::move(inner)), transport_(transport), connection_(connection) {}
 
   driver::Status send(protocol::ByteView payload, driver::Deadline deadline) override {
@@ -53,14 +53,14 @@ class RecordingTransport final : public driver::Transport {
   driver::TransportCounters counters() const override { return inner_->counters(); }
 
  private:
-  std::unique_ptr<driver::Transport> inner_;
+  std::unique_ptr<driver::TelegramTransport> inner_;
   protocol::Transport transport_;
   std::uint32_t connection_;
 };
 
 }  // namespace
 
-base::Expected<std::unique_ptr<driver::Transport>, std::string> open_suite_transport(const Options& options) {
+base::Expected<std::unique_ptr<driver::TelegramTransport>, std::string> open_suite_transport(const SuiteOptions& options) {
   auto transport = driver::open_transport(*options.endpoint);
   if (!transport) return base::Unexpected(driver::describe(transport.error()));
   if (!options.record) return std::move(*transport);
@@ -73,7 +73,7 @@ base::Expected<std::unique_ptr<driver::Transport>, std::string> open_suite_trans
     if (const auto* can = std::get_if<driver::CanEndpoint>(&*options.endpoint)) ids = {can->request_id, can->response_id};
     recording.recorder.emplace(*recording.writer, ids);
   }
-  return std::unique_ptr<driver::Transport>(
+  return std::unique_ptr<driver::TelegramTransport>(
       new RecordingTransport(std::move(*transport), driver::transport_of(*options.endpoint), recording.connections++));
 }
 

@@ -14,6 +14,6 @@ namespace ldoem::conformance {
 
 // Opens the endpoint's transport; with options.record, wrapped so that it records. All
 // transports opened in one run write to the same file, each as its own connection.
-base::Expected<std::unique_ptr<driver::Transport>, std::string> open_suite_transport(const Options& options);
+base::Expected<std::unique_ptr<driver::TelegramTransport>, std::string> open_suite_transport(const SuiteOptions& options);
 
 }  // namespace ldoem::conformance

@@ -9,7 +9,7 @@
 namespace ldoem::conformance {
 namespace {
 
-std::vector<const Case*> select(const std::vector<Case>& cases, const Options& options, protocol::Transport kind) {
+std::vector<const Case*> select(const std::vector<Case>& cases, const SuiteOptions& options, protocol::Transport kind) {
   std::vector<const Case*> selected;
   for (const Case& c : cases) {
     const std::string name = std::string(protocol::transport_name(kind)) + "/" + c.name;
@@ -35,7 +35,7 @@ void recover(Session& session, std::ostream& err) {
 
 }  // namespace
 
-void list_cases(const Options& options, const VectorTable& vectors, std::ostream& out) {
+void list_cases(const SuiteOptions& options, const VectorTable& vectors, std::ostream& out) {
   const std::vector<Case> cases = all_cases(vectors);
   std::vector<protocol::Transport> kinds{protocol::Transport::tcp, protocol::Transport::can, protocol::Transport::serial};
   if (options.endpoint) kinds = {driver::transport_of(*options.endpoint)};
@@ -44,7 +44,7 @@ void list_cases(const Options& options, const VectorTable& vectors, std::ostream
   }
 }
 
-int run_cases(const Options& options, const VectorTable& vectors, std::ostream& out, std::ostream& err) {
+int run_cases(const SuiteOptions& options, const VectorTable& vectors, std::ostream& out, std::ostream& err) {
   // A --filter or --exclude that selects nothing is a typo, not a green run.
   const std::vector<Case> cases = all_cases(vectors);
   const protocol::Transport kind = driver::transport_of(*options.endpoint);

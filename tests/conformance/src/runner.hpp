@@ -10,9 +10,9 @@
 namespace ldoem::conformance {
 
 // The case names --list prints: for the given endpoint, else for every transport.
-void list_cases(const Options& options, const VectorTable& vectors, std::ostream& out);
+void list_cases(const SuiteOptions& options, const VectorTable& vectors, std::ostream& out);
 
 // Returns the exit code (kExitAllPassed, kExitFailed).
-int run_cases(const Options& options, const VectorTable& vectors, std::ostream& out, std::ostream& err);
+int run_cases(const SuiteOptions& options, const VectorTable& vectors, std::ostream& out, std::ostream& err);
 
 }  // namespace ldoem::conformance

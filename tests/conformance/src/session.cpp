@@ -38,7 +38,7 @@ Bytes service_failure(std::uint16_t request_code, FailureReason reason) {
   return encode_response(ServiceFailure{request_code, reason});
 }
 
-Session::Session(std::unique_ptr<driver::Transport> transport, const Options& options, const VectorTable& vectors)
+Session::Session(std::unique_ptr<driver::TelegramTransport> transport, const SuiteOptions& options, const VectorTable& vectors)
     : transport_(std::move(transport)), options_(options), vectors_(vectors) {}
 
 void Session::log(const char* direction, ByteView payload) const {

@@ -1,4 +1,4 @@
-// What a conformance case works with: one open Transport to the endpoint, the options, the
+// What a conformance case works with: one open TelegramTransport to the endpoint, the options, the
 // golden vectors, and steps that either return what arrived or end the case with a CaseFailed
 // (the first failing step ends a case, like a GoogleTest ASSERT; nothing throws past the runner).
 #pragma once
@@ -58,9 +58,9 @@ struct Arrival {
 
 class Session {
  public:
-  Session(std::unique_ptr<driver::Transport> transport, const Options& options, const VectorTable& vectors);
+  Session(std::unique_ptr<driver::TelegramTransport> transport, const SuiteOptions& options, const VectorTable& vectors);
 
-  const Options& options() const { return options_; }
+  const SuiteOptions& options() const { return options_; }
   const VectorTable& vectors() const { return vectors_; }
   const driver::Endpoint& endpoint() const { return *options_.endpoint; }
   bool emulator_target() const { return options_.target == Target::emulator; }
@@ -128,8 +128,8 @@ class Session {
   void note_request(ByteView payload);
   void note_reply(ByteView payload);
 
-  std::unique_ptr<driver::Transport> transport_;
-  const Options& options_;
+  std::unique_ptr<driver::TelegramTransport> transport_;
+  const SuiteOptions& options_;
   const VectorTable& vectors_;
   std::uint64_t profiles_skipped_ = 0;
   DeviceClockCheck device_clock_;

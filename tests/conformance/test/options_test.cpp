@@ -11,9 +11,9 @@
 namespace ldoem::conformance {
 namespace {
 
-base::Expected<Options, UsageError> parse(std::vector<std::string_view> arguments) { return parse_options(arguments); }
+base::Expected<SuiteOptions, SuiteUsageError> parse(std::vector<std::string_view> arguments) { return parse_options(arguments); }
 
-TEST(Options, TcpEndpoint_ParsesHostAndPort) {
+TEST(SuiteOptions, TcpEndpoint_ParsesHostAndPort) {
   auto options = parse({"--tcp", "tcp:127.0.0.1:5000"});
   ASSERT_TRUE(options);
   const auto& tcp = std::get<driver::TcpEndpoint>(*options->endpoint);
@@ -23,7 +23,7 @@ TEST(Options, TcpEndpoint_ParsesHostAndPort) {
   EXPECT_EQ(transport_prefix(*options->endpoint), "tcp");
 }
 
-TEST(Options, CanWithIds_BuildsCanEndpoint) {
+TEST(SuiteOptions, CanWithIds_BuildsCanEndpoint) {
   auto options = parse({"--can", "can:vcan0:0x6C2:6C3", "--target=device"});
   ASSERT_TRUE(options);
   const auto& can = std::get<driver::CanEndpoint>(*options->endpoint);
@@ -33,7 +33,7 @@ TEST(Options, CanWithIds_BuildsCanEndpoint) {
   EXPECT_EQ(options->target, Target::device);
 }
 
-TEST(Options, SerialAndTimes_AreParsed) {
+TEST(SuiteOptions, SerialAndTimes_AreParsed) {
   auto options = parse({"--serial", "serial:pty:/tmp/ldoem-serial", "--time-scale", "10", "--timeout", "2.5", "--filter", "*/states/*",
                         "--filter", "*S1", "--virtual-time", "-v"});
   ASSERT_TRUE(options);
@@ -46,7 +46,7 @@ TEST(Options, SerialAndTimes_AreParsed) {
 }
 
 // The sanitizer builds run the suite without its wall-clock cases (tests/conformance/CMakeLists.txt).
-TEST(Options, Exclude_LeavesMatchingCasesOutAfterTheFilter) {
+TEST(SuiteOptions, Exclude_LeavesMatchingCasesOutAfterTheFilter) {
   auto table = load_vector_table(embedded_vectors_yaml());
   ASSERT_TRUE(table) << table.error();
   const auto listed = [&](std::vector<std::string_view> arguments) {
@@ -70,13 +70,13 @@ TEST(Options, Exclude_LeavesMatchingCasesOutAfterTheFilter) {
   EXPECT_FALSE(parse({"--tcp", "tcp:h", "--exclude", ""}));
 }
 
-TEST(Options, TwoEndpoints_AreAUsageError) {
+TEST(SuiteOptions, TwoEndpoints_AreAUsageError) {
   auto options = parse({"--tcp", "tcp:127.0.0.1", "--serial", "serial:/dev/ttyS0"});
   ASSERT_FALSE(options);
   EXPECT_NE(options.error().message.find("only one"), std::string::npos);
 }
 
-TEST(Options, NoEndpoint_IsAnErrorUnlessListing) {
+TEST(SuiteOptions, NoEndpoint_IsAnErrorUnlessListing) {
   EXPECT_FALSE(parse({}));
   auto listing = parse({"--list"});
   ASSERT_TRUE(listing);
@@ -84,7 +84,7 @@ TEST(Options, NoEndpoint_IsAnErrorUnlessListing) {
   EXPECT_TRUE(parse({"--help"}));
 }
 
-TEST(Options, BadValues_NameTheOption) {
+TEST(SuiteOptions, BadValues_NameTheOption) {
   auto scale = parse({"--tcp", "tcp:h", "--time-scale", "0"});
   ASSERT_FALSE(scale);
   EXPECT_NE(scale.error().message.find("--time-scale"), std::string::npos);
@@ -102,7 +102,7 @@ TEST(Options, BadValues_NameTheOption) {
 }
 
 // Issue 24: every spelling from before docs/endpoints.md names the new one.
-TEST(Options, OldSpellings_NameTheNewOne) {
+TEST(SuiteOptions, OldSpellings_NameTheNewOne) {
   const std::vector<std::pair<std::vector<std::string_view>, std::string>> cases{
       {{"--tcp", "127.0.0.1:49152"},
        "--tcp 127.0.0.1:49152 is the old spelling; write --tcp tcp:127.0.0.1:49152 (docs/endpoints.md)"},
@@ -118,7 +118,7 @@ TEST(Options, OldSpellings_NameTheNewOne) {
   }
 }
 
-TEST(Options, UsageText_ListsEveryOptionAndExitCodes) {
+TEST(SuiteOptions, UsageText_ListsEveryOptionAndExitCodes) {
   const std::string text = usage_text("ldoem-conformance");
   for (const char* option : {"--can can:IF", "--tcp tcp:HOST", "--serial serial:", "--target", "--time-scale", "--virtual-time", "--timeout",
                              "--filter", "--list", "--vectors", "--help", "Exit status", "Examples"}) {

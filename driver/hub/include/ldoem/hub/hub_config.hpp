@@ -32,7 +32,7 @@ namespace ldoem::hub {
 inline constexpr std::chrono::milliseconds kDefaultMaxAge{50};
 inline constexpr std::chrono::milliseconds kDefaultProfileTimeout{5000};
 
-struct DeviceConfig {
+struct HubDeviceConfig {
   std::string name;
   driver::Endpoint scanner;
   std::optional<driver::Endpoint> lpt;
@@ -40,13 +40,13 @@ struct DeviceConfig {
   std::chrono::milliseconds request_timeout = driver::kDefaultRequestTimeout;
   std::chrono::milliseconds profile_timeout = kDefaultProfileTimeout;
   driver::ReconnectPolicy reconnect;  // how the hub reopens a lost connection to the device
-  bool operator==(const DeviceConfig&) const = default;
+  bool operator==(const HubDeviceConfig&) const = default;
 };
 
 struct HubConfig {
   std::optional<ListenAddress> listen;
   std::optional<std::chrono::milliseconds> max_age;
-  std::vector<DeviceConfig> devices;
+  std::vector<HubDeviceConfig> devices;
   bool operator==(const HubConfig&) const = default;
 };
 

@@ -32,7 +32,7 @@ struct IsoTpOptions {
 // Monotonic time as the ISO-TP state machines see it (they never read a clock themselves).
 base::SimTime monotonic_now();
 
-class CanIsoTpTransport final : public Transport {
+class CanIsoTpTransport final : public TelegramTransport {
  public:
   // socket(PF_CAN, SOCK_RAW, CAN_RAW), a kernel filter that passes only the response id, bind
   // to the interface.
@@ -70,7 +70,7 @@ class CanIsoTpTransport final : public Transport {
   TransportCounters counters_;
 };
 
-class KernelIsoTpTransport final : public Transport {
+class KernelIsoTpTransport final : public TelegramTransport {
  public:
   // socket(PF_CAN, SOCK_DGRAM, CAN_ISOTP). Without can-isotp in the kernel: unsupported, with
   // a detail that names the user-space alternative (see kernel_isotp_unavailable).

@@ -17,7 +17,7 @@ namespace detail {
 struct StreamKind;
 }
 
-class DescriptorTransport : public Transport {
+class DescriptorTransport : public TelegramTransport {
  public:
   ~DescriptorTransport() override;
   DescriptorTransport(const DescriptorTransport&) = delete;

@@ -1,4 +1,4 @@
-// The LD-OEM API over any Transport: one method per service of spec 3.2 with a published
+// The LD-OEM API over any TelegramTransport: one method per service of spec 3.2 with a published
 // layout, reply matching as the public Ethernet driver does it (spec 3.5, section 2.2), the
 // D2 SERVICE_FAILURE mapped to a typed error, and the lifecycle of lifecycle.hpp.
 //
@@ -6,7 +6,7 @@
 // is R | 0x8000. On the way, profile telegrams (0x8301) are queued for next_profile() and never
 // lost; SERVICE_FAILURE naming R ends the wait with ErrorKind::service_failure; anything else
 // is counted in counters().skipped_telegrams and skipped. Telegrams that arrived before R was
-// sent (Transport::take_arrived) cannot answer it and are skipped the same way (counted in
+// sent (TelegramTransport::take_arrived) cannot answer it and are skipped the same way (counted in
 // stale_replies): a duplicated reply or one later than its timeout is not taken for R's. One attempt, no hidden retries: a
 // timeout is returned to the caller (spec 6: S1 waits 5 s once).
 #pragma once
@@ -36,7 +36,7 @@ namespace ldoem::driver {
 inline constexpr std::chrono::milliseconds kDefaultRequestTimeout{5000};
 inline constexpr std::chrono::milliseconds kDefaultRotateTimeout{10000};
 
-using TransportOpener = std::function<Expected<std::unique_ptr<Transport>, DriverError>()>;
+using TransportOpener = std::function<Expected<std::unique_ptr<TelegramTransport>, DriverError>()>;
 
 // How reconnect() tries: `attempts` openings plus GET_STATUS; the first pause is `interval`,
 // each next one `backoff` times the last, at most `max_interval`. The default (10 attempts,
@@ -100,7 +100,7 @@ struct ScannerCounters {
 
 class Scanner {
  public:
-  explicit Scanner(std::unique_ptr<Transport> transport, ScannerOptions options = {});
+  explicit Scanner(std::unique_ptr<TelegramTransport> transport, ScannerOptions options = {});
   ~Scanner();
   Scanner(const Scanner&) = delete;
   Scanner& operator=(const Scanner&) = delete;
@@ -193,7 +193,7 @@ class Scanner {
 
   std::size_t queued_profiles() const { return profiles_.size(); }
   ScannerCounters counters() const { return counters_; }
-  Transport& transport() { return *transport_; }
+  TelegramTransport& transport() { return *transport_; }
   const ScannerOptions& options() const { return options_; }
 
  private:
@@ -217,7 +217,7 @@ class Scanner {
   void take_stale_telegrams();
   void end_stream();
 
-  std::unique_ptr<Transport> transport_;
+  std::unique_ptr<TelegramTransport> transport_;
   ScannerOptions options_;
   LifecycleState state_ = LifecycleState::unconfigured;
   std::deque<Bytes> profiles_;

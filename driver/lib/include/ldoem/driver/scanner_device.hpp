@@ -1,4 +1,4 @@
-// A Device made of a scanner reached through libldoem (any Transport) and, optionally, the
+// A Device made of a scanner reached through libldoem (any TelegramTransport) and, optionally, the
 // tilt stepper on an LPT port (D8). Nothing is opened at construction: the transport opens at
 // INITIALIZE (and at the next INITIALIZE after the connection was lost, through
 // Scanner::reconnect with options.scanner.reconnect's bounded attempts), the LPT port at

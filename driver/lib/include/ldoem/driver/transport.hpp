@@ -31,9 +31,9 @@ struct TransportCounters {
   std::uint64_t skipped_bytes = 0;   // bytes outside any frame
 };
 
-class Transport {
+class TelegramTransport {
  public:
-  virtual ~Transport() = default;
+  virtual ~TelegramTransport() = default;
 
   // Sends one whole telegram payload (service WORD then parameters) in one piece (D10).
   // Errors: timeout (retryable) when the line would not take it before `deadline`,
@@ -60,11 +60,11 @@ class Transport {
   virtual TransportCounters counters() const = 0;
 };
 
-// Transport::take_arrived for a transport whose receive() with a passed deadline does not wait.
-std::vector<Bytes> take_arrived_now(Transport& transport, std::size_t limit);
+// TelegramTransport::take_arrived for a transport whose receive() with a passed deadline does not wait.
+std::vector<Bytes> take_arrived_now(TelegramTransport& transport, std::size_t limit);
 
 // Opens the transport an endpoint names. An `lpt:` endpoint is invalid_argument here (see
 // open_lpt_port). TCP connects with a 1 s timeout (spec 6).
-Expected<std::unique_ptr<Transport>, DriverError> open_transport(const Endpoint& endpoint);
+Expected<std::unique_ptr<TelegramTransport>, DriverError> open_transport(const Endpoint& endpoint);
 
 }  // namespace ldoem::driver

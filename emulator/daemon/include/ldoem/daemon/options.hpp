@@ -51,7 +51,8 @@ struct TcpOption {
   bool operator==(const TcpOption&) const = default;
 };
 
-enum class LptBackend : std::uint8_t { pty, gpio };
+// The daemon offers a port as pty or gpio: parse_offered_endpoint refuses ppdev (host side only).
+using base::LptBackend;
 
 struct LptOption {
   LptBackend backend = LptBackend::pty;

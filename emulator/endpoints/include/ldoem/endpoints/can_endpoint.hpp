@@ -25,9 +25,9 @@ struct CanEndpointSetup {
   bool bus_timing = false;       // D9: pace our frames at the bit rate
 };
 
-class CanEndpoint final : public HostEndpoint {
+class CanHostEndpoint final : public HostEndpoint {
  public:
-  explicit CanEndpoint(CanEndpointSetup setup) : setup_(std::move(setup)) {}
+  explicit CanHostEndpoint(CanEndpointSetup setup) : setup_(std::move(setup)) {}
 
   std::string_view name() const override { return "can"; }
   std::optional<protocol::Transport> transport() const override { return protocol::Transport::can; }

@@ -14,9 +14,9 @@
 
 namespace ldoem::endpoints {
 
-class SerialEndpoint final : public HostEndpoint {
+class SerialHostEndpoint final : public HostEndpoint {
  public:
-  explicit SerialEndpoint(std::filesystem::path link_path,
+  explicit SerialHostEndpoint(std::filesystem::path link_path,
                           std::chrono::milliseconds inter_byte_timeout = kDefaultInterByteTimeout)
       : link_path_(std::move(link_path)), inter_byte_timeout_(inter_byte_timeout) {}
 

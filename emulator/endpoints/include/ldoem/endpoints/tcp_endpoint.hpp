@@ -20,9 +20,9 @@
 
 namespace ldoem::endpoints {
 
-class TcpEndpoint final : public HostEndpoint {
+class TcpHostEndpoint final : public HostEndpoint {
  public:
-  TcpEndpoint(std::string address, std::uint16_t port, HostLimits limits = {},
+  TcpHostEndpoint(std::string address, std::uint16_t port, HostLimits limits = {},
               ConnectionIndices indices = ConnectionIndices())
       : address_(std::move(address)), port_(port), limits_(limits), indices_(indices) {}
 
