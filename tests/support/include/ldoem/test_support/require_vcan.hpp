@@ -1,5 +1,6 @@
 // Fails the current test (never skips it) when vcan0 is missing: the vcan tests run inside UML.
-// For test targets that link the emulator's io library (io::check_can_interface).
+// For the vcan test programs: they link ldoem_test_support_vcan, which brings the emulator's io
+// library (io::check_can_interface).
 #pragma once
 
 #include <gtest/gtest.h>
