@@ -91,14 +91,16 @@ std::optional<raycast::Hit> SceneCaster::cast(const raycast::Ray& ray) const {
   return fixed;
 }
 
-std::optional<std::string> SceneCaster::check_change_time(std::string_view command, double at_s) const {
-  if (!std::isfinite(at_s)) return std::string(command) + ": the time must be finite";
+base::Expected<std::monostate, std::string> SceneCaster::check_change_time(std::string_view command, double at_s) const {
+  if (!std::isfinite(at_s)) return base::Unexpected(std::string(command) + ": the time must be finite");
   if (at_s < last_change_s_) {
-    return std::string(command) + ": at_s " + std::to_string(at_s) + " is before a change already made at " +
-           std::to_string(last_change_s_) + " s (objects are added, removed and static ones moved in time order)";
+    return base::Unexpected(std::string(command) + ": at_s " + std::to_string(at_s) + " is before a change already made at " +
+                            std::to_string(last_change_s_) + " s (objects are added, removed and static ones moved in time order)");
   }
-  if (epochs_.size() > kMaxPendingEpochs) return std::string(command) + ": too many changes still waiting for their time";
-  return std::nullopt;
+  if (epochs_.size() > kMaxPendingEpochs) {
+    return base::Unexpected(std::string(command) + ": too many changes still waiting for their time");
+  }
+  return std::monostate{};
 }
 
 std::ptrdiff_t SceneCaster::find_static(std::string_view name) const {
@@ -121,7 +123,7 @@ base::Expected<double, std::string> SceneCaster::move_object(std::string_view na
   if (std::holds_alternative<scene::Plane>(entry.object.shape)) {
     return base::Unexpected<std::string>("move-object: '" + std::string(name) + "' is a plane, which has no pose");
   }
-  if (auto problem = check_change_time("move-object", at_s)) return base::Unexpected<std::string>(*problem);
+  if (auto allowed = check_change_time("move-object", at_s); !allowed) return base::Unexpected(allowed.error());
   const scene::Pose before = entry.object.pose;
   entry.object.pose = pose;
   entry.object.pose.orientation.normalize();
@@ -151,7 +153,7 @@ base::Expected<double, std::string> SceneCaster::add_object(scene::SceneObject o
   if (entries_.size() - scene_objects_ >= kMaxRuntimeObjects) {
     return base::Unexpected<std::string>("add-object: too many objects added (10000 at most)");
   }
-  if (auto problem = check_change_time("add-object", at_s)) return base::Unexpected<std::string>(*problem);
+  if (auto allowed = check_change_time("add-object", at_s); !allowed) return base::Unexpected(allowed.error());
   const auto index = static_cast<std::uint32_t>(entries_.size());
   // An added object always goes to the moving index, a still one as a motion of zero velocity,
   // a `dynamics` one as a body joining the running world: rebuilding the moving index costs
@@ -178,7 +180,7 @@ base::Expected<double, std::string> SceneCaster::add_object(scene::SceneObject o
 base::Expected<double, std::string> SceneCaster::remove_object(std::string_view name, double at_s) {
   const std::ptrdiff_t index = find_static(name);
   if (index < 0 && !motion_.has(name)) return base::Unexpected<std::string>("remove-object: no object named '" + std::string(name) + "'");
-  if (auto problem = check_change_time("remove-object", at_s)) return base::Unexpected<std::string>(*problem);
+  if (auto allowed = check_change_time("remove-object", at_s); !allowed) return base::Unexpected(allowed.error());
   if (motion_.has(name)) {
     for (std::size_t i = entries_.size(); i-- > 0;) {
       if (entries_[i].exists && entries_[i].moving && entries_[i].object.name == name) {

@@ -79,7 +79,8 @@ class SceneCaster final : public raycast::RayCaster {
   StaticEpoch build_epoch(double from_s) const;
   void rebuild_moving_caster();
   std::vector<std::shared_ptr<const raycast::TriMeshData>> moving_meshes() const;
-  std::optional<std::string> check_change_time(std::string_view command, double at_s) const;
+  // Whether a change may be made at at_s: refused before one already made, or when too many wait.
+  base::Expected<std::monostate, std::string> check_change_time(std::string_view command, double at_s) const;
   std::ptrdiff_t find_static(std::string_view name) const;
 
   raycast::MovingCasterOptions options_;
