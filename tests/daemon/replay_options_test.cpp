@@ -50,6 +50,8 @@ TEST(ReplayOption, ItsSubOptionsNeedIt_AndAreChecked) {
             "--replay-port: needs --replay CAPTURE");
   EXPECT_EQ(parse_replay({"--scene", "s.yaml", "--replay-transport", "tcp"}).error().message,
             "--replay-transport: needs --replay CAPTURE");
+  EXPECT_EQ(parse_replay({"--replay", "s.pcapng", "--lpt", "lpt:pty:/tmp/l"}).error().message,
+            "--replay: no endpoint: give --tcp tcp:HOST[:PORT], --serial serial:pty:PATH or --can can:IF");
   EXPECT_EQ(parse_replay({"--replay", "s.pcapng", "--replay-transport", "usb"}).error().message,
             "--replay-transport: must be tcp, serial or can");
   EXPECT_EQ(parse_replay({"--replay", "s.pcapng", "--replay-port", "0"}).error().message,

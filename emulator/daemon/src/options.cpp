@@ -261,7 +261,8 @@ std::optional<UsageError> check_replay(Options& options, const Seen& seen) {
   }
   options.flash_mode = FlashMode::memory;
   if (!seen.can) options.can_interface.reset();
-  return std::nullopt;
+  if (options.can_interface || options.tcp || options.serial_pty) return std::nullopt;
+  return UsageError{"--replay: no endpoint: give --tcp tcp:HOST[:PORT], --serial serial:pty:PATH or --can can:IF"};
 }
 
 std::optional<UsageError> check_combination(Options& options, const Seen& seen) {
