@@ -66,7 +66,8 @@ struct Daemon::Impl final : endpoints::Scheduler {
   bool fatal = false;
 
   Impl(Options options_in, scene::Scene scene_in, std::ostream& out_in, std::ostream& log_in)
-      : options(std::move(options_in)), scene(std::move(scene_in)), out(out_in), log(log_in), logger(log_in, options.log_level) {}
+      : options(std::move(options_in)), scene(std::move(scene_in)), out(out_in), log(log_in),
+        logger(log_in, options.log_level) {}
 
   // --- Scheduler (the endpoints' and the device's view of time) ---
   SimTime now() override { return clock.now(io::EventLoop::now()); }
