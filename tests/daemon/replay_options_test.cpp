@@ -33,7 +33,7 @@ TEST(ReplayOption, NeedsNoScene_NoFlashFile_CanOnlyWhenAsked) {
 }
 
 TEST(ReplayOption, WhatARecordedDeviceHasNot_IsRefusedByName) {
-  for (const std::vector<std::string_view> extra :
+  for (const std::vector<std::string_view>& extra :
        {std::vector<std::string_view>{"--scene", "s.yaml"}, {"--flash", "/tmp/f.flash"}, {"--flash-dir", "/tmp"},
         {"--reset-flash"}, {"--seed", "3"}, {"--control", "/tmp/c.ctl"}, {"--event-log", "/tmp/e.log"}}) {
     std::vector<std::string_view> arguments{"--replay", "scan.pcapng", "--tcp", "tcp:127.0.0.1:0"};
