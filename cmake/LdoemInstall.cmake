@@ -12,7 +12,7 @@ set(ldoem-hub_summary "serve LD-OEM scanners to many clients (generic interface)
 set(ldoem-scan_summary "take a 3D scan with an LD-OEM and its tilt stepper")
 set(ldoem-conformance_summary "check a device against the LD-OEM host protocol")
 set(ldoem-ctl_summary "talk to ldoem-emud's control socket")
-set(ldoem-replay_summary "serve a recorded LD-OEM conversation as a device")
+set(ldoem-replay_summary "serve a recorded LD-OEM conversation as a device (ldoem-emud --replay)")
 
 find_program(LDOEM_HELP2MAN help2man)
 if(NOT LDOEM_HELP2MAN)

@@ -1,5 +1,5 @@
 // Recorded and replayed (docs/replay.md, docs/capture.md): the paper's scan over TCP with
-// `ldoem-emud --record`, then the same scan against `ldoem-replay` of that capture. The host
+// `ldoem-emud --record`, then the same scan against `ldoem-emud --replay` of that capture. The host
 // cannot tell: the PLY is byte-identical, and every request of the scan was in the recording.
 #include <gtest/gtest.h>
 
@@ -26,7 +26,7 @@ TEST(CorridorReplayTcp, ReplayedScan_GivesTheLiveScansBytes) {
   replay_settings.replay_capture = capture;
   const ScanRun replayed = scan_corridor(dir, "replayed", Route::tcp, replay_settings);
   ASSERT_EQ(replayed.exit_status, 0) << replayed.failure;
-  expect_same_bytes(live, replayed, "live TCP scan vs ldoem-replay of its recording");
+  expect_same_bytes(live, replayed, "live TCP scan vs ldoem-emud --replay of its recording");
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 // Recorded and replayed over vcan0 (UML only, label vcan): the paper's scan over CAN recorded two
 // ways at once, by `ldoem-emud --record` and by can-utils `candump -L`, and each recording
-// replayed over vcan0 by ldoem-replay to the same scan: the PLYs must be byte-identical.
+// replayed over vcan0 by `ldoem-emud --replay` to the same scan: the PLYs must be byte-identical.
 #include <gtest/gtest.h>
 #include <net/if.h>
 
@@ -38,12 +38,12 @@ TEST(CorridorReplayVcan, RecordedAndCandumpCaptures_ReplayToTheSameBytes) {
   replay_settings.replay_capture = capture;
   const ScanRun replayed = scan_corridor(dir, "replayed", Route::can, replay_settings);
   ASSERT_EQ(replayed.exit_status, 0) << replayed.failure;
-  expect_same_bytes(live, replayed, "live CAN scan vs ldoem-replay of its --record capture");
+  expect_same_bytes(live, replayed, "live CAN scan vs ldoem-emud --replay of its --record capture");
 
   replay_settings.replay_capture = log_path;
   const ScanRun from_log = scan_corridor(dir, "from-candump", Route::can, replay_settings);
   ASSERT_EQ(from_log.exit_status, 0) << from_log.failure;
-  expect_same_bytes(live, from_log, "live CAN scan vs ldoem-replay of a candump -L log");
+  expect_same_bytes(live, from_log, "live CAN scan vs ldoem-emud --replay of a candump -L log");
 }
 
 }  // namespace

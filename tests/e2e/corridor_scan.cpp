@@ -88,9 +88,8 @@ ScanRun scan_corridor(const TempDir& dir, const std::string& name, Route route, 
   daemon_args.insert(daemon_args.end(), settings.extra_daemon_args.begin(), settings.extra_daemon_args.end());
   std::string program = LDOEM_EMUD_PATH;
   if (settings.replay_capture) {
-    // The same endpoints, a recorded device behind them.
-    program = LDOEM_REPLAY_PATH;
-    daemon_args = {*settings.replay_capture, "--lpt", "lpt:pty:" + lpt};
+    // The same daemon and endpoints, a recorded device behind them (ldoem-emud --replay).
+    daemon_args = {"--replay", *settings.replay_capture, "--lpt", "lpt:pty:" + lpt};
     if (uses_can(route)) {
       daemon_args.insert(daemon_args.end(), {"--can", "can:vcan0"});
     } else {

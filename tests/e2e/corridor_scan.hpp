@@ -39,9 +39,9 @@ struct ScanSettings {
   std::vector<std::string> clock_args{"--virtual-time"};
   std::vector<std::string> extra_scan_args;
   std::vector<std::string> extra_daemon_args;  // e.g. --record FILE
-  // Serve the scan from ldoem-replay of this capture instead of ldoem-emud (docs/replay.md).
+  // Serve the scan from `ldoem-emud --replay` of this capture instead of a scene (docs/replay.md).
   std::optional<std::string> replay_capture;
-  std::vector<std::string> replay_args{"--speed", "50"};
+  std::vector<std::string> replay_args{"--virtual-time"};  // the recorded delays jumped over (D7)
   // A scene with a `scanners:` list instead of scenes/corridor.yaml (issue 15): the daemon takes
   // every endpoint from it (no --tcp, --lpt); its first scanner is scanned, over TCP, and must
   // have its LPT at the path the scan uses (lpt_path(dir, name)).

@@ -32,6 +32,21 @@ TEST(ReplayOptions, DefaultsServeNoCan) {
   EXPECT_EQ(options->endpoints.tcp->port, 49152);
 }
 
+TEST(ReplayOptions, AreTheDaemonsReplayOptions_SpeedBeingTheTimeScale) {
+  const auto options = parse({"scan.pcapng", "--tcp", "tcp:127.0.0.1:0", "--speed", "50", "--transport", "serial",
+                              "--port", "4000", "--timeout", "9"});
+  ASSERT_TRUE(options.has_value()) << options.error().message;
+  const daemon::Options served = daemon_options(*options);
+  EXPECT_EQ(served.replay_path, std::filesystem::path("scan.pcapng"));
+  EXPECT_EQ(served.replay_transport, protocol::Transport::serial);
+  EXPECT_EQ(served.replay_port, std::uint16_t{4000});
+  EXPECT_DOUBLE_EQ(served.time_scale, 50.0);
+  EXPECT_EQ(served.timeout_s, 9.0);
+  EXPECT_EQ(served.flash_mode, daemon::FlashMode::memory);
+  EXPECT_FALSE(served.can_interface.has_value());
+  EXPECT_TRUE(served.scene_path.empty());
+}
+
 TEST(ReplayOptions, MistakesAreUsageErrorsNamingTheOption) {
   EXPECT_NE(parse({"--tcp", "tcp:127.0.0.1"}).error().message.find("CAPTURE"), std::string::npos);
   EXPECT_NE(parse({"scan.pcapng"}).error().message.find("endpoint"), std::string::npos);

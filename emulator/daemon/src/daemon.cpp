@@ -12,13 +12,13 @@
 
 #include "ldoem/daemon/device_instance.hpp"
 #include "ldoem/daemon/endpoint_registry.hpp"
-#include "ldoem/daemon/file_flash_store.hpp"
+#include "ldoem/daemon/flash_start.hpp"
+#include "ldoem/daemon/replay_instance.hpp"
 #include "ldoem/daemon/scanner_options.hpp"
 #include "ldoem/daemon/sim_clock.hpp"
 #include "ldoem/daemon/supervision.hpp"
 #include "ldoem/endpoints/tcp_endpoint.hpp"
 #include "ldoem/io/event_loop.hpp"
-#include "ldoem/plant/scene_device_defaults.hpp"
 #include "ldoem/plant/scene_plant.hpp"
 #include "ldoem/scene/scanners.hpp"
 
@@ -43,6 +43,7 @@ struct Daemon::Impl final : endpoints::Scheduler {
   Options options;
   scene::Scene scene;
   std::ostream& out;
+  std::ostream& log;  // the logger's stream; a replayed device's report (replay_instance.hpp)
   endpoints::Logger logger;
   std::unique_ptr<io::EventLoop> loop;
   SimClock clock = SimClock::virtual_clock();
@@ -65,7 +66,8 @@ struct Daemon::Impl final : endpoints::Scheduler {
   bool fatal = false;
 
   Impl(Options options_in, scene::Scene scene_in, std::ostream& out_in, std::ostream& log_in)
-      : options(std::move(options_in)), scene(std::move(scene_in)), out(out_in), logger(log_in, options.log_level) {}
+      : options(std::move(options_in)), scene(std::move(scene_in)), out(out_in), log(log_in),
+        logger(log_in, options.log_level) {}
 
   // --- Scheduler (the endpoints' and the device's view of time) ---
   SimTime now() override { return clock.now(io::EventLoop::now()); }
@@ -78,13 +80,9 @@ struct Daemon::Impl final : endpoints::Scheduler {
                                            std::optional<std::uint32_t> own_housing);
   std::optional<StartFailure> open_device(std::size_t index, const Options& device_options, const scene::Scene& view,
                                           std::vector<std::unique_ptr<endpoints::HostEndpoint>> extra);
-  base::Expected<std::unique_ptr<control::FlashStore>, StartFailure> open_flash(const Options& device_options);
-  base::Expected<control::DeviceConfig, StartFailure> load_flash(const control::FlashStore& flash,
-                                                                    const Options& device_options,
-                                                                    const scene::Scene& view);
   std::uint64_t profiles_sent() const {
     std::uint64_t sent = 0;
-    for (const auto& device : devices) sent += device->unit().diagnostics().profiles_sent;
+    for (const auto& device : devices) sent += device->model().diagnostics().profiles_sent;
     return sent;
   }
   bool waiting_for_host() const {
@@ -102,39 +100,6 @@ struct Daemon::Impl final : endpoints::Scheduler {
     fatal = true;
   }
 };
-
-base::Expected<std::unique_ptr<control::FlashStore>, StartFailure> Daemon::Impl::open_flash(
-    const Options& device_options) {
-  if (device_options.flash_mode == FlashMode::memory) return std::unique_ptr<control::FlashStore>(new control::MemoryFlashStore());
-  auto store = std::make_unique<FileFlashStore>(device_options.flash_path);
-  if (auto note = store->remove_stale_temporaries()) logger.log(endpoints::LogLevel::info, *note);  // issue 27 D13
-  return std::unique_ptr<control::FlashStore>(std::move(store));
-}
-
-// Issue 11: a flash file that exists but cannot be read or parsed stops the start (exit 2): the
-// daemon would otherwise run on the scene's defaults and overwrite the file at the first flash
-// write or at exit, and whatever it held would be lost. --reset-flash asks for exactly that.
-base::Expected<control::DeviceConfig, StartFailure> Daemon::Impl::load_flash(const control::FlashStore& flash,
-                                                                                  const Options& device_options,
-                                                                                  const scene::Scene& view) {
-  const control::DeviceConfig defaults = plant::device_config_from(view.scanner.flash);
-  const std::string where = "flash " + device_options.flash_path.string();
-  const std::string remedy = "; fix or remove the file, or start with --reset-flash to replace it with the scene's defaults (D4)";
-  if (const auto* file = dynamic_cast<const FileFlashStore*>(&flash)) {
-    if (auto image = file->read(); !image) {
-      if (!options.reset_flash) return Unexpected(StartFailure{kExitUsageError, where + ": " + image.error() + remedy});
-      logger.log(endpoints::LogLevel::warn, where + ": " + image.error() + "; --reset-flash: starting from the scene's defaults (D4)");
-      return defaults;
-    }
-  }
-  const control::FlashLoadResult loaded = control::load_flash_or(flash, defaults);
-  if (!loaded.problem || loaded.problem->kind == control::FlashErrorKind::empty) return loaded.config;
-  const std::string problem = where + ":" + std::to_string(loaded.problem->line) + ": " +
-                              std::string(control::describe(loaded.problem->kind));
-  if (!options.reset_flash) return Unexpected(StartFailure{kExitUsageError, problem + remedy});
-  logger.log(endpoints::LogLevel::warn, problem + "; --reset-flash: starting from the scene's defaults (D4)");
-  return defaults;
-}
 
 std::optional<StartFailure> Daemon::Impl::build_devices(const ExtraEndpoints& extra) {
   auto per_scanner = scanner_options(options, scene);
@@ -172,12 +137,16 @@ std::optional<StartFailure> Daemon::Impl::build_devices(const ExtraEndpoints& ex
 
 std::optional<StartFailure> Daemon::Impl::build_device(const Options& device_options, const scene::Scene& view,
                                                        std::optional<std::uint32_t> own_housing) {
-  auto flash = open_flash(device_options);
+  if (device_options.replay_path) {  // --replay: a recorded device, no plant, no flash
+    auto replayed = replay_instance(device_options, *this, logger, log);
+    if (!replayed) return std::move(replayed.error());
+    devices.push_back(std::move(*replayed));
+    return std::nullopt;
+  }
+  auto flash = start_flash(device_options, options.reset_flash, view, logger);
   if (!flash) return std::move(flash.error());
-  auto loaded = load_flash(**flash, device_options, view);
-  if (!loaded) return std::move(loaded.error());
   devices.push_back(
-      std::make_unique<DeviceInstance>(view, *world, std::move(*flash), *loaded, *this, logger, own_housing));
+      std::make_unique<DeviceInstance>(view, *world, std::move(flash->store), flash->config, *this, logger, own_housing));
   return std::nullopt;
 }
 

@@ -1,6 +1,5 @@
 #include "ldoem/daemon/device_instance.hpp"
 
-#include "ldoem/daemon/file_flash_store.hpp"
 #include "ldoem/plant/scene_device_defaults.hpp"
 #include "ldoem/protocol/text.hpp"
 
@@ -14,14 +13,21 @@ DeviceInstance::DeviceInstance(const scene::Scene& scene, plant::SceneWorld& wor
                                std::unique_ptr<control::FlashStore> flash, const control::DeviceConfig& flash_config,
                                endpoints::Scheduler& scheduler, const endpoints::Logger& logger,
                                std::optional<std::uint32_t> own_housing)
-    : scheduler_(scheduler), logger_(logger), plant_(scene, world, own_housing), flash_(std::move(flash)) {
+    : scheduler_(scheduler), logger_(logger), flash_(std::move(flash)) {
+  plant_.emplace(scene, world, own_housing);
   control::ControlUnit::Setup setup;
   setup.flash = flash_config;
   setup.identification = plant::identification_from(scene.scanner.identification);
   setup.power_up_time = SimTime::zero();
   setup.flash_store = this;
-  unit_ = std::make_unique<control::ControlUnit>(std::move(setup), plant_.head_model(), plant_.measurement());
+  auto unit = std::make_unique<control::ControlUnit>(std::move(setup), plant_->head_model(), plant_->measurement());
+  unit_ = unit.get();
+  model_ = std::move(unit);
 }
+
+DeviceInstance::DeviceInstance(std::unique_ptr<control::DeviceModel> model, endpoints::Scheduler& scheduler,
+                               const endpoints::Logger& logger)
+    : scheduler_(scheduler), logger_(logger), model_(std::move(model)) {}
 
 DeviceInstance::~DeviceInstance() = default;
 
@@ -96,7 +102,7 @@ void DeviceInstance::deliver_from_host(ConnectionId from, protocol::Bytes payloa
   ++counters_.telegrams_received;
   logger_.log(LogLevel::info, [&] { return protocol::to_string(from) + " -> " + protocol::format_telegram(payload); });
   const SimTime at = scheduler_.now();
-  perform(at, unit_->handle_request(at, from, payload, *this));
+  perform(at, model_->handle_request(at, from, payload, *this));
 }
 
 void DeviceInstance::on_framing_error(ConnectionId from, const protocol::FramingError& error) {
@@ -106,7 +112,7 @@ void DeviceInstance::on_framing_error(ConnectionId from, const protocol::Framing
       return protocol::to_string(from) + " -> framing error: " + std::string(protocol::describe(error.detail));
     });
     const SimTime at = scheduler_.now();
-    perform(at, unit_->on_framing_error(at, from, error));
+    perform(at, model_->on_framing_error(at, from, error));
   });
 }
 
@@ -121,7 +127,7 @@ void DeviceInstance::on_connection_closed(ConnectionId connection) {
   accept_input([this, connection, reset] {
     const SimTime at = scheduler_.now();
     if (tap_ != nullptr) tap_->on_connection_closed(connection, at, reset);
-    perform(at, unit_->on_connection_closed(at, connection));
+    perform(at, model_->on_connection_closed(at, connection));
   });
 }
 
@@ -134,14 +140,16 @@ void DeviceInstance::disconnect(ConnectionId connection) {
 }
 
 void DeviceInstance::on_register_write(SimTime at, std::uint8_t register_value) {
-  plant_.drive_board().on_register_write(at, register_value);
+  if (plant_) plant_->drive_board().on_register_write(at, register_value);
+  else ++lpt_writes_;
 }
 
 void DeviceInstance::on_line_change(SimTime at, std::uint8_t bit, bool level) {
-  plant_.drive_board().on_line_change(at, bit, level);
+  if (plant_) plant_->drive_board().on_line_change(at, bit, level);
+  else ++lpt_writes_;
 }
 
-std::uint64_t DeviceInstance::steps_seen() const { return plant_.drive_board().steps_seen(); }
+std::uint64_t DeviceInstance::steps_seen() const { return plant_ ? plant_->drive_board().steps_seen() : lpt_writes_; }
 
 // ------------------------------------------------------------------------------------ output
 
@@ -167,11 +175,11 @@ void DeviceInstance::perform(SimTime at, const control::Actions& actions) {
   for (const control::TimerRequest& timer : actions.timers) {
     timer_keys_[timer.id.value] = scheduler_.add(timer.at, [this, id = timer.id](SimTime now) {
       timer_keys_.erase(id.value);
-      perform(now, unit_->on_timer(now, id, *this));
+      perform(now, model_->on_timer(now, id, *this));
     });
   }
   if (actions.head_target_hz) {
-    plant_.follow_head_target(at, *actions.head_target_hz);  // D9 head_dynamics
+    if (plant_) plant_->follow_head_target(at, *actions.head_target_hz);  // D9 head_dynamics
   }
   if (actions.can_config) {
     for (const auto& endpoint : endpoints_) endpoint->apply_can_config(*actions.can_config);
@@ -200,15 +208,17 @@ control::FlashStore::Saved DeviceInstance::save(protocol::ByteView image) {
 
 bool DeviceInstance::close() {
   for (const auto& endpoint : endpoints_) endpoint->close();
-  if (dynamic_cast<FileFlashStore*>(flash_.get()) == nullptr) return true;
+  model_->report_at_exit();
+  // Every store is saved (a memory store keeps the image it already had, and cannot fail).
+  if (unit_ == nullptr || !flash_) return true;
   return save(control::serialise_flash_image(unit_->state().flash)).has_value();
 }
 
 Counters DeviceInstance::counters() const {
   Counters counters = counters_;
-  counters.skipped_profiles = unit_->diagnostics().skipped_profiles;
-  counters.profiles_sent = unit_->diagnostics().profiles_sent;
-  counters.lpt_steps = plant_.drive_board().steps_seen();
+  counters.skipped_profiles = model_->diagnostics().skipped_profiles;
+  counters.profiles_sent = model_->diagnostics().profiles_sent;
+  counters.lpt_steps = steps_seen();
   for (const auto& endpoint : endpoints_) endpoint->add_counters(counters);
   return counters;
 }

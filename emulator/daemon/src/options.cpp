@@ -125,6 +125,23 @@ const std::map<std::string_view, ValueHandler>& value_options() {
          o.time_scale = *scale;
          return std::nullopt;
        }},
+      {"--replay", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
+         o.replay_path = std::filesystem::path(std::string(v));
+         return std::nullopt;
+       }},
+      {"--replay-transport", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
+         for (const auto kind : {protocol::Transport::tcp, protocol::Transport::serial, protocol::Transport::can}) {
+           if (v == protocol::transport_name(kind)) o.replay_transport = kind;
+         }
+         if (!o.replay_transport) return error_of(usage_error("--replay-transport", "must be tcp, serial or can"));
+         return std::nullopt;
+       }},
+      {"--replay-port", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
+         const auto port = parse_integer<std::uint16_t>(v);
+         if (!port || *port == 0) return error_of(usage_error("--replay-port", "must be a TCP port from 1 to 65535"));
+         o.replay_port = *port;
+         return std::nullopt;
+       }},
       {"--seed", [](std::string_view v, Options& o, Seen&) -> std::optional<UsageError> {
          const auto seed = parse_integer<std::uint64_t>(v);
          if (!seed) return error_of(usage_error("--seed", "must be an unsigned integer"));
@@ -223,8 +240,34 @@ const std::map<std::string_view, FlagHandler>& flag_options() {
   return handlers;
 }
 
+// --replay (docs/replay.md): the recorded device has no scene, flash or noise; the control
+// socket's commands act on a control unit. CAN opens only when --can names it.
+std::optional<UsageError> check_replay(Options& options, const Seen& seen) {
+  if (!options.replay_path) {
+    if (!options.replay_transport && !options.replay_port) return std::nullopt;
+    return UsageError{options.replay_port ? "--replay-port: needs --replay CAPTURE" : "--replay-transport: needs --replay CAPTURE"};
+  }
+  const char* refused = !options.scene_path.empty() ? "--scene"
+                        : seen.flash               ? "--flash"
+                        : options.flash_dir        ? "--flash-dir"
+                        : options.reset_flash      ? "--reset-flash"
+                        : options.seed             ? "--seed"
+                        : options.control_path     ? "--control"
+                        : options.event_log_path   ? "--event-log"
+                                                   : nullptr;
+  if (refused != nullptr) {
+    return UsageError{std::string(refused) + ": conflicts with --replay (a recorded device has no scene, flash, " +
+                      "noise or faults)"};
+  }
+  options.flash_mode = FlashMode::memory;
+  if (!seen.can) options.can_interface.reset();
+  if (options.can_interface || options.tcp || options.serial_pty) return std::nullopt;
+  return UsageError{"--replay: no endpoint: give --tcp tcp:HOST[:PORT], --serial serial:pty:PATH or --can can:IF"};
+}
+
 std::optional<UsageError> check_combination(Options& options, const Seen& seen) {
-  if (options.scene_path.empty()) {
+  if (auto error = check_replay(options, seen)) return error;
+  if (options.scene_path.empty() && !options.replay_path) {
     return UsageError{"--scene: required (try --help)"};
   }
   if (seen.can && seen.no_can) {
@@ -358,6 +401,7 @@ std::string version_text() { return base::version_line("ldoem-emud"); }
 std::string usage_text(std::string_view program_name) {
   const std::string p(program_name);
   return "Usage: " + p + " --scene FILE [OPTIONS]\n"
+         "       " + p + " --replay CAPTURE [OPTIONS]\n"
          "Emulates a SICK LD-OEM laser scanner at the byte level: host protocol on CAN (ISO-TP, D1),\n"
          "TCP (spec 4.1) and a serial pty (spec 4.2); the tilt stepper's pseudo-LPT on a pty or gpio (D8).\n"
          "\n"
@@ -404,6 +448,11 @@ std::string usage_text(std::string_view program_name) {
          "  --control PATH        control socket (JSON lines, QMP-shaped, mode 0600) for\n"
          "                        faults and status; docs/faults.md, ldoem-ctl [off]\n"
          "  --event-log FILE      write the fault and state events, one JSON line each [off]\n"
+         "  --replay CAPTURE      serve the device recorded in CAPTURE (pcapng, pcap, candump -l)\n"
+         "                        instead of a scene: CAN only with --can; --scene, --flash,\n"
+         "                        --seed and --control are errors then (docs/replay.md) [off]\n"
+         "  --replay-transport T  replay its tcp, serial or can telegrams [the most]\n"
+         "  --replay-port N       the device's TCP port in CAPTURE [detected]\n"
          "  --help, -h            the most used options\n"
          "  --help-all            this text\n"
          "  --version             print the name and version\n"
@@ -429,14 +478,15 @@ std::string usage_text(std::string_view program_name) {
          "  " + p + " --scene scenes/minimal.yaml --no-can --tcp tcp:127.0.0.1:49152 --log-level info\n"
          "  " + p + " --scene scenes/minimal.yaml --no-can --serial serial:pty:/tmp/ldoem-serial --no-flash\n"
          "  " + p + " --scene scenes/minimal.yaml --can can:vcan0:6C0:6C1 --can can:vcan0:6C2:6C3\n"
-         "  " + p + " --scene scenes/faults/motor-stall-mid-stream.yaml --no-can --tcp tcp:127.0.0.1:49152 --control /tmp/ldoem.ctl\n";
+         "  " + p + " --scene scenes/faults/motor-stall-mid-stream.yaml --no-can --tcp tcp:127.0.0.1:49152 --control /tmp/ldoem.ctl\n"
+         "  " + p + " --replay scan.pcapng --tcp tcp:127.0.0.1:49152 --lpt lpt:pty:/tmp/ldoem-lpt\n";
 }
 
 std::string brief_usage_text(std::string_view program_name) {
   return base::brief_help(program_name, usage_text(program_name),
                           "Emulate a SICK LD-OEM laser scanner at the byte level (CAN, TCP, serial, LPT).",
                           {"--scene", "--can", "--no-can", "--tcp", "--serial", "--lpt", "--flash", "--no-flash",
-                           "--time-scale", "--log-level", "--record", "--control", "--help", "--version"});
+                           "--time-scale", "--log-level", "--record", "--control", "--replay", "--help", "--version"});
 }
 
 }  // namespace ldoem::daemon

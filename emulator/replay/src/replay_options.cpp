@@ -130,12 +130,22 @@ base::Expected<ReplayOptions, ReplayUsageError> parse_replay_options(std::span<c
   return options;
 }
 
+daemon::Options daemon_options(const ReplayOptions& options) {
+  daemon::Options served = options.endpoints;
+  served.replay_path = options.capture;
+  served.replay_transport = options.transport;
+  served.replay_port = options.capture_tcp_port;
+  served.time_scale = options.speed;
+  return served;
+}
+
 std::string replay_usage_text() {
   return "Usage: ldoem-replay CAPTURE (--tcp tcp:HOST[:PORT] | --serial serial:pty:PATH | --can can:IF)... [OPTIONS]\n"
          "Acts as the LD-OEM recorded in CAPTURE (docs/replay.md): each request is answered with the\n"
          "recorded replies to the same request, profiles at their recorded delays. CAPTURE: a pcapng\n"
          "from ldoem-emud --record or ldoem-conformance --record, a pcap of the device's TCP port\n"
          "(tcpdump, Wireshark; any port), or a can-utils `candump -l` log of the D1 identifiers.\n"
+         "The same as ldoem-emud --replay CAPTURE, --speed being its --time-scale.\n"
          "\n"
          "Endpoints (the daemon's, docs/endpoints.md; at least one):\n"
          "  --tcp tcp:HOST[:PORT]  TCP server; port 49152 if omitted, 0 = any free port\n"

@@ -109,7 +109,7 @@ std::optional<std::uint16_t> detect_device_tcp_port(const std::vector<DecodedPac
 
 // A conversation cut into exchanges: one request from the host and every telegram the device
 // sent after it until the next request (its reply, and the profiles a GET_PROFILE streamed),
-// each with its delay after the request. Used by ldoem-replay and ldoem-conformance --against.
+// each with its delay after the request. Used by ldoem-emud --replay and ldoem-conformance --against.
 struct RecordedAnswer {
   base::SimTime delay{};
   Bytes payload;

@@ -28,6 +28,7 @@
 
 #include "ldoem/control/device_clock.hpp"
 #include "ldoem/control/device_config.hpp"
+#include "ldoem/control/device_model.hpp"
 #include "ldoem/control/device_faults.hpp"
 #include "ldoem/control/flash_image.hpp"
 #include "ldoem/control/identification.hpp"
@@ -107,17 +108,8 @@ struct DeviceState {
 // D4: IDLE, motor stopped, clock 0 at `now`, RAM = flash, nothing running.
 DeviceState power_up_state(SimTime now, const DeviceConfig& flash);
 
-// Counters for the daemon's diagnostics; not device state (a reset keeps them).
-struct Diagnostics {
-  std::uint64_t skipped_profiles = 0;  // D10: revolutions skipped because the transport was busy
-  std::uint64_t profiles_sent = 0;
-  std::uint64_t service_failures_sent = 0;
-  std::uint64_t spontaneous_resets = 0;  // D11 reset_spontaneous
-  std::uint64_t power_cycles = 0;        // D11 power_cycle
-  bool operator==(const Diagnostics&) const = default;
-};
-
-class ControlUnit {
+// The emulated LD-OEM: the daemon's default device model (device_model.hpp).
+class ControlUnit final : public DeviceModel {
  public:
   struct Setup {
     DeviceConfig flash = factory_config();  // what flash holds at power-up (load_flash_or)
@@ -136,19 +128,19 @@ class ControlUnit {
   // the returned Actions, except GET_PROFILE (its answer is the profile stream, spec 3.5) and a
   // TRANS_ROTATE that has to wait for the head (its reply comes from on_timer).
   Actions handle_request(SimTime now, ConnectionId from, protocol::ByteView payload,
-                         const TransportQuery& transport);
+                         const TransportQuery& transport) override;
 
   // A timer from an earlier Actions. `transport` answers D10's busy question for profiles.
-  Actions on_timer(SimTime now, TimerId timer, const TransportQuery& transport);
+  Actions on_timer(SimTime now, TimerId timer, const TransportQuery& transport) override;
 
   // D2: a frame the deframer dropped is answered SERVICE_FAILURE with the reason
   // protocol::failure_reason_for_framing gives (5, or 2 for a serial length mismatch) and the
   // request code the frame carried (0 when none).
-  Actions on_framing_error(SimTime now, ConnectionId from, const protocol::FramingError& error);
+  Actions on_framing_error(SimTime now, ConnectionId from, const protocol::FramingError& error) override;
 
   // Stops the connection's stream; a held TRANS_ROTATE reply for it is dropped (the head still
   // spins up). The Actions name the revolution timer that no stream needs any more.
-  Actions on_connection_closed(SimTime now, ConnectionId connection);
+  Actions on_connection_closed(SimTime now, ConnectionId connection) override;
 
   // D11 device faults (control_unit_faults.cpp). The motor fault is a hardware condition: it
   // survives DO_RESET and power cycles until clear_motor_fault(). With `decelerates` (the scene
@@ -169,7 +161,8 @@ class ControlUnit {
   void set_beam_faults(BeamFaults faults) { beam_faults_ = std::move(faults); }
 
   const DeviceState& state() const { return state_; }
-  const Diagnostics& diagnostics() const { return diagnostics_; }
+  const Diagnostics& diagnostics() const override { return diagnostics_; }
+  const protocol::CanConfig& can_config() const override { return state_.ram.can; }
   // The status byte any reply would carry now (spec 2.4).
   protocol::StatusByte status_byte() const;
   // The whole state and the diagnostics as text, one field per line, for test failure messages

@@ -1,6 +1,7 @@
 // ldoem-emud's loop (design.md data flow): one epoll loop, the simulated clock (D7) that turns
 // deadlines into wall time or jumps over idle time, and the device instances it drives: each is
-// a control unit with its plant and its endpoints (device_instance.hpp). Which endpoints open
+// a control unit with its plant and its endpoints (device_instance.hpp), or with --replay a
+// recorded device (replay_instance.hpp). Which endpoints open
 // comes from the options through the endpoint registry (endpoint_registry.hpp). Everything that
 // decides something lives in the tested pieces; this class only moves time.
 #pragma once

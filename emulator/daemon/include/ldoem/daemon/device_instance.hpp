@@ -1,15 +1,17 @@
-// One emulated LD-OEM in the daemon: its control unit, its plant (emulator/plant) and the
-// endpoints hosts reach it through. Several instances can share one scene world (several
+// One LD-OEM in the daemon: its device model (control/device_model.hpp), and the endpoints hosts
+// reach it through. The model is an emulated control unit with its plant (emulator/plant), or a
+// recorded device (emulator/replay, --replay) with no plant: the tilt stepper's writes are then
+// accepted and counted. Several instances can share one scene world (several
 // scanners in one daemon): each has its own plant, flash and endpoints, and all use the daemon's
 // loop and clock.
 //
-// The instance is the endpoints' sink and the control unit's TransportQuery and FlashStore (a
-// flash write is stored before its reply is built). It performs what the control unit returns
+// The instance is the endpoints' sink and the model's TransportQuery, and the control unit's
+// FlashStore (a flash write is stored before its reply is built). It performs what the model returns
 // (Actions) and nothing else: telegrams to the endpoints (through the WireTap when one is set),
 // timers to the scheduler (stale ones cancelled), a new head target to the plant, a new CAN
 // configuration to the endpoints. Input that
 // arrives while Actions are being performed (a connection that a send dropped) waits until they
-// are done: no call re-enters the control unit from its own output.
+// are done: no call re-enters the model from its own output.
 #pragma once
 
 #include <cstdint>
@@ -23,6 +25,7 @@
 #include <vector>
 
 #include "ldoem/control/control_unit.hpp"
+#include "ldoem/control/device_model.hpp"
 #include "ldoem/control/flash_image.hpp"
 #include "ldoem/endpoints/host_endpoint.hpp"
 #include "ldoem/endpoints/wire_tap.hpp"
@@ -44,10 +47,13 @@ class DeviceInstance final : public endpoints::EndpointSink,
   DeviceInstance(const scene::Scene& scene, plant::SceneWorld& world, std::unique_ptr<control::FlashStore> flash,
                  const control::DeviceConfig& flash_config, endpoints::Scheduler& scheduler,
                  const endpoints::Logger& logger, std::optional<std::uint32_t> own_housing = std::nullopt);
+  // Another model (a recorded device): no plant, no flash.
+  DeviceInstance(std::unique_ptr<control::DeviceModel> model, endpoints::Scheduler& scheduler,
+                 const endpoints::Logger& logger);
   ~DeviceInstance() override;
 
   // The CAN configuration in RAM at power-up, for the CAN endpoint's first pair (D1).
-  const protocol::CanConfig& can_config() const { return unit_->state().ram.can; }
+  const protocol::CanConfig& can_config() const { return model_->can_config(); }
 
   // Before open_endpoints(): at most one endpoint per transport kind.
   void add_endpoint(std::unique_ptr<HostEndpoint> endpoint);
@@ -80,9 +86,13 @@ class DeviceInstance final : public endpoints::EndpointSink,
   // (the error is logged): the daemon then exits 1.
   [[nodiscard]] bool close();
   Counters counters() const;
-  const control::ControlUnit& unit() const { return *unit_; }
+  const control::DeviceModel& model() const { return *model_; }
+  // The emulated control unit; null for a recorded device.
+  const control::ControlUnit* control_unit() const { return unit_; }
   // The fault machinery (D11, fault_tap.hpp) acts on the control unit directly and hands the
-  // Actions it got back here, like any other event's.
+  // Actions it got back here, like any other event's. Only for a control unit (the daemon
+  // refuses --control, --event-log and scene faults with --replay).
+  const control::ControlUnit& unit() const { return *unit_; }
   control::ControlUnit& unit_for_faults() { return *unit_; }
   void perform_actions(base::SimTime at, const control::Actions& actions) { perform(at, actions); }
 
@@ -96,12 +106,14 @@ class DeviceInstance final : public endpoints::EndpointSink,
   void set_connection_observer(ConnectionObserver observer) { connection_observer_ = std::move(observer); }
   // --- LptSink ---
   void on_register_write(base::SimTime at, std::uint8_t register_value) override;
-  void set_initial_register(std::uint8_t register_value) override { plant_.set_initial_register(register_value); }
+  void set_initial_register(std::uint8_t register_value) override {
+    if (plant_) plant_->set_initial_register(register_value);
+  }
   void on_line_change(base::SimTime at, std::uint8_t bit, bool level) override;
   std::uint64_t steps_seen() const override;
 
  private:
-  bool busy(protocol::ConnectionId connection) const override;  // D10, asked by the control unit
+  bool busy(protocol::ConnectionId connection) const override;  // D10, asked by the model
   // The control unit's flash store: a write the file store refuses is logged, and the unit
   // answers the service's error (L-flash-1).
   protocol::Bytes load() const override { return flash_->load(); }
@@ -112,9 +124,11 @@ class DeviceInstance final : public endpoints::EndpointSink,
 
   endpoints::Scheduler& scheduler_;
   const endpoints::Logger& logger_;
-  plant::ScenePlant plant_;
+  std::optional<plant::ScenePlant> plant_;  // none for a recorded device
   std::unique_ptr<control::FlashStore> flash_;
-  std::unique_ptr<control::ControlUnit> unit_;
+  std::unique_ptr<control::DeviceModel> model_;
+  control::ControlUnit* unit_ = nullptr;  // model_ when it is the emulated control unit
+  std::uint64_t lpt_writes_ = 0;          // without a plant: the stepper's writes, counted
   std::vector<std::unique_ptr<HostEndpoint>> endpoints_;
   std::map<protocol::Transport, HostEndpoint*> route_;
   std::map<std::uint64_t, endpoints::Scheduler::Key> timer_keys_;  // the control unit's queued timers

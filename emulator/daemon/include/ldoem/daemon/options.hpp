@@ -18,6 +18,7 @@
 #include "ldoem/endpoints/host_limits.hpp"
 #include "ldoem/endpoints/logger.hpp"
 #include "ldoem/base/expected.hpp"
+#include "ldoem/protocol/transport.hpp"
 
 namespace ldoem::daemon {
 
@@ -95,6 +96,11 @@ struct Options {
   endpoints::HostLimits host_limits;
   std::optional<std::filesystem::path> control_path;    // --control: the control socket (D11)
   std::optional<std::filesystem::path> event_log_path;  // --event-log: fault and state events
+  // --replay CAPTURE: serve the device recorded in CAPTURE, no scene (docs/replay.md); which of
+  // its transports (default: the busiest) and the device's TCP port in it (default: detected).
+  std::optional<std::filesystem::path> replay_path;
+  std::optional<protocol::Transport> replay_transport;
+  std::optional<std::uint16_t> replay_port;
 
   bool operator==(const Options&) const = default;
 };
