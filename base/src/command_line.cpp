@@ -194,7 +194,7 @@ bool describes(std::string_view line, std::string_view option) {
 }  // namespace
 
 std::string brief_help(std::string_view program, std::string_view full_text, std::string_view purpose,
-                       std::initializer_list<std::string_view> options) {
+                       std::span<const std::string_view> options) {
   const std::vector<std::string_view> lines = lines_of(full_text);
   std::string out;
   // The usage line: the first one saying "usage:" (CLI11 puts the description before it).

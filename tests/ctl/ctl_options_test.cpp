@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "ldoem/control_socket/command_table.hpp"
+
 namespace ldoem::ctl {
 namespace {
 
@@ -100,6 +102,22 @@ TEST(CtlOptions, HelpIsExitZeroWithExamples) {
   EXPECT_EQ(help.code, kExitOk);
   EXPECT_NE(help.text.find("inject-fault motor_stall --duration 2"), std::string::npos);
   EXPECT_NE(help.text.find("Exit codes"), std::string::npos);
+}
+
+// Issue 22 item 3: ldoem-ctl's commands and their help come from the control socket's table.
+TEST(CtlOptions, EveryTableCommand_IsInTheHelpWithTheTablesHelpLine) {
+  const CtlExit brief = exit_of({"--help"});
+  const CtlExit all = exit_of({"--help-all"});
+  for (const auto& command : control_socket::command_table()) {
+    EXPECT_NE(brief.text.find("  " + command.name + " "), std::string::npos) << command.name << " in:\n" << brief.text;
+    EXPECT_NE(all.text.find(command.help), std::string::npos) << command.name << " in:\n" << all.text;
+  }
+}
+
+TEST(CtlOptions, ATableCommandWithoutOptionsOfItsOwn_SendsItsName) {
+  EXPECT_EQ(*plan_of({"--control", "p", "query-commands"}).request, json::parse(R"({"execute": "query-commands"})"));
+  EXPECT_EQ(*plan_of({"--control", "p", "qmp_capabilities"}).request, json::parse(R"({"execute": "qmp_capabilities"})"));
+  EXPECT_EQ(*plan_of({"--control", "p", "quit"}).request, json::parse(R"({"execute": "quit"})"));
 }
 
 TEST(CtlOptions, UsageErrorsAreExitTwo) {

@@ -35,7 +35,7 @@ TEST(ReplayOption, NeedsNoScene_NoFlashFile_CanOnlyWhenAsked) {
 TEST(ReplayOption, WhatARecordedDeviceHasNot_IsRefusedByName) {
   for (const std::vector<std::string_view>& extra :
        {std::vector<std::string_view>{"--scene", "s.yaml"}, {"--flash", "/tmp/f.flash"}, {"--flash-dir", "/tmp"},
-        {"--reset-flash"}, {"--seed", "3"}, {"--control", "/tmp/c.ctl"}, {"--event-log", "/tmp/e.log"}}) {
+        {"--reset-flash"}, {"--seed", "3"}}) {
     std::vector<std::string_view> arguments{"--replay", "scan.pcapng", "--tcp", "tcp:127.0.0.1:0"};
     arguments.insert(arguments.end(), extra.begin(), extra.end());
     const auto command = parse_replay(arguments);
@@ -43,6 +43,16 @@ TEST(ReplayOption, WhatARecordedDeviceHasNot_IsRefusedByName) {
     EXPECT_EQ(command.error().message, std::string(extra.front()) + ": conflicts with --replay (a recorded device " +
                                            "has no scene, flash, noise or faults)");
   }
+}
+
+// The monitor serves a recorded device too (its fault and object commands answer an error:
+// daemon_replay_control_test.cpp).
+TEST(ReplayOption, ControlAndEventLog_GoWithIt) {
+  const auto command = parse_replay({"--replay", "scan.pcapng", "--tcp", "tcp:127.0.0.1:0", "--control", "/tmp/c.ctl",
+                                     "--event-log", "/tmp/e.log"});
+  ASSERT_TRUE(command.has_value()) << command.error().message;
+  EXPECT_EQ(command->options.control_path, std::filesystem::path("/tmp/c.ctl"));
+  EXPECT_EQ(command->options.event_log_path, std::filesystem::path("/tmp/e.log"));
 }
 
 TEST(ReplayOption, ItsSubOptionsNeedIt_AndAreChecked) {

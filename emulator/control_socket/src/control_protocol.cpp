@@ -1,5 +1,6 @@
 #include "ldoem/control_socket/control_protocol.hpp"
 
+#include "ldoem/control_socket/command_handlers.hpp"
 #include "ldoem/control_socket/command_table.hpp"
 
 #include <cmath>
@@ -101,7 +102,8 @@ std::string handle_line(std::string_view line, ControlTarget& target) {
   }
   const std::string name = request["execute"].get<std::string>();
   const CommandSpec* command = find_command(name);
-  if (command == nullptr) return error_line(kCommandNotFound, "The command " + name + " has not been found", id);
+  const CommandHandler handler = command != nullptr ? command_handler(name) : nullptr;
+  if (handler == nullptr) return error_line(kCommandNotFound, "The command " + name + " has not been found", id);
   try {
     if (auto problem = check_arguments(*command, arguments)) return error_line(kGenericError, *problem, id);
     // A per-scanner command acts on the scanner "scanner" names, else on the daemon's first.
@@ -116,7 +118,7 @@ std::string handle_line(std::string_view line, ControlTarget& target) {
     const CommandCall call{arguments, *chosen, target, [kept_id](const CommandResult& result) {
                              return result_line(result, kept_id ? &*kept_id : nullptr);
                            }};
-    const std::optional<CommandResult> result = command->handler(call);
+    const std::optional<CommandResult> result = handler(call);
     if (!result) return std::string();  // answered later
     return result_line(*result, id);
   } catch (const json::exception& failure) {

@@ -4,7 +4,11 @@
 
 #include "ldoem/base/command_line.hpp"
 #include "ldoem/base/numbers.hpp"
+#include "ldoem/control_socket/command_table.hpp"
 
+#include <algorithm>
+#include <deque>
+#include <map>
 #include <utility>
 
 namespace ldoem::ctl {
@@ -52,6 +56,32 @@ std::optional<std::string> command_word(const std::vector<std::string>& args) {
   return std::nullopt;
 }
 
+// "inject-fault, clear-fault, ... and power-cycle": the table's per-scanner commands.
+std::string per_scanner_commands() {
+  std::vector<std::string> names;
+  for (const auto& command : control_socket::command_table()) {
+    if (command.per_scanner) names.push_back(command.name);
+  }
+  std::string text;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    text += (i == 0 ? "" : i + 1 == names.size() ? " and " : ", ") + names[i];
+  }
+  return text;
+}
+
+// What --help shows as the value of a table argument ldoem-ctl has no option of its own for.
+std::string value_name(control_socket::ArgumentType type) {
+  switch (type) {
+    case control_socket::ArgumentType::text: return "TEXT";
+    case control_socket::ArgumentType::number: return "NUMBER";
+    case control_socket::ArgumentType::count: return "N";
+    case control_socket::ArgumentType::boolean: return "true|false";
+    case control_socket::ArgumentType::object:
+    case control_socket::ArgumentType::list: return "JSON";
+  }
+  return "JSON";
+}
+
 }  // namespace
 
 std::variant<CtlPlan, CtlExit> parse_ctl_options(const std::vector<std::string>& args) {
@@ -90,8 +120,16 @@ std::variant<CtlPlan, CtlExit> parse_ctl_options(const std::vector<std::string>&
   app.add_option("--scanner", scanner, "the scanner a fault command acts on, by its scene name (several scanners "
                                        "in one daemon; default: the first)")->type_name("NAME");
 
+  // Every command of the control socket's table (command_table.hpp) is a command here, with the
+  // table's help. The ones below get options of their own; any other sends each argument of its
+  // schema given as --NAME VALUE (VALUE read as JSON, else as a text).
+  std::map<std::string, CLI::App*, std::less<>> table_commands;
+  for (const auto& command : control_socket::command_table()) {
+    table_commands[command.name] = app.add_subcommand(command.name, command.help);
+  }
+  const auto command_of = [&table_commands](std::string_view name) { return table_commands.find(name)->second; };
   json arguments = json::object();
-  auto* inject = app.add_subcommand("inject-fault", "inject a D11 fault now (or at --at)");
+  auto* inject = command_of("inject-fault");
   std::string kind;
   inject->add_option("kind", kind, "a D11 fault name (motor_stall, drop_reply, ...)")->required()->type_name("KIND");
   struct NumberOption {
@@ -125,20 +163,17 @@ std::variant<CtlPlan, CtlExit> parse_ctl_options(const std::vector<std::string>&
   inject->add_option("--on", on, "on the Nth request of SERVICE")->type_name("SERVICE:N");
   inject->add_option("--every", every, "on every Nth request of SERVICE")->type_name("SERVICE:N");
 
-  auto* clear = app.add_subcommand("clear-fault", "clear one fault (by id) or all");
+  auto* clear = command_of("clear-fault");
   std::optional<std::uint64_t> clear_id;
   clear->add_option("id", clear_id, "the id inject-fault or query-faults gave")->type_name("ID");
-  app.add_subcommand("query-faults", "list the active faults");
-  app.add_subcommand("query-status", "state, head speed, tilt steps, counters");
-  auto* power = app.add_subcommand("power-cycle", "cut the power, then restore it");
+  auto* power = command_of("power-cycle");
   std::optional<double> off_s;
   power->add_option("--off", off_s, "seconds off (default 1)")->type_name("SECONDS");
-  app.add_subcommand("quit", "stop the daemon");
   auto* events = app.add_subcommand("events", "print event lines as they come");
   std::optional<std::uint64_t> event_count;
   events->add_option("--count", event_count, "stop after this many events")->type_name("N");
   // D12 runtime changes (docs/dynamic-scenes.md "Runtime changes").
-  auto* move = app.add_subcommand("move-object", "put a scene object at a new pose (now or at --at)");
+  auto* move = command_of("move-object");
   std::string move_name;
   std::string position_text, rpy_text;
   std::optional<double> move_at;
@@ -148,13 +183,13 @@ std::variant<CtlPlan, CtlExit> parse_ctl_options(const std::vector<std::string>&
   move->add_option("--rpy", rpy_text, "in degrees (default 0,0,0)")->type_name("ROLL,PITCH,YAW");
   move->add_option("--at", move_at, "device time (default: now)")->type_name("SECONDS");
   move->add_flag("--keep-velocity", keep_velocity, "a dynamics body keeps its velocity (default: at rest)");
-  auto* add = app.add_subcommand("add-object", "add an object, given as one entry of a scene's objects list");
+  auto* add = command_of("add-object");
   std::string object_text;
   std::optional<double> add_at;
   add->add_option("object", object_text, "JSON, e.g. '{\"name\": \"crate\", \"box\": {\"size_m\": [1, 1, 1]}}'")
       ->required()->type_name("JSON");
   add->add_option("--at", add_at, "device time (default: now)")->type_name("SECONDS");
-  auto* remove = app.add_subcommand("remove-object", "remove an object (scene or added)");
+  auto* remove = command_of("remove-object");
   std::string remove_name;
   std::optional<double> remove_at;
   remove->add_option("name", remove_name, "the object's name")->required()->type_name("NAME");
@@ -162,6 +197,20 @@ std::variant<CtlPlan, CtlExit> parse_ctl_options(const std::vector<std::string>&
   auto* send = app.add_subcommand("send", "send one raw JSON request line");
   std::string raw;
   send->add_option("request", raw, "a JSON object")->required()->type_name("JSON");
+  // The table's other commands: their arguments as options, by the schema.
+  const std::vector<CLI::App*> own{inject, clear, power, move, add, remove};
+  std::deque<std::string> generic_values;  // a deque: the options keep pointers into it
+  std::map<const CLI::App*, std::vector<std::pair<std::string, CLI::Option*>>> generic_options;
+  for (const auto& command : control_socket::command_table()) {
+    CLI::App* sub = command_of(command.name);
+    if (std::find(own.begin(), own.end(), sub) != own.end()) continue;
+    auto& options = generic_options[sub];
+    for (const auto& argument : command.arguments) {
+      generic_values.emplace_back();
+      options.emplace_back(argument.name, sub->add_option("--" + argument.name, generic_values.back(), argument.what)
+                                              ->type_name(value_name(argument.type)));
+    }
+  }
 
   std::vector<std::string> reversed(args.rbegin(), args.rend());
   try {
@@ -169,10 +218,12 @@ std::variant<CtlPlan, CtlExit> parse_ctl_options(const std::vector<std::string>&
   } catch (const CLI::CallForHelp&) {
     // A command's own help ("inject-fault --help") is short: all of it.
     if (!app.get_subcommands().empty()) return CtlExit{kExitOk, app.help()};
-    return CtlExit{kExitOk, base::brief_help("ldoem-ctl", app.help(), "Talk to ldoem-emud's control socket: inject faults, query, move objects.",
-                                             {"--control", "--scanner", "--timeout", "--json", "inject-fault", "clear-fault",
-                                              "query-faults", "query-status", "power-cycle", "events", "move-object",
-                                              "add-object", "remove-object", "send", "quit", "--help", "--version"})};
+    // The commands: the table's, then ldoem-ctl's own (events, send).
+    std::vector<std::string_view> brief{"--control", "--scanner", "--timeout", "--json"};
+    for (const auto& command : control_socket::command_table()) brief.push_back(command.name);
+    for (const std::string_view extra : {"events", "send", "--help", "--version"}) brief.push_back(extra);
+    return CtlExit{kExitOk, base::brief_help("ldoem-ctl", app.help(),
+                                             "Talk to ldoem-emud's control socket: inject faults, query, move objects.", brief)};
   } catch (const CLI::CallForAllHelp&) {
     return CtlExit{kExitOk, app.help("", CLI::AppFormatMode::All)};
   } catch (const CLI::CallForVersion&) {
@@ -263,16 +314,25 @@ std::variant<CtlPlan, CtlExit> parse_ctl_options(const std::vector<std::string>&
     if (line.is_discarded() || !line.is_object()) return usage("send wants one JSON object");
     plan.request = line;
   } else {
-    for (const char* name : {"query-faults", "query-status", "quit"}) {
-      if (app.got_subcommand(name)) plan.request = request(name, json::object());
+    for (const auto& [sub, options] : generic_options) {
+      if (!sub->parsed()) continue;
+      json args = json::object();
+      for (const auto& [name, option] : options) {
+        if (option->count() == 0) continue;
+        const std::string text = option->as<std::string>();
+        json value = json::parse(text, nullptr, false);
+        args[name] = value.is_discarded() ? json(text) : value;
+      }
+      plan.request = request(sub->get_name(), args);
     }
   }
   if (!scanner.empty()) {
-    // Only the fault commands act on one scanner (docs/faults.md); the others on the daemon.
+    // Only the table's per-scanner commands act on one scanner (docs/faults.md); the others on
+    // the daemon.
     const std::string command = plan.request ? plan.request->value("execute", "") : "";
-    if (send->parsed() || !(command == "inject-fault" || command == "power-cycle" || command == "clear-fault" ||
-                            command == "query-faults" || command == "query-status")) {
-      return usage("--scanner: only with inject-fault, power-cycle, clear-fault, query-faults and query-status");
+    const control_socket::CommandSpec* spec = control_socket::find_command(command);
+    if (send->parsed() || spec == nullptr || !spec->per_scanner) {
+      return usage("--scanner: only with " + per_scanner_commands());
     }
     (*plan.request)["arguments"]["scanner"] = scanner;
   }

@@ -240,8 +240,9 @@ const std::map<std::string_view, FlagHandler>& flag_options() {
   return handlers;
 }
 
-// --replay (docs/replay.md): the recorded device has no scene, flash or noise; the control
-// socket's commands act on a control unit. CAN opens only when --can names it.
+// --replay (docs/replay.md): the recorded device has no scene, flash or noise. --control and
+// --event-log serve the monitor (its fault and object commands answer an error). CAN opens only
+// when --can names it.
 std::optional<UsageError> check_replay(Options& options, const Seen& seen) {
   if (!options.replay_path) {
     if (!options.replay_transport && !options.replay_port) return std::nullopt;
@@ -252,8 +253,6 @@ std::optional<UsageError> check_replay(Options& options, const Seen& seen) {
                         : options.flash_dir        ? "--flash-dir"
                         : options.reset_flash      ? "--reset-flash"
                         : options.seed             ? "--seed"
-                        : options.control_path     ? "--control"
-                        : options.event_log_path   ? "--event-log"
                                                    : nullptr;
   if (refused != nullptr) {
     return UsageError{std::string(refused) + ": conflicts with --replay (a recorded device has no scene, flash, " +
@@ -449,8 +448,8 @@ std::string usage_text(std::string_view program_name) {
          "                        faults and status; docs/faults.md, ldoem-ctl [off]\n"
          "  --event-log FILE      write the fault and state events, one JSON line each [off]\n"
          "  --replay CAPTURE      serve the device recorded in CAPTURE (pcapng, pcap, candump -l)\n"
-         "                        instead of a scene: CAN only with --can; --scene, --flash,\n"
-         "                        --seed and --control are errors then (docs/replay.md) [off]\n"
+         "                        instead of a scene: CAN only with --can; --scene, --flash\n"
+         "                        and --seed are errors then (docs/replay.md) [off]\n"
          "  --replay-transport T  replay its tcp, serial or can telegrams [the most]\n"
          "  --replay-port N       the device's TCP port in CAPTURE [detected]\n"
          "  --help, -h            the most used options\n"

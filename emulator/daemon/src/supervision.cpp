@@ -7,7 +7,8 @@
 
 namespace ldoem::daemon {
 
-// One scanner: its device as the tap and the monitor see it, and its tap.
+// One scanner: its device as the tap and the monitor see it, and its tap (none for a recorded
+// device: the FaultInjector acts on a control unit).
 struct Supervision::Scanner final : fault_injection::FaultedDevice, monitor::DeviceReadings {
   explicit Scanner(DeviceInstance& device_in) : device(device_in) {}
   ~Scanner() override { device.set_connection_observer(nullptr); }  // then the tap unplugs itself
@@ -25,7 +26,7 @@ struct Supervision::Scanner final : fault_injection::FaultedDevice, monitor::Dev
   void set_fault_hook(endpoints::WireFaultHook* hook) override { device.set_fault_hook(hook); }
 
   // --- DeviceReadings ---
-  const control::ControlUnit& unit() const override { return device.unit(); }
+  const control::ControlUnit* unit() const override { return device.control_unit(); }
   endpoints::Counters counters() const override { return device.counters(); }
   std::uint64_t tilt_steps() const override { return device.steps_seen(); }
 
@@ -46,7 +47,10 @@ base::Expected<std::unique_ptr<Supervision>, std::string> Supervision::create(
   if (options.control_path) setup.control_path = options.control_path->string();
   if (options.event_log_path) setup.event_log_path = options.event_log_path->string();
   setup.version = LDOEM_VERSION;
-  setup.world = world;
+  // --replay: the daemon's world is an empty scene nobody looks at; the object commands say why
+  // they cannot act instead of changing it.
+  setup.world = options.replay_path ? nullptr : world;
+  if (options.replay_path) setup.no_world = std::string(monitor::kNotForRecorded);
   setup.imports_off_loop = !options.virtual_time;  // issue 27: a stopped virtual clock keeps imports deterministic
   setup.several_scanners = devices.size() > 1;
   auto opened = monitor::Monitor::open(loop, scheduler, logger, std::move(setup), std::move(stop));
@@ -68,14 +72,18 @@ base::Expected<std::unique_ptr<Supervision>, std::string> Supervision::create(
       name = entry.name;
     }
     auto scanner = std::make_unique<Scanner>(*devices[k]);
-    scanner->tap = std::make_unique<fault_injection::FaultTap>(
-        *scanner, scheduler, logger, std::move(faults),
-        [&monitor, name](const fault_injection::InjectorEvent& event) { monitor.publish(name, event); });
+    // A recorded device (--replay) has no control unit for the injector to act on: no tap, and
+    // its target answers the fault commands with an error (docs/replay.md).
+    if (scanner->device.control_unit() != nullptr) {
+      scanner->tap = std::make_unique<fault_injection::FaultTap>(
+          *scanner, scheduler, logger, std::move(faults),
+          [&monitor, name](const fault_injection::InjectorEvent& event) { monitor.publish(name, event); });
+    }
     fault_injection::FaultTap* tap = scanner->tap.get();
-    monitor::ScannerTarget& target = monitor.add_scanner(name, *tap, *scanner);
+    monitor::ScannerTarget& target = monitor.add_scanner(name, tap, *scanner);
     scanner->device.set_connection_observer(
         [tap, &target](bool opened_now, protocol::ConnectionId connection, std::string_view peer) {
-          if (!opened_now) tap->forget_delayed(connection);
+          if (!opened_now && tap != nullptr) tap->forget_delayed(connection);
           target.on_connection(opened_now, connection, peer);
         });
     made->scanners_.push_back(std::move(scanner));
@@ -87,6 +95,7 @@ void Supervision::fill_counters(endpoints::Counters& counters) const {
   counters.fault_injections = 0;
   counters.delayed_replies_dropped = 0;
   for (const auto& scanner : scanners_) {
+    if (!scanner->tap) continue;
     counters.fault_injections += scanner->tap->injections();
     counters.delayed_replies_dropped += scanner->tap->delayed_replies_dropped();
   }

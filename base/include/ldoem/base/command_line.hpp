@@ -72,7 +72,11 @@ class CommandLine {
 // --help-all and the man page. Lines wider than 80 columns are wrapped. An option the full text
 // does not describe is left out.
 std::string brief_help(std::string_view program, std::string_view full_text, std::string_view purpose,
-                       std::initializer_list<std::string_view> options);
+                       std::span<const std::string_view> options);
+inline std::string brief_help(std::string_view program, std::string_view full_text, std::string_view purpose,
+                              std::initializer_list<std::string_view> options) {
+  return brief_help(program, full_text, purpose, std::span<const std::string_view>(options.begin(), options.size()));
+}
 
 // A bash completion for `program` from a CLI11 app: its long option names and its subcommands,
 // and file names after an option that takes a value. CommandLine::completion_script uses it;

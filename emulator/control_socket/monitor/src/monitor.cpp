@@ -11,6 +11,7 @@ Monitor::Monitor(io::EventLoop& loop, endpoints::Scheduler& scheduler, const end
       logger_(logger),
       stop_(std::move(stop)),
       world_(setup.world),
+      no_world_(std::move(setup.no_world)),
       imports_off_loop_(setup.imports_off_loop),
       several_(setup.several_scanners) {}
 
@@ -38,7 +39,7 @@ base::Expected<std::unique_ptr<Monitor>, std::string> Monitor::open(io::EventLoo
   return monitor;
 }
 
-ScannerTarget& Monitor::add_scanner(std::string name, fault_injection::FaultTap& faults, const DeviceReadings& readings) {
+ScannerTarget& Monitor::add_scanner(std::string name, fault_injection::FaultTap* faults, const DeviceReadings& readings) {
   scanners_.push_back(std::make_unique<ScannerTarget>(*this, std::move(name), faults, readings, scanners_.empty()));
   return *scanners_.back();
 }

@@ -68,7 +68,7 @@ CommandResult Monitor::move_object(const json& arguments) {
   const base::SimTime now = scheduler_.now();
   auto at_s = command_time(request.at_s, seconds(now));
   if (!at_s) return refused("move-object: " + at_s.error());
-  if (world_ == nullptr) return refused("move-object: this daemon has no scene world");
+  if (world_ == nullptr) return refused("move-object: " + no_world_);
   auto moved = guarded("move-object", mesh_trees_on_loop_, [&] {
     return world_->move_object(request.name, request.pose, *at_s, request.keep_velocity);
   });
@@ -180,7 +180,7 @@ CommandResult Monitor::add_parsed(const json& arguments, control_socket::ParsedA
   AddObjectRequest& request = *parsed;
   auto at_s = command_time(request.at_s, seconds(now));
   if (!at_s) return refused("add-object: " + at_s.error());
-  if (world_ == nullptr) return refused("add-object: this daemon has no scene world");
+  if (world_ == nullptr) return refused("add-object: " + no_world_);
   const std::string name = request.object.name;
   auto added = guarded("add-object", mesh_trees_on_loop_, [&] {
     return world_->add_object(std::move(request.object), *at_s, std::move(mesh));
@@ -197,7 +197,7 @@ CommandResult Monitor::remove_object(const json& arguments) {
   const base::SimTime now = scheduler_.now();
   auto at_s = command_time(request.at_s, seconds(now));
   if (!at_s) return refused("remove-object: " + at_s.error());
-  if (world_ == nullptr) return refused("remove-object: this daemon has no scene world");
+  if (world_ == nullptr) return refused("remove-object: " + no_world_);
   auto removed = guarded("remove-object", mesh_trees_on_loop_,
                          [&] { return world_->remove_object(request.name, *at_s); });
   if (!removed) return refused(removed.error());

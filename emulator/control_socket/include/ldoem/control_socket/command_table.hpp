@@ -1,8 +1,11 @@
 // The control socket's commands, each declared once (issue 22): its name, a one-line help, its
-// arguments (name, JSON type, required or not), whether it acts on one scanner, and its handler.
-// handle_line (control_protocol.hpp) checks a request's arguments against the entry, then calls
-// the handler; query-commands answers the table itself. Adding a command is one entry in
-// command_table.cpp and its test (plus a ControlTarget method if it needs a new action).
+// arguments (name, JSON type, required or not) and whether it acts on one scanner. The table is
+// declarative (library ldoem_control_commands, no handlers, links only nlohmann_json): the daemon
+// checks requests against it and answers query-commands with it (control_protocol.hpp), and
+// ldoem-ctl builds its commands and help from it. What each command does is its handler, by the
+// same name, in command_handlers.cpp. Adding a command is one entry in commands/command_table.cpp
+// and one handler in src/command_handlers.cpp, and their test (plus a ControlTarget method if it
+// needs a new action).
 #pragma once
 
 #include <optional>
@@ -11,8 +14,6 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
-
-#include "ldoem/control_socket/control_protocol.hpp"
 
 namespace ldoem::control_socket {
 
@@ -31,26 +32,11 @@ struct ArgumentSpec {
   std::string what;
 };
 
-// One request, as the handler sees it: its arguments checked against the schema ("scanner"
-// taken out), the target it acts on (the named scanner's for a per-scanner command, else the
-// daemon's), and the daemon's target (quit and the object commands act on the daemon).
-struct CommandCall {
-  const nlohmann::json& arguments;
-  ControlTarget& target;
-  ControlTarget& daemon;
-  // For a command answered later (add-object): the reply line of a result, with the request's id.
-  ControlTarget::ReplyLine reply_line;
-};
-
-// The handler's answer; std::nullopt when the reply is sent later (ControlTarget::add_object_later).
-using CommandHandler = std::optional<CommandResult> (*)(const CommandCall& call);
-
 struct CommandSpec {
   std::string name;
   std::string help;                      // one line, for query-commands and people
   std::vector<ArgumentSpec> arguments;   // without "scanner": per_scanner adds it
   bool per_scanner = false;              // takes "scanner": NAME (issue 15)
-  CommandHandler handler = nullptr;
 
   // The argument names, "scanner" last for a per-scanner command (query-commands' `arguments`).
   std::vector<std::string> argument_names() const;

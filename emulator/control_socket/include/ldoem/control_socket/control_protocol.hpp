@@ -71,7 +71,8 @@ class ControlTarget {
 };
 
 // The command names this protocol knows (greeting capabilities and help), in the order of the
-// command table (command_table.hpp: each command declared once, with its arguments and handler).
+// command table (command_table.hpp: each command declared once, with its arguments; its handler in
+// command_handlers.hpp).
 const std::vector<std::string>& command_names();
 
 std::string greeting_line(std::string_view version);

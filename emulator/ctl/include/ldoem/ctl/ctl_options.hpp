@@ -1,9 +1,11 @@
 // ldoem-ctl's command line -> one control request (docs/faults.md). Pure: argv in, a plan out.
+// Its commands and their help are the control socket's command table's (command_table.hpp),
+// plus events and send.
 //
 //   ldoem-ctl --control PATH inject-fault motor_stall --duration 2
 //   ldoem-ctl --control PATH inject-fault drop_reply --on GET_STATUS:3 --transport tcp
 //   ldoem-ctl --control PATH clear-fault [ID]
-//   ldoem-ctl --control PATH query-faults | query-status | quit
+//   ldoem-ctl --control PATH query-faults | query-status | query-commands | quit
 //   ldoem-ctl --control PATH power-cycle [--off 2]
 //   ldoem-ctl --control PATH move-object NAME --position x,y,z [--rpy r,p,y] [--at S] [--keep-velocity]
 //   ldoem-ctl --control PATH add-object '{"name": "crate", "box": {"size_m": [1, 1, 1]}, ...}' [--at S]

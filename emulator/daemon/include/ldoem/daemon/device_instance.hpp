@@ -90,9 +90,8 @@ class DeviceInstance final : public endpoints::EndpointSink,
   // The emulated control unit; null for a recorded device.
   const control::ControlUnit* control_unit() const { return unit_; }
   // The fault machinery (D11, fault_tap.hpp) acts on the control unit directly and hands the
-  // Actions it got back here, like any other event's. Only for a control unit (the daemon
-  // refuses --control, --event-log and scene faults with --replay).
-  const control::ControlUnit& unit() const { return *unit_; }
+  // Actions it got back here, like any other event's. Only for a control unit: a recorded device
+  // gets no FaultTap (supervision.cpp).
   control::ControlUnit& unit_for_faults() { return *unit_; }
   void perform_actions(base::SimTime at, const control::Actions& actions) { perform(at, actions); }
 

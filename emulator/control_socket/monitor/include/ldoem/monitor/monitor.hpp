@@ -43,6 +43,8 @@ class Monitor final : public control_socket::ControlTarget {
     std::optional<std::string> event_log_path;  // --event-log
     std::string version;
     plant::SceneWorld* world = nullptr;  // for the object commands; must outlive the monitor
+    // Without a world, why: the object commands' refusal after "COMMAND: ".
+    std::string no_world = "this daemon has no scene world";
     // add-object imports a mesh on a worker thread (issue 27); false under --virtual-time, where
     // the clock stands still while the loop imports, so that runs stay deterministic.
     bool imports_off_loop = false;
@@ -60,8 +62,8 @@ class Monitor final : public control_socket::ControlTarget {
   Monitor& operator=(const Monitor&) = delete;
 
   // The next scanner's target, in the scene's order: the first one takes the commands that name
-  // no scanner. `faults` and `readings` must outlive the monitor.
-  ScannerTarget& add_scanner(std::string name, fault_injection::FaultTap& faults, const DeviceReadings& readings);
+  // no scanner. `faults` (null for a recorded device) and `readings` must outlive the monitor.
+  ScannerTarget& add_scanner(std::string name, fault_injection::FaultTap* faults, const DeviceReadings& readings);
 
   // The event bus: one event of `scanner` (its scene name) to the log, the event log and the
   // clients.
@@ -101,6 +103,7 @@ class Monitor final : public control_socket::ControlTarget {
   const endpoints::Logger& logger_;
   std::function<void()> stop_;
   plant::SceneWorld* world_ = nullptr;
+  std::string no_world_;
   bool imports_off_loop_ = false;
   bool several_ = false;
   std::unique_ptr<control_socket::ControlServer> server_;

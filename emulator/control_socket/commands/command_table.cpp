@@ -1,6 +1,5 @@
 #include "ldoem/control_socket/command_table.hpp"
 
-#include <cstdint>
 #include <utility>
 
 namespace ldoem::control_socket {
@@ -10,19 +9,6 @@ using nlohmann::json;
 using Type = ArgumentType;
 
 const ArgumentSpec kScanner{"scanner", Type::text, false, "a scanner's name"};
-
-std::string field_error_text(const faults::FieldError& error) {
-  return error.key.empty() ? error.detail : error.key + ": " + error.detail;
-}
-
-// inject-fault and power-cycle: a fault entry through the scene's grammar, then the target.
-CommandResult inject(const json& arguments, ControlTarget& target) {
-  auto spec = fault_from_json(arguments);
-  if (auto* problem = std::get_if<faults::FieldError>(&spec)) {
-    return CommandError{std::string(kGenericError), field_error_text(*problem)};
-  }
-  return target.inject_fault(std::get<faults::FaultSpec>(spec));
-}
 
 std::vector<CommandSpec> make_table() {
   // inject-fault's arguments are a fault entry's fields (faults::FaultEntryBuilder, with `on` and
@@ -49,51 +35,26 @@ std::vector<CommandSpec> make_table() {
   const ArgumentSpec at_s{"at_s", Type::number, false, "a device time in seconds"};
   const ArgumentSpec object_name{"name", Type::text, true, "an object's name"};
   return {
-      {"qmp_capabilities", "QMP's capability negotiation: accepted, optional, does nothing", {}, false,
-       [](const CommandCall&) -> std::optional<CommandResult> { return json::object(); }},
-      {"inject-fault", "inject a D11 fault (a fault entry, docs/faults.md); no trigger means now", fault_fields, true,
-       [](const CommandCall& call) -> std::optional<CommandResult> { return inject(call.arguments, call.target); }},
+      {"qmp_capabilities", "QMP's capability negotiation: accepted, optional, does nothing", {}, false},
+      {"inject-fault", "inject a D11 fault (a fault entry, docs/faults.md); no trigger means now", fault_fields, true},
       {"clear-fault", "clear one fault by its id, or every fault without one",
-       {{"id", Type::count, false, "a fault id (query-faults)"}}, true,
-       [](const CommandCall& call) -> std::optional<CommandResult> {
-         std::optional<std::uint64_t> id;
-         if (call.arguments.contains("id")) id = call.arguments["id"].get<std::uint64_t>();
-         return call.target.clear_fault(id);
-       }},
-      {"query-faults", "list the active faults", {}, true,
-       [](const CommandCall& call) -> std::optional<CommandResult> { return call.target.query_faults(); }},
-      {"query-status", "state, power, head speed, tilt steps, active faults and counters", {}, true,
-       [](const CommandCall& call) -> std::optional<CommandResult> { return call.target.query_status(); }},
+       {{"id", Type::count, false, "a fault id (query-faults)"}}, true},
+      {"query-faults", "list the active faults", {}, true},
+      {"query-status", "state, power, head speed, tilt steps, active faults and counters", {}, true},
       {"power-cycle", "cut the power for off_s seconds (default 1), then restore it",
-       {{"off_s", Type::number, false, ""}}, true,
-       [](const CommandCall& call) -> std::optional<CommandResult> {
-         json arguments = call.arguments;
-         arguments["kind"] = "power_cycle";
-         return inject(arguments, call.target);
-       }},
+       {{"off_s", Type::number, false, ""}}, true},
       {"move-object", "put a scene object at a new pose, now or at device time at_s (D12)",
        {object_name,
         {"position_m", Type::list, true, "a list of three numbers (metres)"},
         {"rpy_deg", Type::list, false, "a list of three numbers (degrees)"},
         at_s,
         {"keep_velocity", Type::boolean, false, ""}},
-       false, [](const CommandCall& call) -> std::optional<CommandResult> { return call.daemon.move_object(call.arguments); }},
+       false},
       {"add-object", "add an object (one entry of a scene's objects list), now or at at_s (D12)",
-       {{"object", Type::object, true, "one entry of a scene's objects list (docs/scenes.md)"}, at_s}, false,
-       [](const CommandCall& call) -> std::optional<CommandResult> {
-         // A mesh import is slow: the target may answer later, off the loop's thread (issue 27).
-         if (call.daemon.add_object_later(call.arguments, call.reply_line)) return std::nullopt;
-         return call.daemon.add_object(call.arguments);
-       }},
-      {"remove-object", "remove an object (from the scene or added), now or at at_s (D12)", {object_name, at_s}, false,
-       [](const CommandCall& call) -> std::optional<CommandResult> { return call.daemon.remove_object(call.arguments); }},
-      {"query-commands", "this table: each command's name, help, arguments and their schema", {}, false,
-       [](const CommandCall&) -> std::optional<CommandResult> { return describe_commands(); }},
-      {"quit", "stop the daemon after this reply", {}, false,
-       [](const CommandCall& call) -> std::optional<CommandResult> {
-         call.daemon.quit();
-         return json::object();
-       }},
+       {{"object", Type::object, true, "one entry of a scene's objects list (docs/scenes.md)"}, at_s}, false},
+      {"remove-object", "remove an object (from the scene or added), now or at at_s (D12)", {object_name, at_s}, false},
+      {"query-commands", "this table: each command's name, help, arguments and their schema", {}, false},
+      {"quit", "stop the daemon after this reply", {}, false},
   };
 }
 
