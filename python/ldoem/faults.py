@@ -15,30 +15,28 @@ host can tell, and there is nothing to judge.
 
 import dataclasses
 
-DEVICE_KINDS = ("motor_stall", "motor_overspeed", "encoder_error", "power_cycle", "reset_spontaneous", "blind",
-                "window_dirt")
-WIRE_KINDS = {
-    "drop_reply": ("tcp", "serial", "can"),
-    "delay_reply": ("tcp", "serial", "can"),
-    "duplicate_reply": ("tcp", "serial", "can"),
-    "truncate_reply": ("tcp", "serial", "can"),
-    "garbage": ("tcp", "serial", "can"),
-    "corrupt_checksum": ("tcp", "serial"),
-    "tcp_reset": ("tcp",),
-    "tcp_stall": ("tcp",),
-    "bandwidth": ("tcp",),
-    "isotp_drop_cf": ("can",),
-    "isotp_repeat_cf": ("can",),
-    "isotp_bad_sn": ("can",),
-    "isotp_fc_overflow": ("can",),
-    "isotp_fc_wait": ("can",),
-    "can_silence": ("can",),
-}
+# The emulator's catalogue (emulator/faults, fault_kind.hpp), written at build time: a kind the
+# emulator gains is in the matrix with no edit here.
+from ._fault_catalogue import FAULT_CATALOGUE
+
+# The host transports the matrix runs on: the LPT kinds are left out (above).
+_HOST_TRANSPORTS = ("tcp", "serial", "can")
+
+DEVICE_KINDS = tuple(name for name, fault_class, _, _ in FAULT_CATALOGUE if fault_class == "device")
+# Each wire kind that applies to a host transport, with the transports it applies to.
+WIRE_KINDS = {name: tuple(transport for transport in transports if transport in _HOST_TRANSPORTS)
+              for name, fault_class, transports, _ in FAULT_CATALOGUE
+              if fault_class == "wire" and any(transport in _HOST_TRANSPORTS for transport in transports)}
+_LASTING_DEVICE_KINDS = frozenset(name for name, fault_class, _, one_shot in FAULT_CATALOGUE
+                                  if fault_class == "device" and not one_shot)
+
 # What the device does after the fault is final for a job: libldoem says reset_device (D11).
 FINAL_KINDS = ("motor_stall", "motor_overspeed", "encoder_error")
 
 # Each kind's parameters in the matrix: short, and over within a second of device time where the
-# kind has a duration, so that a driver that retries can succeed.
+# kind has a duration, so that a driver that retries can succeed. A kind not listed takes its
+# defaults (a wire fault acts on one telegram), except that a device fault that is not one-shot
+# lasts 1 s (without a duration it would stay until cleared).
 PARAMETERS = {
     "motor_stall": {"duration_s": 1},
     "motor_overspeed": {"duration_s": 1},
@@ -88,7 +86,8 @@ class Scenario:
 
     def fault(self):
         """The inject-fault arguments (without kind)."""
-        entry = dict(PARAMETERS.get(self.kind, {}))
+        default = {"duration_s": 1} if self.kind in _LASTING_DEVICE_KINDS else {}
+        entry = dict(PARAMETERS.get(self.kind, default))
         entry["on"] = dict(TRIGGERS[self.trigger])
         if self.kind in WIRE_KINDS:
             entry["transport"] = self.transport

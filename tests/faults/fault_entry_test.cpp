@@ -56,6 +56,24 @@ TEST(FaultCatalogue, TransportsFollowD11) {
   EXPECT_EQ(info(FaultKind::garbage).fault_class, FaultClass::wire);
 }
 
+TEST(FaultCatalogue, ExtentAndParametersFollowD11) {
+  // Without duration_s or count: the link states last until cleared, other wire faults act once.
+  for (FaultKind kind : {FaultKind::tcp_stall, FaultKind::bandwidth, FaultKind::isotp_fc_wait, FaultKind::can_silence,
+                         FaultKind::lpt_jam, FaultKind::motor_stall, FaultKind::window_dirt}) {
+    EXPECT_EQ(info(kind).extent, FaultExtent::until_cleared) << fault_name(kind);
+  }
+  for (FaultKind kind : {FaultKind::drop_reply, FaultKind::garbage, FaultKind::isotp_fc_overflow, FaultKind::lpt_lose_steps}) {
+    EXPECT_EQ(info(kind).extent, FaultExtent::count_one) << fault_name(kind);
+  }
+  EXPECT_EQ(info(FaultKind::power_cycle).extent, FaultExtent::one_shot);
+  EXPECT_TRUE(accepts(FaultKind::blind, FaultParam::sector_range));
+  EXPECT_TRUE(accepts(FaultKind::blind, FaultParam::fraction));
+  EXPECT_TRUE(accepts(FaultKind::window_dirt, FaultParam::fraction));
+  EXPECT_FALSE(accepts(FaultKind::window_dirt, FaultParam::sector_range));
+  EXPECT_TRUE(accepts(FaultKind::truncate_reply, FaultParam::bytes_kept));
+  EXPECT_FALSE(accepts(FaultKind::drop_reply, FaultParam::delay_s));
+}
+
 TEST(FaultEntry, MinimalEntryIsNowAndUntilCleared) {
   const FaultSpec spec = good({{"kind", std::string("motor_stall")}});
   EXPECT_EQ(spec.kind, FaultKind::motor_stall);

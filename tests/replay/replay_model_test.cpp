@@ -21,7 +21,7 @@ const Bytes kStatusIdle{0x81, 0x02, 0, 0, 0, 0x01};
 const Bytes kGetProfileTwo{0x03, 0x01, 0x00, 0x02, 0x39, 0xFF};
 Bytes profile(std::uint8_t tag) { return Bytes{0x83, 0x01, 0x39, 0xFF, 0x00, tag}; }
 
-struct FakeTransport final : control::TransportQuery {
+struct RecordedTransportQuery final : control::TransportQuery {
   bool busy_now = false;
   bool busy(ConnectionId) const override { return busy_now; }
 };
@@ -49,7 +49,7 @@ const ConnectionId kHost{Transport::tcp, 1};
 
 TEST(ReplayModel, Answers_LeaveAtTheirRecordedTimes_OnePerEvent) {
   Model m;
-  FakeTransport transport;
+  RecordedTransportQuery transport;
   control::Actions out = m.model.handle_request(milliseconds(1000), kHost, kGetStatus, transport);
   EXPECT_TRUE(out.telegrams.empty());
   ASSERT_EQ(out.timers.size(), 1u);
@@ -86,7 +86,7 @@ TEST(ReplayModel, Answers_LeaveAtTheirRecordedTimes_OnePerEvent) {
 
 TEST(ReplayModel, AClosedConnection_ForgetsWhatWasDue) {
   Model m;
-  FakeTransport transport;
+  RecordedTransportQuery transport;
   const control::Actions asked = m.model.handle_request(milliseconds(0), kHost, kGetProfileTwo, transport);
   ASSERT_EQ(asked.timers.size(), 1u);
   const control::Actions closed = m.model.on_connection_closed(milliseconds(10), kHost);
@@ -96,7 +96,7 @@ TEST(ReplayModel, AClosedConnection_ForgetsWhatWasDue) {
 
 TEST(ReplayModel, UnrecordedRequest_GetsTheFailureReplyAndAWarning) {
   Model m;
-  FakeTransport transport;
+  RecordedTransportQuery transport;
   const control::Actions out = m.model.handle_request(milliseconds(5), kHost, Bytes{0x02, 0x04, 0x00, 0x07}, transport);
   ASSERT_EQ(out.telegrams.size(), 1u);
   EXPECT_EQ(out.telegrams[0].payload, (Bytes{0xFF, 0x00, 0x02, 0x04, 0x00, 0x03}));

@@ -1,55 +1,28 @@
 #include "ldoem/faults/fault_kind.hpp"
 
 #include <array>
+#include <string>
 
 namespace ldoem::faults {
 namespace {
 
-using enum FaultKind;
-constexpr FaultClass kDevice = FaultClass::device;
-constexpr FaultClass kWire = FaultClass::wire;
-constexpr Transport kTcp = Transport::tcp;
-constexpr Transport kSerial = Transport::serial;
-constexpr Transport kCan = Transport::can;
-constexpr Transport kLpt = Transport::lpt;
+#define LDOEM_FAULT_SET(...) {__VA_ARGS__}
+#define LDOEM_FAULT_INFO(kind, class_, extent, transports, params)                                 \
+  FaultKindInfo{FaultKind::kind, #kind, FaultClass::class_, TransportSet LDOEM_FAULT_SET transports, \
+                FaultExtent::extent, FaultParamSet LDOEM_FAULT_SET params},
 
-// Indexed by FaultKind. D11 lists the transports of each wire fault; device faults act on the
-// device itself, whatever transport the host uses.
-constexpr std::array<FaultKindInfo, kFaultKindCount> kCatalogue{{
-    {motor_stall, "motor_stall", kDevice, {}, false},
-    {motor_overspeed, "motor_overspeed", kDevice, {}, false},
-    {encoder_error, "encoder_error", kDevice, {}, false},
-    {power_cycle, "power_cycle", kDevice, {}, true},
-    {reset_spontaneous, "reset_spontaneous", kDevice, {}, true},
-    {blind, "blind", kDevice, {}, false},
-    {window_dirt, "window_dirt", kDevice, {}, false},
-    {drop_reply, "drop_reply", kWire, {kTcp, kSerial, kCan}, false},
-    {delay_reply, "delay_reply", kWire, {kTcp, kSerial, kCan}, false},
-    {duplicate_reply, "duplicate_reply", kWire, {kTcp, kSerial, kCan}, false},
-    {truncate_reply, "truncate_reply", kWire, {kTcp, kSerial, kCan}, false},
-    // CAN frames carry their own CRC (D1): the checksum D11 corrupts is TCP's XOR or serial's CRC.
-    {corrupt_checksum, "corrupt_checksum", kWire, {kTcp, kSerial}, false},
-    {garbage, "garbage", kWire, {kTcp, kSerial, kCan}, false},
-    {tcp_reset, "tcp_reset", kWire, {kTcp}, false},
-    {tcp_stall, "tcp_stall", kWire, {kTcp}, false},
-    {bandwidth, "bandwidth", kWire, {kTcp}, false},
-    {isotp_drop_cf, "isotp_drop_cf", kWire, {kCan}, false},
-    {isotp_repeat_cf, "isotp_repeat_cf", kWire, {kCan}, false},
-    {isotp_bad_sn, "isotp_bad_sn", kWire, {kCan}, false},
-    {isotp_fc_overflow, "isotp_fc_overflow", kWire, {kCan}, false},
-    {isotp_fc_wait, "isotp_fc_wait", kWire, {kCan}, false},
-    {can_silence, "can_silence", kWire, {kCan}, false},
-    {lpt_lose_steps, "lpt_lose_steps", kWire, {kLpt}, false},
-    {lpt_jam, "lpt_jam", kWire, {kLpt}, false},
-}};
-
-constexpr bool catalogue_is_in_enum_order() {
-  for (std::size_t i = 0; i < kCatalogue.size(); ++i) {
-    if (static_cast<std::size_t>(kCatalogue[i].kind) != i) return false;
-  }
-  return true;
+// Indexed by FaultKind: both are expanded from the same list in the same order. The names the
+// list's columns use are in scope in this function only (a unity build puts other files of the
+// library in this one's scope).
+constexpr std::array<FaultKindInfo, kFaultKindCount> expand_fault_catalogue() {
+  using enum protocol::Transport;
+  using enum FaultParam;
+  return {{LDOEM_FAULT_CATALOGUE(LDOEM_FAULT_INFO)}};
 }
-static_assert(catalogue_is_in_enum_order());
+constexpr std::array<FaultKindInfo, kFaultKindCount> kCatalogue = expand_fault_catalogue();
+
+#undef LDOEM_FAULT_INFO
+#undef LDOEM_FAULT_SET
 
 }  // namespace
 
@@ -66,24 +39,20 @@ std::optional<FaultKind> fault_kind_from_name(std::string_view name) {
 
 bool applies_to(FaultKind kind, Transport transport) { return info(kind).transports.contains(transport); }
 
-bool accepts(FaultKind kind, FaultParam param) {
-  switch (param) {
-    case FaultParam::sector_range: return kind == blind;
-    case FaultParam::fraction: return kind == blind || kind == window_dirt;
-    case FaultParam::delay_s: return kind == delay_reply;
-    case FaultParam::bytes_kept: return kind == truncate_reply;
-    case FaultParam::bytes: return kind == garbage;
-    case FaultParam::bytes_per_s: return kind == bandwidth;
-    case FaultParam::off_s: return kind == power_cycle;
-  }
-  return false;
-}
+bool accepts(FaultKind kind, FaultParam param) { return info(kind).params.contains(param); }
 
 std::string_view all_fault_names() {
-  return "motor_stall, motor_overspeed, encoder_error, power_cycle, reset_spontaneous, blind, "
-         "window_dirt, drop_reply, delay_reply, duplicate_reply, truncate_reply, corrupt_checksum, "
-         "garbage, tcp_reset, tcp_stall, bandwidth, isotp_drop_cf, isotp_repeat_cf, isotp_bad_sn, "
-         "isotp_fc_overflow, isotp_fc_wait, can_silence, lpt_lose_steps, lpt_jam";
+  // Built once from the catalogue (a function-local static: thread-safe, and only a daemon that
+  // reports an unknown kind pays for it).
+  static const std::string names = [] {
+    std::string joined;
+    for (const FaultKindInfo& entry : kCatalogue) {
+      if (!joined.empty()) joined += ", ";
+      joined += entry.name;
+    }
+    return joined;
+  }();
+  return names;
 }
 
 }  // namespace ldoem::faults

@@ -62,13 +62,9 @@ void FaultScheduler::activate(SimTime now, FaultSpec spec, std::string origin, s
   fault.since = now;
   if (spec.duration) fault.until = now + *spec.duration;
   if (spec.count) fault.remaining = *spec.count;
-  // Wire faults with neither act on one telegram (lpt_jam: until cleared, it has no telegrams).
-  if (!spec.duration && !spec.count && info(spec.kind).fault_class == FaultClass::wire &&
-      spec.kind != FaultKind::lpt_jam && spec.kind != FaultKind::can_silence &&
-      spec.kind != FaultKind::tcp_stall && spec.kind != FaultKind::bandwidth &&
-      spec.kind != FaultKind::isotp_fc_wait) {
-    fault.remaining = 1;
-  }
+  // With neither, the catalogue says how long it acts: most wire faults on one telegram, a state
+  // of the link (tcp_stall, lpt_jam, ...) and a device fault until cleared.
+  if (!spec.duration && !spec.count && info(spec.kind).extent == FaultExtent::count_one) fault.remaining = 1;
   fault.spec = std::move(spec);
   fault.origin = origin;
   events.push_back(FaultEvent{now, FaultEventKind::injected, fault.id, fault.spec.kind, std::move(origin)});

@@ -283,7 +283,7 @@ std::variant<FaultSpec, FieldError> FaultEntryBuilder::finish() const {
   if (spec_.kind == FaultKind::window_dirt && !spec_.fraction) {
     return error(FieldErrorKind::missing_key, "fraction", "is required for window_dirt");
   }
-  if (kind.one_shot && (has_duration_ || has_count_)) {
+  if (kind.extent == FaultExtent::one_shot && (has_duration_ || has_count_)) {
     return error(FieldErrorKind::conflicting_keys, has_duration_ ? "duration_s" : "count",
                  std::string(kind.name) + " acts once: it has no duration or count");
   }
