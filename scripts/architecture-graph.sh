@@ -16,7 +16,9 @@ set(GRAPHVIZ_GENERATE_PER_TARGET FALSE)
 set(GRAPHVIZ_GENERATE_DEPENDERS FALSE)
 set(GRAPHVIZ_IGNORE_TARGETS "_tests$" "_test$" "^ldoem_bench" "support$" "^ldoem_png_reader$"
     "^ldoem-latency$" "^ldoem_write_sample_clouds$" "^ldoem_isotp" "^ldoem_interop" "^ldoem_e2e"
-    "^fuzz_" "^ldoem_capture_expectations$" "^ldoem_dissector_fixtures$")
+    "^fuzz_" "^ldoem_capture_expectations$" "^ldoem_dissector_fixtures$"
+    "^numerics_sweep$" "^ldoem_oracle" "^clock_slip_proxy$" "^ldoem_fuzz_seed_writer$"
+    "^ldoem_fault_catalogue_py$" "^ldoem_test_support")
 OPTIONS
 cmake -S "$root" -B "$build" -G Ninja -DLDOEM_BENCHMARKS=OFF --graphviz="$build/ldoem.dot" >/dev/null
 # CMake adds a legend of every target kind; ours has only programs (ovals) and static libraries.
