@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "ldoem/control/flash_image.hpp"
+#include "ldoem/protocol/bytes.hpp"
 
 namespace ldoem::control {
 
@@ -95,7 +96,7 @@ Actions ControlUnit::handle_request(SimTime now, ConnectionId from, protocol::By
   }
   // D11: in ERROR only GET_*, DO_RESET and CANCEL_PROFILE are served (the payload decoded, so
   // it holds a request code).
-  const auto request_code = static_cast<std::uint16_t>((payload[0] << 8) | payload[1]);
+  const std::uint16_t request_code = protocol::read_word_be(payload, 0);
   if (state_.mode == DeviceMode::error && !allowed_in_error(request_code)) {
     ++diagnostics_.service_failures_sent;
     reply(event, protocol::ServiceFailure{request_code, FailureReason::wrong_state});

@@ -3,6 +3,8 @@
 // power_cycle (set_power, docs/decisions-local.md L-faults-5), called only by the fault machinery.
 #include "ldoem/endpoints/can_endpoint.hpp"
 
+#include "ldoem/protocol/bytes.hpp"
+
 namespace ldoem::endpoints {
 namespace {
 
@@ -26,7 +28,7 @@ bool CanHostEndpoint::first_frame_faulted(std::size_t channel, const protocol::C
   const ConnectionId from{protocol::Transport::can, static_cast<std::uint32_t>(channel + 1)};
   // A first frame's data: PCI (2 bytes), then the message's first bytes, the service code first.
   // (A first frame too short to carry it is broken; the channel drops it: service 0, none.)
-  const auto service = frame.length >= 4 ? static_cast<std::uint16_t>((frame.data[2] << 8) | frame.data[3]) : std::uint16_t{0};
+  const std::uint16_t service = frame.length >= 4 ? protocol::read_word_be(frame.data, 2) : std::uint16_t{0};
   switch (fault_hook_->on_host_first_frame(from, service, context_->scheduler.now())) {
     case FirstFrameFault::none:
       return false;
