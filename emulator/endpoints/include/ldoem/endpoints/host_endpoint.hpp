@@ -10,7 +10,8 @@
 // deadlines are asked of the Scheduler. An endpoint never calls back into the sink from send()
 // (no re-entry from the output path into the input path).
 //
-// Adding a transport: one new file here plus one line in emulator/daemon/src/endpoint_registry.cpp.
+// Adding a transport: its endpoint here, one line in emulator/daemon/src/endpoint_registry.cpp, and
+// the rest docs/architecture.md "What a change touches" lists (13 files in all).
 #pragma once
 
 #include <cstdint>
