@@ -4,6 +4,7 @@
 
 #include "ldoem/protocol/messages.hpp"
 #include "ldoem/replay/replay_device.hpp"
+#include "recorded_telegrams.hpp"
 
 namespace ldoem::replay {
 namespace {
@@ -12,11 +13,11 @@ using protocol::CapturedTelegram;
 using protocol::WireDirection;
 using protocol::Transport;
 using std::chrono::milliseconds;
+using test::kGetStatus;
+using test::kStatusIdle;
+using test::profile;
 
-const Bytes kGetStatus{0x01, 0x02};
-const Bytes kStatusIdle{0x81, 0x02, 0, 0, 0, 0x01};
 const Bytes kGetProfileOne{0x03, 0x01, 0x00, 0x01, 0x39, 0xFF};
-Bytes profile(std::uint8_t tag) { return Bytes{0x83, 0x01, 0x39, 0xFF, 0x00, tag}; }
 
 CapturedTelegram request(int ms, Bytes payload, protocol::Transport transport = protocol::Transport::tcp) {
   return {milliseconds(ms), transport, WireDirection::host_to_device, 0, std::move(payload)};

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "ldoem/replay/replay_model.hpp"
+#include "recorded_telegrams.hpp"
 
 namespace ldoem::replay {
 namespace {
@@ -15,11 +16,11 @@ using protocol::ConnectionId;
 using protocol::Transport;
 using protocol::WireDirection;
 using std::chrono::milliseconds;
+using test::kGetStatus;
+using test::kStatusIdle;
+using test::profile;
 
-const Bytes kGetStatus{0x01, 0x02};
-const Bytes kStatusIdle{0x81, 0x02, 0, 0, 0, 0x01};
 const Bytes kGetProfileTwo{0x03, 0x01, 0x00, 0x02, 0x39, 0xFF};
-Bytes profile(std::uint8_t tag) { return Bytes{0x83, 0x01, 0x39, 0xFF, 0x00, tag}; }
 
 struct RecordedTransportQuery final : control::TransportQuery {
   bool busy_now = false;
