@@ -1,5 +1,5 @@
-// libFuzzer target: the scene loader (emulator/scene) on arbitrary YAML text. It must return a
-// Scene or a SceneError, never throw, crash or exhaust memory; an error always has a message.
+// libFuzzer target: the scene loader (emulator/physics/scene) on arbitrary YAML text. It must
+// return a Scene or a SceneError, never throw, crash or exhaust memory; an error always has a message.
 // Mesh paths resolve against the working directory, where the fuzzer finds no mesh files.
 //
 // Issue 27: memory and time invariants. YAML aliases let a few bytes repeat big lists, and the

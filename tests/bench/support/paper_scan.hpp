@@ -6,7 +6,7 @@
 // simulated seconds per wall second.
 //
 // The scene's effects decide the rest, as the emulator would: motor_dynamics picks the ODE hinge
-// (emulator/motor), head_dynamics shifts each beam's time by the speed ripple (the daemon's
+// (emulator/physics/motor), head_dynamics shifts each beam's time by the speed ripple (the daemon's
 // motor::HeadRippleTrack; angles stay nominal), sweep_motion takes each beam's tilt at its own time (otherwise the tilt is frozen at the
 // profile's first beam), and the sensor model runs the scene's pipeline.
 #pragma once

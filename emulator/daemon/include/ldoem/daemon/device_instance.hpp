@@ -1,9 +1,9 @@
 // One LD-OEM in the daemon: its device model (control/device_model.hpp), and the endpoints hosts
-// reach it through. The model is an emulated control unit with its plant (emulator/plant), or a
-// recorded device (emulator/replay, --replay) with no plant: the tilt stepper's writes are then
-// accepted and counted. Several instances can share one scene world (several
-// scanners in one daemon): each has its own plant, flash and endpoints, and all use the daemon's
-// loop and clock.
+// reach it through. The model is an emulated control unit with its plant
+// (emulator/physics/plant), or a recorded device (emulator/replay, --replay) with no plant: the
+// tilt stepper's writes are then accepted and counted. Several instances can share one scene
+// world (several scanners in one daemon): each has its own plant, flash and endpoints, and all use
+// the daemon's loop and clock.
 //
 // The instance is the endpoints' sink and the model's TransportQuery, and the control unit's
 // FlashStore (a flash write is stored before its reply is built). It performs what the model returns

@@ -1,6 +1,6 @@
 // D12: how objects and the scanner's pivot move. Plain data filled by the scene loader, plus the
 // pure evaluation of a kinematic motion at a time. Rigid-body `dynamics` are only described
-// here; emulator/world steps them on ODE.
+// here; emulator/physics/world steps them on ODE.
 #pragma once
 
 #include <Eigen/Geometry>

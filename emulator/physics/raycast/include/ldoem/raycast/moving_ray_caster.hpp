@@ -25,7 +25,7 @@ namespace ldoem::raycast {
 
 class TriMeshData;  // ode_world.hpp
 
-// Where each moving object is. Implemented by emulator/world (kinematic paths, ODE bodies).
+// Where each moving object is. Implemented by emulator/physics/world (kinematic paths, ODE bodies).
 // Const calls must be thread-safe.
 class MotionSource {
  public:
