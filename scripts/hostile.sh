@@ -32,7 +32,7 @@ done
 [[ "$budget" =~ ^[0-9]+$ && "$budget" -gt 0 && "$budget" -le 3600 ]] || {
   echo "hostile.sh: --budget-s must be an integer in [1, 3600]" >&2; exit 2; }
 export HOSTILE_EMUD=$PWD/$build/emulator/daemon/ldoem-emud
-export HOSTILE_REPLAY=$PWD/$build/emulator/replay/ldoem-replay
+export HOSTILE_REPLAY=$PWD/$build/emulator/device/replay/ldoem-replay
 export HOSTILE_HUB=$PWD/$build/driver/hub/ldoem-hub
 export HOSTILE_ROOT=$PWD
 [ -x "$HOSTILE_EMUD" ] || { echo "hostile.sh: $HOSTILE_EMUD not built (cmake --build --preset default)" >&2; exit 2; }

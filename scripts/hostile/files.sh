@@ -198,7 +198,7 @@ hostile_case_replay_bad_block_900mib() {
   printf '\x0a\x0d\x0d\x0a\x1c\x00\x00\x00\x4d\x3c\x2b\x1a\x01\x00\x00\x00\xff\xff\xff\xff\xff\xff\xff\xff\x1c\x00\x00\x00' >"$dir/x.pcapng"
   printf '\x06\x00\x00\x00\x0d\x00\x00\x00' >>"$dir/x.pcapng"
   truncate -s 900M "$dir/x.pcapng"
-  _hf_run 60 2048 "$(_hf_build)/emulator/replay/ldoem-replay" --tcp tcp:127.0.0.1:0 --timeout 1 "$dir/x.pcapng"
+  _hf_run 60 2048 "$(_hf_build)/emulator/device/replay/ldoem-replay" --tcp tcp:127.0.0.1:0 --timeout 1 "$dir/x.pcapng"
   local ok=FAIL
   [ "$_hf_rc" = 2 ] && [[ $_hf_msg == *'block at byte 28'* ]] && [ "$_hf_mib" -lt 100 ] && ok=ok
   _hf_row replay 'a 900 MiB capture with a bad block at byte 28' "$ok" && rc=0 || rc=1

@@ -23,7 +23,7 @@ def source_files(root):
 
 
 def resolve(root, by_name, span):
-    """The files a span such as `emulator/io/src/tcp.cpp`, `stage_*.cpp` or `sim_clock.cpp` names."""
+    """The files a span such as `emulator/host/io/src/tcp.cpp`, `stage_*.cpp` or `sim_clock.cpp` names."""
     if "/" in span:
         return sorted(root.glob(span))
     return sorted(p for name, paths in by_name.items() if pathlib.PurePath(name).match(span) for p in paths)

@@ -1,4 +1,4 @@
-// libFuzzer target: the control unit (emulator/control) driven by random request sequences.
+// libFuzzer target: the control unit (emulator/device/control) driven by random request sequences.
 //
 // Input: records. Each starts with an op byte: bits 0..1 choose the event (0: a request built
 // from a known service code and parameter bytes from the input; 1: simulated time advances by

@@ -1,5 +1,5 @@
-// libFuzzer target: the flash image parser (emulator/control, D4). The format is strict ("a file
-// that deviates in any way is refused"), so any image it accepts must be exactly what
+// libFuzzer target: the flash image parser (emulator/device/control, D4). The format is strict ("a
+// file that deviates in any way is refused"), so any image it accepts must be exactly what
 // serialise_flash_image writes for the configuration it read.
 #include <cstddef>
 #include <cstdint>

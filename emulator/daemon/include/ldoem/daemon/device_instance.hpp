@@ -1,7 +1,7 @@
 // One LD-OEM in the daemon: its device model (control/device_model.hpp), and the endpoints hosts
 // reach it through. The model is an emulated control unit with its plant
-// (emulator/physics/plant), or a recorded device (emulator/replay, --replay) with no plant: the
-// tilt stepper's writes are then accepted and counted. Several instances can share one scene
+// (emulator/physics/plant), or a recorded device (emulator/device/replay, --replay) with no plant:
+// the tilt stepper's writes are then accepted and counted. Several instances can share one scene
 // world (several scanners in one daemon): each has its own plant, flash and endpoints, and all use
 // the daemon's loop and clock.
 //

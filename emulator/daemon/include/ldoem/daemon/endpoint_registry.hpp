@@ -1,5 +1,5 @@
 // Which endpoints a daemon opens, from its options: one entry per transport. Adding a transport
-// is one file in emulator/endpoints and one line in endpoint_registry.cpp.
+// is one file in emulator/host/endpoints and one line in endpoint_registry.cpp.
 #pragma once
 
 #include <functional>

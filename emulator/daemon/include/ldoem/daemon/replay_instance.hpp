@@ -1,6 +1,7 @@
 // ldoem-emud --replay CAPTURE (docs/replay.md): the device instance of a recorded device
-// (emulator/replay) instead of a control unit with its plant. Everything else is the daemon's:
-// endpoints, scheduler and clock (--time-scale plays the recorded delays faster), --record.
+// (emulator/device/replay) instead of a control unit with its plant. Everything else is the
+// daemon's: endpoints, scheduler and clock (--time-scale plays the recorded delays faster),
+// --record.
 #pragma once
 
 #include <memory>

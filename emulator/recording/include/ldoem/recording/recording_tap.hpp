@@ -1,8 +1,8 @@
-// `ldoem-emud --record FILE` (docs/capture.md): a WireTap (emulator/endpoints) that writes every
-// telegram in and out of the device, on every transport, to a capture with its device time (D7).
-// Telegrams from hosts are recorded as they arrived (before any later tap); telegrams to hosts as
-// they leave (after the next tap, so a wire fault that drops or alters one shows in the capture).
-// A write error is logged once and ends the recording; the device goes on.
+// `ldoem-emud --record FILE` (docs/capture.md): a WireTap (emulator/host/endpoints) that writes
+// every telegram in and out of the device, on every transport, to a capture with its device time
+// (D7). Telegrams from hosts are recorded as they arrived (before any later tap); telegrams to
+// hosts as they leave (after the next tap, so a wire fault that drops or alters one shows in the
+// capture). A write error is logged once and ends the recording; the device goes on.
 #pragma once
 
 #include <string>

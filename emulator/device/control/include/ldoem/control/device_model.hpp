@@ -1,7 +1,7 @@
 // What a device instance in the daemon drives (daemon/device_instance.hpp): events in, Actions
 // out (ports.hpp). The control unit is one model (an emulated LD-OEM); a recorded device built
-// from a capture is another (emulator/replay, `ldoem-emud --replay`). Both sit behind the same
-// endpoints, scheduler, wire tap and recording, so there is one copy of the host plumbing.
+// from a capture is another (emulator/device/replay, `ldoem-emud --replay`). Both sit behind the
+// same endpoints, scheduler, wire tap and recording, so there is one copy of the host plumbing.
 #pragma once
 
 #include "ldoem/control/ports.hpp"
