@@ -16,8 +16,8 @@
 
 #include "ldoem/base/regular_file.hpp"
 
-#include "ldoem/protocol/candump_log.hpp"
-#include "ldoem/protocol/pcapng.hpp"
+#include "ldoem/capture/candump_log.hpp"
+#include "ldoem/capture/pcapng.hpp"
 
 namespace ldoem::capture {
 
@@ -28,18 +28,18 @@ namespace {
 
 // libpcap reports DLT_ values; they equal the LINKTYPE_ values except for raw IP, whose DLT
 // differs between platforms.
-std::optional<protocol::LinkType> link_type_of(int dlt) {
+std::optional<LinkType> link_type_of(int dlt) {
   switch (dlt) {
-    case DLT_NULL: return protocol::LinkType::null_loopback;
-    case DLT_EN10MB: return protocol::LinkType::ethernet;
-    case DLT_RAW: return protocol::LinkType::raw_ip;
-    case DLT_LINUX_SLL: return protocol::LinkType::linux_sll;
-    case DLT_USER0: return protocol::LinkType::user0;
-    case DLT_USER1: return protocol::LinkType::user1;
-    case DLT_CAN_SOCKETCAN: return protocol::LinkType::can_socketcan;
-    case DLT_IPV4: return protocol::LinkType::ipv4;
+    case DLT_NULL: return LinkType::null_loopback;
+    case DLT_EN10MB: return LinkType::ethernet;
+    case DLT_RAW: return LinkType::raw_ip;
+    case DLT_LINUX_SLL: return LinkType::linux_sll;
+    case DLT_USER0: return LinkType::user0;
+    case DLT_USER1: return LinkType::user1;
+    case DLT_CAN_SOCKETCAN: return LinkType::can_socketcan;
+    case DLT_IPV4: return LinkType::ipv4;
 #ifdef DLT_LINUX_SLL2
-    case DLT_LINUX_SLL2: return protocol::LinkType::linux_sll2;
+    case DLT_LINUX_SLL2: return LinkType::linux_sll2;
 #endif
     default: return std::nullopt;
   }
@@ -72,7 +72,7 @@ base::Expected<CapturePackets, std::string> read_with_libpcap(const std::filesys
   while ((status = pcap_next_ex(handle.get(), &header, &data)) == 1) {
     const auto time = std::chrono::seconds(header->ts.tv_sec) + std::chrono::nanoseconds(header->ts.tv_usec);
     result.packets.push_back(
-        {time, protocol::decode_link_payload(*link_type, protocol::ByteView(data, header->caplen))});
+        {time, decode_link_payload(*link_type, protocol::ByteView(data, header->caplen))});
   }
   if (status == PCAP_ERROR) return base::Unexpected(path.string() + ": " + pcap_geterr(handle.get()));
   return result;
@@ -99,15 +99,14 @@ std::uint32_t u32_at(const protocol::Bytes& bytes, std::size_t at, bool big_endi
 
 // Issue 27: a pcapng file read block by block, so that a bad block is reported as soon as it is
 // reached (a 900 MiB file was read whole before "block at byte 11016"), and memory holds the
-// decoded packets, not the file. Each packet block is decoded by protocol::decode_pcapng together
+// decoded packets, not the file. Each packet block is decoded by decode_pcapng together
 // with its section's header and interface blocks, which keeps one decoder and its checks.
 base::Expected<CapturePackets, std::string> read_pcapng_blocks(const std::filesystem::path& path, int fd,
                                                                std::uintmax_t size) {
-  using protocol::CaptureFormatError;
   constexpr std::size_t kHeadBytes = 12;  // type, length, and the byte-order magic of a section header
   const auto failed = [&](CaptureFormatError error, std::uintmax_t offset) {
     return base::Unexpected(path.string() + ": block at byte " + std::to_string(offset) + ": " +
-                            std::string(protocol::describe(error)));
+                            std::string(describe(error)));
   };
   CapturePackets result{CaptureFormat::pcapng, {}, {}};
   protocol::Bytes section;                                   // this section's header and interface blocks
@@ -126,11 +125,11 @@ base::Expected<CapturePackets, std::string> read_pcapng_blocks(const std::filesy
     if (size - at < kHeadBytes) return at > 0 ? base::Expected<CapturePackets, std::string>(cut_short(at))
                                               : failed(CaptureFormatError::truncated, at);
     if (!read_exactly(fd, at, head)) return failed(CaptureFormatError::truncated, at);
-    const bool header = protocol::looks_like_pcapng(head);
+    const bool header = looks_like_pcapng(head);
     if (header) {
-      if (u32_at(head, 8, false) == protocol::kPcapngByteOrderMagic) {
+      if (u32_at(head, 8, false) == kPcapngByteOrderMagic) {
         big_endian = false;
-      } else if (u32_at(head, 8, true) == protocol::kPcapngByteOrderMagic) {
+      } else if (u32_at(head, 8, true) == kPcapngByteOrderMagic) {
         big_endian = true;
       } else {
         return failed(CaptureFormatError::bad_byte_order, at);
@@ -138,7 +137,7 @@ base::Expected<CapturePackets, std::string> read_pcapng_blocks(const std::filesy
     }
     const std::uint32_t type = u32_at(head, 0, big_endian);
     const std::uint32_t length = u32_at(head, 4, big_endian);
-    if (length < kHeadBytes || length % 4 != 0 || length > protocol::kPcapngMaxBlockBytes) {
+    if (length < kHeadBytes || length % 4 != 0 || length > kPcapngMaxBlockBytes) {
       return failed(CaptureFormatError::bad_block_length, at);
     }
     if (length > size - at) return at > 0 ? base::Expected<CapturePackets, std::string>(cut_short(at))
@@ -149,12 +148,12 @@ base::Expected<CapturePackets, std::string> read_pcapng_blocks(const std::filesy
       section.clear();
       where.clear();
     }
-    const bool keep = header || type == protocol::kPcapngInterfaceDescriptionType;
+    const bool keep = header || type == kPcapngInterfaceDescriptionType;
     protocol::Bytes decoded_bytes = keep ? protocol::Bytes{} : section;
     protocol::Bytes& target = keep ? section : decoded_bytes;
     where.emplace_back(target.size(), at);
     target.insert(target.end(), block.begin(), block.end());
-    auto packets = protocol::decode_pcapng(target);
+    auto packets = decode_pcapng(target);
     if (!packets) {
       std::uintmax_t offset = at;
       for (const auto& [in_section, in_file] : where) {
@@ -166,7 +165,7 @@ base::Expected<CapturePackets, std::string> read_pcapng_blocks(const std::filesy
     if (!keep) {
       for (const auto& packet : *packets) {
         result.packets.push_back({base::SimTime(static_cast<std::int64_t>(packet.time_ns)),
-                                  protocol::decode_link_payload(packet.link_type, packet.data)});
+                                  decode_link_payload(packet.link_type, packet.data)});
       }
     }
     at += length;
@@ -198,19 +197,19 @@ base::Expected<CapturePackets, std::string> read_capture_packets(const std::file
   }
   protocol::Bytes magic(4);
   if (!read_exactly(opened->get(), 0, magic)) magic.clear();
-  if (protocol::looks_like_pcapng(magic)) return read_pcapng_blocks(path, opened->get(), size);
+  if (looks_like_pcapng(magic)) return read_pcapng_blocks(path, opened->get(), size);
   protocol::Bytes bytes(static_cast<std::size_t>(size));
   if (!read_exactly(opened->get(), 0, bytes)) return base::Unexpected(path.string() + ": cannot read: " + std::strerror(errno));
   const std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
-  if (protocol::looks_like_candump_log(text)) {
-    auto entries = protocol::parse_candump_log(text);
+  if (looks_like_candump_log(text)) {
+    auto entries = parse_candump_log(text);
     if (!entries) {
       return base::Unexpected(path.string() + ":" + std::to_string(entries.error().line) + ": " +
-                        std::string(protocol::describe(entries.error().error)));
+                        std::string(describe(entries.error().error)));
     }
     CapturePackets result{CaptureFormat::candump, {}, {}};
     for (const auto& entry : *entries) {
-      protocol::LinkPayload payload = std::monostate{};
+      LinkPayload payload = std::monostate{};
       if (!entry.extended_id && !entry.remote) payload = entry.frame;
       result.packets.push_back({base::SimTime(static_cast<std::int64_t>(entry.time_ns)), payload});
     }
@@ -220,10 +219,10 @@ base::Expected<CapturePackets, std::string> read_capture_packets(const std::file
 }
 
 base::Expected<CaptureConversation, std::string> read_capture_conversation(const std::filesystem::path& path,
-                                                                     protocol::ConversationConfig config) {
+                                                                     ConversationConfig config) {
   auto packets = read_capture_packets(path);
   if (!packets) return base::Unexpected(packets.error());
-  return CaptureConversation{packets->format, protocol::extract_conversation(packets->packets, config),
+  return CaptureConversation{packets->format, extract_conversation(packets->packets, config),
                              std::move(packets->warning)};
 }
 

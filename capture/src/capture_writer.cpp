@@ -13,14 +13,12 @@
 #include <utility>
 
 #include "ldoem/base/device_constants.hpp"
-#include "ldoem/protocol/pcapng.hpp"
+#include "ldoem/capture/pcapng.hpp"
 #include "ldoem/protocol/tcp_framing.hpp"
 
 namespace ldoem::capture {
 
 using protocol::Bytes;
-using protocol::LinkType;
-using protocol::PacketDirection;
 
 namespace {
 
@@ -67,11 +65,11 @@ Written CaptureWriter::start_file() {
   fd_ = opened->release();
   counters_.bytes = 0;
   for (auto& [index, connection] : connections_) connection.announced = false;
-  Bytes header = protocol::encode_pcapng_section_header(options_.application);
+  Bytes header = encode_pcapng_section_header(options_.application);
   const std::pair<LinkType, const char*> interfaces[] = {
       {LinkType::can_socketcan, "can"}, {LinkType::ipv4, "tcp"}, {LinkType::user0, "serial"}, {LinkType::user1, "lpt"}};
   for (const auto& [link_type, name] : interfaces) {
-    const Bytes block = protocol::encode_pcapng_interface(link_type, name);
+    const Bytes block = encode_pcapng_interface(link_type, name);
     header.insert(header.end(), block.begin(), block.end());
   }
   return write_all(header);
@@ -197,7 +195,7 @@ Written CaptureWriter::write_all(const Bytes& blocks) {
 void CaptureWriter::append_packet(Bytes& out, std::uint32_t interface, base::SimTime time, ByteView data,
                                   WireDirection direction) const {
   const auto time_ns = static_cast<std::uint64_t>(std::max<std::int64_t>(0, time.count()));
-  const Bytes block = protocol::encode_pcapng_packet(interface, time_ns, data, packet_direction(direction));
+  const Bytes block = encode_pcapng_packet(interface, time_ns, data, packet_direction(direction));
   out.insert(out.end(), block.begin(), block.end());
 }
 
@@ -205,14 +203,14 @@ Written CaptureWriter::write_can(base::SimTime time, const protocol::CanFrame& f
   ++counters_.records;
   return commit([&] {
     Bytes blocks;
-    append_packet(blocks, kCaptureCanInterface, time, protocol::encode_socketcan_packet(frame), direction);
+    append_packet(blocks, kCaptureCanInterface, time, encode_socketcan_packet(frame), direction);
     return blocks;
   });
 }
 
-protocol::TcpSegment CaptureWriter::segment(std::uint32_t connection, WireDirection direction, std::uint8_t flags,
+TcpSegment CaptureWriter::segment(std::uint32_t connection, WireDirection direction, std::uint8_t flags,
                                             const TcpConnection& state) const {
-  protocol::TcpSegment segment;
+  TcpSegment segment;
   const auto host_port = static_cast<std::uint16_t>(kSynthesizedHostPortBase + connection % 20000);
   const bool to_device = direction == WireDirection::host_to_device;
   segment.source_ip = to_device ? kSynthesizedHostIp : kSynthesizedDeviceIp;
@@ -235,27 +233,27 @@ Written CaptureWriter::write_tcp(base::SimTime time, std::uint32_t connection, W
       TcpConnection before = *state;
       before.host_next -= 1;
       before.device_next -= 1;
-      auto syn = segment(connection, WireDirection::host_to_device, protocol::kTcpSyn, before);
+      auto syn = segment(connection, WireDirection::host_to_device, kTcpSyn, before);
       syn.acknowledgement = 0;
-      append_packet(blocks, kCaptureTcpInterface, time, protocol::encode_ipv4_tcp_packet(syn),
+      append_packet(blocks, kCaptureTcpInterface, time, encode_ipv4_tcp_packet(syn),
                     WireDirection::host_to_device);
-      auto syn_ack = segment(connection, WireDirection::device_to_host, protocol::kTcpSyn | protocol::kTcpAck, before);
+      auto syn_ack = segment(connection, WireDirection::device_to_host, kTcpSyn | kTcpAck, before);
       syn_ack.acknowledgement = state->host_next;
-      append_packet(blocks, kCaptureTcpInterface, time, protocol::encode_ipv4_tcp_packet(syn_ack),
+      append_packet(blocks, kCaptureTcpInterface, time, encode_ipv4_tcp_packet(syn_ack),
                     WireDirection::device_to_host);
       append_packet(blocks, kCaptureTcpInterface, time,
-                    protocol::encode_ipv4_tcp_packet(
-                        segment(connection, WireDirection::host_to_device, protocol::kTcpAck, *state)),
+                    encode_ipv4_tcp_packet(
+                        segment(connection, WireDirection::host_to_device, kTcpAck, *state)),
                     WireDirection::host_to_device);
     }
     TcpConnection next = *state;
     std::size_t offset = 0;
     do {
       const std::size_t size = std::min(kSynthesizedSegmentBytes, bytes.size() - offset);
-      auto data = segment(connection, direction, protocol::kTcpAck | protocol::kTcpPsh, next);
+      auto data = segment(connection, direction, kTcpAck | kTcpPsh, next);
       data.payload.assign(bytes.begin() + static_cast<std::ptrdiff_t>(offset),
                           bytes.begin() + static_cast<std::ptrdiff_t>(offset + size));
-      append_packet(blocks, kCaptureTcpInterface, time, protocol::encode_ipv4_tcp_packet(data), direction);
+      append_packet(blocks, kCaptureTcpInterface, time, encode_ipv4_tcp_packet(data), direction);
       (direction == WireDirection::host_to_device ? next.host_next : next.device_next) +=
           static_cast<std::uint32_t>(size);
       offset += size;
@@ -278,24 +276,24 @@ Written CaptureWriter::close_tcp(base::SimTime time, std::uint32_t connection, b
   TcpConnection state = found->second;
   connections_.erase(found);
   if (!state.announced) return std::monostate{};
-  const std::uint8_t fin = protocol::kTcpFin | protocol::kTcpAck;
+  const std::uint8_t fin = kTcpFin | kTcpAck;
   ++counters_.records;
   return commit([&] {
     Bytes blocks;
     if (reset) {
       append_packet(blocks, kCaptureTcpInterface, time,
-                    protocol::encode_ipv4_tcp_packet(segment(connection, WireDirection::device_to_host,
-                                                             protocol::kTcpRst | protocol::kTcpAck, state)),
+                    encode_ipv4_tcp_packet(segment(connection, WireDirection::device_to_host,
+                                                             kTcpRst | kTcpAck, state)),
                     WireDirection::device_to_host);
       return blocks;
     }
     append_packet(blocks, kCaptureTcpInterface, time,
-                  protocol::encode_ipv4_tcp_packet(segment(connection, WireDirection::host_to_device, fin, state)),
+                  encode_ipv4_tcp_packet(segment(connection, WireDirection::host_to_device, fin, state)),
                   WireDirection::host_to_device);
     TcpConnection after = state;
     after.host_next += 1;
     append_packet(blocks, kCaptureTcpInterface, time,
-                  protocol::encode_ipv4_tcp_packet(segment(connection, WireDirection::device_to_host, fin, after)),
+                  encode_ipv4_tcp_packet(segment(connection, WireDirection::device_to_host, fin, after)),
                   WireDirection::device_to_host);
     return blocks;
   });
@@ -306,7 +304,7 @@ Written CaptureWriter::write_serial(base::SimTime time, WireDirection direction,
   return commit([&] {
     Bytes blocks;
     append_packet(blocks, kCaptureSerialInterface, time,
-                  protocol::encode_serial_packet({direction, Bytes(bytes.begin(), bytes.end())}), direction);
+                  encode_serial_packet({direction, Bytes(bytes.begin(), bytes.end())}), direction);
     return blocks;
   });
 }
@@ -316,7 +314,7 @@ Written CaptureWriter::write_lpt(base::SimTime time, ByteView values) {
   return commit([&] {
     Bytes blocks;
     append_packet(blocks, kCaptureLptInterface, time,
-                  protocol::encode_lpt_packet({Bytes(values.begin(), values.end())}), WireDirection::host_to_device);
+                  encode_lpt_packet({Bytes(values.begin(), values.end())}), WireDirection::host_to_device);
     return blocks;
   });
 }

@@ -10,7 +10,7 @@
 
 #include "ldoem/capture/capture_reader.hpp"
 #include "ldoem/capture/capture_writer.hpp"
-#include "ldoem/protocol/pcapng.hpp"
+#include "ldoem/capture/pcapng.hpp"
 #include "ldoem/test_support/bounded_call.hpp"
 #include "ldoem/test_support/temp_dir.hpp"
 
@@ -23,11 +23,11 @@ using protocol::Bytes;
 
 // A pcapng section with one IPv4 interface and `packets` packets of 100 bytes.
 Bytes good_capture(std::size_t packets) {
-  Bytes file = protocol::encode_pcapng_section_header("test");
-  const Bytes interface = protocol::encode_pcapng_interface(protocol::LinkType::ipv4, "tcp");
+  Bytes file = encode_pcapng_section_header("test");
+  const Bytes interface = encode_pcapng_interface(LinkType::ipv4, "tcp");
   file.insert(file.end(), interface.begin(), interface.end());
   for (std::size_t i = 0; i < packets; ++i) {
-    const Bytes packet = protocol::encode_pcapng_packet(0, i * 1000, Bytes(100, 0x45), protocol::PacketDirection::inbound);
+    const Bytes packet = encode_pcapng_packet(0, i * 1000, Bytes(100, 0x45), PacketDirection::inbound);
     file.insert(file.end(), packet.begin(), packet.end());
   }
   return file;
@@ -57,7 +57,7 @@ TEST(CaptureFiles, AGoodFileReadBlockByBlockGivesEveryPacket) {
   { std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(file.data()), static_cast<std::streamsize>(file.size())); }
   const auto read = read_capture_packets(path);
   ASSERT_TRUE(read.has_value()) << read.error();
-  const auto decoded = protocol::decode_pcapng(file);
+  const auto decoded = decode_pcapng(file);
   ASSERT_TRUE(decoded.has_value());
   ASSERT_EQ(read->packets.size(), decoded->size());
   EXPECT_EQ(read->packets.back().time.count(), static_cast<std::int64_t>(decoded->back().time_ns));

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "ldoem/capture/capture_reader.hpp"
-#include "ldoem/protocol/candump_log.hpp"
+#include "ldoem/capture/candump_log.hpp"
 #include "ldoem/protocol/isotp.hpp"
 #include "ldoem/protocol/tcp_framing.hpp"
 
@@ -24,9 +24,9 @@ fs::path temp_file(const std::string& name) {
 }
 
 // What tcpdump -w on an Ethernet interface would hold for one segment to or from the device.
-Bytes ethernet_frame(const protocol::TcpSegment& segment) {
+Bytes ethernet_frame(const TcpSegment& segment) {
   Bytes frame{0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 0x08, 0x00};
-  const Bytes ip = protocol::encode_ipv4_tcp_packet(segment);
+  const Bytes ip = encode_ipv4_tcp_packet(segment);
   frame.insert(frame.end(), ip.begin(), ip.end());
   return frame;
 }
@@ -37,9 +37,9 @@ TEST(CaptureReader, ClassicPcapFromTcpdump_IsReadThroughLibpcap) {
     pcap_t* dead = pcap_open_dead_with_tstamp_precision(DLT_EN10MB, 65535, PCAP_TSTAMP_PRECISION_MICRO);
     pcap_dumper_t* dumper = pcap_dump_open(dead, path.c_str());
     ASSERT_NE(dumper, nullptr) << pcap_geterr(dead);
-    const protocol::TcpSegment request{0xC0A8010B, 0xC0A8010A, 51000, 49152, 1000, 1, 0x18,
+    const TcpSegment request{0xC0A8010B, 0xC0A8010A, 51000, 49152, 1000, 1, 0x18,
                                        protocol::encode_tcp_frame(Bytes{0x01, 0x02})};
-    const protocol::TcpSegment reply{0xC0A8010A, 0xC0A8010B, 49152, 51000, 1, 1011, 0x18,
+    const TcpSegment reply{0xC0A8010A, 0xC0A8010B, 49152, 51000, 1, 1011, 0x18,
                                      protocol::encode_tcp_frame(Bytes{0x81, 0x02, 0, 0, 0, 3})};
     int second = 100;
     for (const auto* segment : {&request, &reply}) {
@@ -71,8 +71,8 @@ fs::path write_port_4000_pcap(const std::string& name, bool with_syn) {
   const fs::path path = temp_file(name);
   pcap_t* dead = pcap_open_dead_with_tstamp_precision(DLT_EN10MB, 65535, PCAP_TSTAMP_PRECISION_MICRO);
   pcap_dumper_t* dumper = pcap_dump_open(dead, path.c_str());
-  std::vector<protocol::TcpSegment> segments;
-  if (with_syn) segments.push_back({0xC0A8010B, 0xC0A8010A, 51000, 4000, 999, 0, protocol::kTcpSyn, {}});
+  std::vector<TcpSegment> segments;
+  if (with_syn) segments.push_back({0xC0A8010B, 0xC0A8010A, 51000, 4000, 999, 0, kTcpSyn, {}});
   segments.push_back({0xC0A8010B, 0xC0A8010A, 51000, 4000, 1000, 1, 0x18, protocol::encode_tcp_frame(Bytes{0x01, 0x02})});
   segments.push_back({0xC0A8010A, 0xC0A8010B, 4000, 51000, 1, 1011, 0x18,
                       protocol::encode_tcp_frame(Bytes{0x81, 0x02, 0, 0, 0, 3})});
@@ -106,8 +106,8 @@ TEST(CaptureReader, AnotherTcpPort_IsDetectedFromTheFrameHeaders) {
 
 TEST(CaptureReader, AGivenTcpPort_OverridesTheDetection) {
   const fs::path path = write_port_4000_pcap("port4000-given.pcap", true);
-  const auto given = read_capture_conversation(path, protocol::ConversationConfig{.tcp_port = 49152});
-  const auto right = read_capture_conversation(path, protocol::ConversationConfig{.tcp_port = 4000});
+  const auto given = read_capture_conversation(path, ConversationConfig{.tcp_port = 49152});
+  const auto right = read_capture_conversation(path, ConversationConfig{.tcp_port = 4000});
   fs::remove(path);
   ASSERT_TRUE(given.has_value() && right.has_value());
   EXPECT_FALSE(given->conversation.tcp_port_detected);
@@ -119,8 +119,8 @@ TEST(CaptureReader, CandumpLog_GivesTheIsoTpTelegrams) {
   const fs::path path = temp_file("log.log");
   {
     std::ofstream out(path);
-    out << protocol::format_candump_line(1'000'000'000, "vcan0", *protocol::make_can_frame(0x6C0, Bytes{0x02, 0x01, 0x02})) << "\n";
-    out << protocol::format_candump_line(1'002'000'000, "vcan0",
+    out << format_candump_line(1'000'000'000, "vcan0", *protocol::make_can_frame(0x6C0, Bytes{0x02, 0x01, 0x02})) << "\n";
+    out << format_candump_line(1'002'000'000, "vcan0",
                                          *protocol::make_can_frame(0x6C1, Bytes{0x06, 0x81, 0x02, 0, 0, 0, 1}))
         << "\n";
   }

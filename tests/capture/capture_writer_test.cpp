@@ -13,7 +13,7 @@
 
 #include "ldoem/capture/capture_reader.hpp"
 #include "ldoem/capture/capture_writer.hpp"
-#include "ldoem/protocol/pcapng.hpp"
+#include "ldoem/capture/pcapng.hpp"
 #include "ldoem/protocol/tcp_framing.hpp"
 #include "ldoem/test_support/temp_dir.hpp"
 
@@ -46,12 +46,12 @@ TEST(CaptureWriter, EveryRecord_IsOnDiskWhenTheCallReturns) {
   ASSERT_TRUE((*writer)->write_can(milliseconds(5), *protocol::make_can_frame(0x6C0, Bytes{0x02, 0x01, 0x02}),
                                  WireDirection::host_to_device));
   // No close, no destructor: the bytes are already in the file (a crash loses nothing written).
-  const auto packets = protocol::decode_pcapng(file_bytes(dir.folder() / "c.pcapng"));
+  const auto packets = decode_pcapng(file_bytes(dir.folder() / "c.pcapng"));
   ASSERT_TRUE(packets.has_value());
   ASSERT_EQ(packets->size(), 1u);
-  EXPECT_EQ((*packets)[0].link_type, protocol::LinkType::can_socketcan);
+  EXPECT_EQ((*packets)[0].link_type, LinkType::can_socketcan);
   EXPECT_EQ((*packets)[0].time_ns, 5'000'000u);
-  EXPECT_EQ((*packets)[0].direction, protocol::PacketDirection::inbound);
+  EXPECT_EQ((*packets)[0].direction, PacketDirection::inbound);
 }
 
 TEST(CaptureWriter, TcpTelegrams_AreSynthesizedSegmentsThatReassembleToTheSamePayloads) {
@@ -69,7 +69,7 @@ TEST(CaptureWriter, TcpTelegrams_AreSynthesizedSegmentsThatReassembleToTheSamePa
   // Handshake (3) + request (1) + reply (4) + second connection's handshake (3) + request (1) + FIN (2).
   EXPECT_EQ(packets->packets.size(), 14u);
   for (const auto& packet : packets->packets) {
-    const auto& segment = std::get<protocol::TcpSegment>(packet.payload);
+    const auto& segment = std::get<TcpSegment>(packet.payload);
     EXPECT_LE(segment.payload.size(), kSynthesizedSegmentBytes);
   }
   const auto conversation = read_capture_conversation(dir.folder() / "t.pcapng");
@@ -98,11 +98,11 @@ TEST(CaptureWriter, CloseAndReset_EndAConnectionWithFinBothWaysOrOneRstFromTheDe
   ASSERT_TRUE(packets.has_value()) << packets.error();
   std::vector<std::pair<std::uint16_t, std::uint8_t>> ends;  // (source port, flags) of FIN and RST
   for (const auto& packet : packets->packets) {
-    const auto& segment = std::get<protocol::TcpSegment>(packet.payload);
-    if ((segment.flags & (protocol::kTcpFin | protocol::kTcpRst)) != 0) ends.emplace_back(segment.source_port, segment.flags);
+    const auto& segment = std::get<TcpSegment>(packet.payload);
+    if ((segment.flags & (kTcpFin | kTcpRst)) != 0) ends.emplace_back(segment.source_port, segment.flags);
   }
-  const std::uint8_t fin = protocol::kTcpFin | protocol::kTcpAck;
-  const std::uint8_t rst = protocol::kTcpRst | protocol::kTcpAck;
+  const std::uint8_t fin = kTcpFin | kTcpAck;
+  const std::uint8_t rst = kTcpRst | kTcpAck;
   const std::uint16_t host0 = kSynthesizedHostPortBase;
   EXPECT_EQ(ends, (std::vector<std::pair<std::uint16_t, std::uint8_t>>{{host0, fin}, {49152, fin}, {49152, rst}}));
 }
@@ -196,9 +196,9 @@ TEST(CaptureWriter, SerialAndLpt_RoundTripWithDirection) {
   const auto packets = read_capture_packets(dir.folder() / "s.pcapng");
   ASSERT_TRUE(packets.has_value());
   ASSERT_EQ(packets->packets.size(), 2u);
-  EXPECT_EQ(std::get<protocol::SerialChunk>(packets->packets[0].payload),
-            (protocol::SerialChunk{WireDirection::device_to_host, line}));
-  EXPECT_EQ(std::get<protocol::LptWrites>(packets->packets[1].payload), (protocol::LptWrites{Bytes{0x02, 0x03}}));
+  EXPECT_EQ(std::get<SerialChunk>(packets->packets[0].payload),
+            (SerialChunk{WireDirection::device_to_host, line}));
+  EXPECT_EQ(std::get<LptWrites>(packets->packets[1].payload), (LptWrites{Bytes{0x02, 0x03}}));
 }
 
 TEST(CaptureWriter, UnwritablePath_IsAClearError) {

@@ -9,7 +9,7 @@
 #include "daemon_process.hpp"
 #include "host_link.hpp"
 #include "ldoem/capture/capture_reader.hpp"
-#include "ldoem/protocol/capture_packets.hpp"
+#include "ldoem/capture/capture_packets.hpp"
 
 namespace ldoem::daemon::test {
 namespace {
@@ -28,11 +28,11 @@ Flags tcp_flags(const std::filesystem::path& path) {
   const auto packets = capture::read_capture_packets(path);
   if (!packets) return flags;
   for (const auto& packet : packets->packets) {
-    const auto* segment = std::get_if<protocol::TcpSegment>(&packet.payload);
+    const auto* segment = std::get_if<capture::TcpSegment>(&packet.payload);
     if (segment == nullptr) continue;
     const bool to_device = segment->destination_port == 49152;
-    if ((segment->flags & protocol::kTcpFin) != 0) ++(to_device ? flags.fin_to_device : flags.fin_to_host);
-    if ((segment->flags & protocol::kTcpRst) != 0) ++(to_device ? flags.rst_to_device : flags.rst_to_host);
+    if ((segment->flags & capture::kTcpFin) != 0) ++(to_device ? flags.fin_to_device : flags.fin_to_host);
+    if ((segment->flags & capture::kTcpRst) != 0) ++(to_device ? flags.rst_to_device : flags.rst_to_host);
   }
   return flags;
 }

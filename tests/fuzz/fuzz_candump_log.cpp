@@ -6,9 +6,10 @@
 #include <cstdlib>
 #include <string_view>
 
-#include "ldoem/protocol/candump_log.hpp"
+#include "ldoem/capture/candump_log.hpp"
 
 using namespace ldoem::protocol;
+using namespace ldoem::capture;
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

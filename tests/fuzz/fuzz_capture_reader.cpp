@@ -6,10 +6,11 @@
 #include <cstdint>
 #include <cstdlib>
 
-#include "ldoem/protocol/capture_conversation.hpp"
-#include "ldoem/protocol/pcapng.hpp"
+#include "ldoem/capture/capture_conversation.hpp"
+#include "ldoem/capture/pcapng.hpp"
 
 using namespace ldoem::protocol;
+using namespace ldoem::capture;
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const ByteView input(data, size);

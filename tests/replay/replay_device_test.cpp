@@ -9,7 +9,7 @@
 namespace ldoem::replay {
 namespace {
 
-using protocol::CapturedTelegram;
+using capture::CapturedTelegram;
 using protocol::WireDirection;
 using protocol::Transport;
 using std::chrono::milliseconds;
@@ -38,18 +38,18 @@ std::vector<CapturedTelegram> scan_like_recording() {
 }
 
 TEST(Exchanges, AreCutAtEachRequestWithDelaysAfterIt) {
-  const auto exchanges = protocol::exchanges_of(scan_like_recording(), protocol::Transport::tcp);
+  const auto exchanges = capture::exchanges_of(scan_like_recording(), protocol::Transport::tcp);
   ASSERT_EQ(exchanges.size(), 4u);
   EXPECT_EQ(exchanges[0].request, kGetStatus);
   ASSERT_EQ(exchanges[1].answers.size(), 1u);
   EXPECT_EQ(exchanges[1].answers[0], (RecordedAnswer{milliseconds(80), profile(1)}));
-  EXPECT_EQ(protocol::exchanges_of(scan_like_recording(), protocol::Transport::can).size(), 1u);
-  EXPECT_EQ(protocol::busiest_transport(scan_like_recording()), protocol::Transport::tcp);
-  EXPECT_EQ(protocol::busiest_transport({}), std::nullopt);
+  EXPECT_EQ(capture::exchanges_of(scan_like_recording(), protocol::Transport::can).size(), 1u);
+  EXPECT_EQ(capture::busiest_transport(scan_like_recording()), protocol::Transport::tcp);
+  EXPECT_EQ(capture::busiest_transport({}), std::nullopt);
 }
 
 TEST(ReplayDevice, IdenticalRequests_AreAnsweredInRecordedOrder) {
-  ReplayDevice device(protocol::exchanges_of(scan_like_recording(), protocol::Transport::tcp));
+  ReplayDevice device(capture::exchanges_of(scan_like_recording(), protocol::Transport::tcp));
   EXPECT_EQ(device.on_request(milliseconds(1000), kGetStatus).telegrams,
             (std::vector<ScheduledTelegram>{{milliseconds(1002), kStatusIdle}}));
   // Two identical GET_PROFILE requests get the first, then the second recorded profile.
@@ -62,7 +62,7 @@ TEST(ReplayDevice, IdenticalRequests_AreAnsweredInRecordedOrder) {
 }
 
 TEST(ReplayDevice, OutOfOrderAndRepeatedRequests_FindTheirExchange) {
-  ReplayDevice device(protocol::exchanges_of(scan_like_recording(), protocol::Transport::tcp));
+  ReplayDevice device(capture::exchanges_of(scan_like_recording(), protocol::Transport::tcp));
   const auto idle = device.on_request(milliseconds(0), Bytes{0x04, 0x02});
   ASSERT_EQ(idle.exchange, 3u);
   EXPECT_EQ(idle.telegrams[0].payload, (Bytes{0x84, 0x02, 0, 0, 0, 1}));
@@ -73,13 +73,13 @@ TEST(ReplayDevice, OutOfOrderAndRepeatedRequests_FindTheirExchange) {
 }
 
 TEST(ReplayDevice, Speed_ScalesTheRecordedDelays) {
-  ReplayDevice device(protocol::exchanges_of(scan_like_recording(), protocol::Transport::tcp), 4.0);
+  ReplayDevice device(capture::exchanges_of(scan_like_recording(), protocol::Transport::tcp), 4.0);
   (void)device.on_request(milliseconds(0), kGetStatus);
   EXPECT_EQ(device.on_request(milliseconds(0), kGetProfileOne).telegrams[0].at, milliseconds(20));
 }
 
 TEST(ReplayDevice, UnrecordedValidRequest_GetsReason3AndADiagnostic) {
-  ReplayDevice device(protocol::exchanges_of(scan_like_recording(), protocol::Transport::tcp));
+  ReplayDevice device(capture::exchanges_of(scan_like_recording(), protocol::Transport::tcp));
   const Bytes get_signal{0x01, 0x04};
   const auto reply = device.on_request(milliseconds(7), get_signal);
   ASSERT_EQ(reply.telegrams.size(), 1u);
@@ -91,7 +91,7 @@ TEST(ReplayDevice, UnrecordedValidRequest_GetsReason3AndADiagnostic) {
 }
 
 TEST(ReplayDevice, InvalidRequest_GetsTheReasonDecodeRequestGives) {
-  ReplayDevice device(protocol::exchanges_of(scan_like_recording(), protocol::Transport::tcp));
+  ReplayDevice device(capture::exchanges_of(scan_like_recording(), protocol::Transport::tcp));
   EXPECT_EQ(device.on_request(milliseconds(0), Bytes{0x05, 0x01}).telegrams[0].payload,
             (Bytes{0xFF, 0x00, 0x05, 0x01, 0x00, 0x01}));  // unknown service
   EXPECT_EQ(device.on_request(milliseconds(0), Bytes{0x01, 0x01}).telegrams[0].payload,

@@ -11,7 +11,7 @@
 namespace ldoem::replay {
 namespace {
 
-using protocol::CapturedTelegram;
+using capture::CapturedTelegram;
 using protocol::ConnectionId;
 using protocol::Transport;
 using protocol::WireDirection;
@@ -31,7 +31,7 @@ std::vector<Exchange> recording() {
   const auto at = [](int ms, WireDirection direction, Bytes payload) {
     return CapturedTelegram{milliseconds(ms), Transport::tcp, direction, 0, std::move(payload)};
   };
-  return protocol::exchanges_of({at(10, WireDirection::host_to_device, kGetStatus),
+  return capture::exchanges_of({at(10, WireDirection::host_to_device, kGetStatus),
                                  at(12, WireDirection::device_to_host, kStatusIdle),
                                  at(100, WireDirection::host_to_device, kGetProfileTwo),
                                  at(180, WireDirection::device_to_host, profile(1)),

@@ -5,7 +5,7 @@
 
 #include "ldoem/capture/capture_reader.hpp"
 #include "ldoem/driver/error.hpp"
-#include "ldoem/protocol/capture_conversation.hpp"
+#include "ldoem/capture/capture_conversation.hpp"
 #include "ldoem/protocol/text.hpp"
 #include "recording_transport.hpp"
 #include "reply_fields.hpp"
@@ -24,7 +24,7 @@ struct Split {
   std::vector<p::Bytes> profiles;
 };
 
-Split split(const std::vector<p::RecordedAnswer>& answers) {
+Split split(const std::vector<capture::RecordedAnswer>& answers) {
   Split out;
   for (const auto& answer : answers) (is_profile(answer.payload) ? out.profiles : out.replies).push_back(answer.payload);
   return out;
@@ -32,7 +32,7 @@ Split split(const std::vector<p::RecordedAnswer>& answers) {
 
 // How long to wait for an exchange's telegrams: the recorded spread on the live clock, plus the
 // reply timeout.
-std::chrono::milliseconds wait_for(const SuiteOptions& options, const p::Exchange& exchange) {
+std::chrono::milliseconds wait_for(const SuiteOptions& options, const capture::Exchange& exchange) {
   base::SimTime last{};
   for (const auto& answer : exchange.answers) last = std::max(last, answer.delay);
   const double scale = options.virtual_time ? 1e6 : options.time_scale;
@@ -59,7 +59,7 @@ bool compare(const std::string& label, p::ByteView recorded, p::ByteView live, c
 }  // namespace
 
 int run_against(const SuiteOptions& options, std::ostream& out, std::ostream& err) {
-  p::ConversationConfig config;
+  capture::ConversationConfig config;
   config.tcp_port = options.against_tcp_port;  // unset: detected from the STX "USP" frames
   auto loaded = capture::read_capture_conversation(*options.against, config);
   if (!loaded) {
@@ -67,12 +67,12 @@ int run_against(const SuiteOptions& options, std::ostream& out, std::ostream& er
     return kExitUsageError;
   }
   const auto& telegrams = loaded->conversation.telegrams;
-  const auto transport_kind = p::busiest_transport(telegrams);
+  const auto transport_kind = capture::busiest_transport(telegrams);
   if (!transport_kind) {
     err << "ldoem-conformance: --against " << *options.against << ": no LD-OEM telegram in it\n";
     return kExitUsageError;
   }
-  const std::vector<p::Exchange> exchanges = p::exchanges_of(telegrams, *transport_kind);
+  const std::vector<capture::Exchange> exchanges = capture::exchanges_of(telegrams, *transport_kind);
   out << "against " << *options.against << " (" << capture::format_name(loaded->format) << ", "
       << p::transport_name(*transport_kind);
   if (*transport_kind == p::Transport::tcp) {
@@ -90,7 +90,7 @@ int run_against(const SuiteOptions& options, std::ostream& out, std::ostream& er
   std::size_t total_differences = 0;
   std::uint64_t extra_profiles = 0;
   for (std::size_t index = 0; index < exchanges.size(); ++index) {
-    const p::Exchange& exchange = exchanges[index];
+    const capture::Exchange& exchange = exchanges[index];
     const std::string name = "against/" + std::to_string(index) + " " + p::format_telegram(exchange.request);
     const Split recorded = split(exchange.answers);
     Split live;

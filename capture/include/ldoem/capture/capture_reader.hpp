@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "ldoem/protocol/capture_conversation.hpp"
+#include "ldoem/capture/capture_conversation.hpp"
 #include "ldoem/base/expected.hpp"
 
 namespace ldoem::capture {
@@ -24,7 +24,7 @@ std::string_view format_name(CaptureFormat format);
 
 struct CapturePackets {
   CaptureFormat format = CaptureFormat::pcapng;
-  std::vector<protocol::DecodedPacket> packets;
+  std::vector<DecodedPacket> packets;
   // Not empty when the file was read only in part: a pcapng cut inside a block (a full disk,
   // a crash) gives its whole blocks and says so here.
   std::string warning;
@@ -36,12 +36,12 @@ struct CapturePackets {
 
 struct CaptureConversation {
   CaptureFormat format = CaptureFormat::pcapng;
-  protocol::Conversation conversation;
+  Conversation conversation;
   std::string warning;  // as CapturePackets::warning
 };
 
-// The telegrams of the file (protocol::extract_conversation), in capture order.
+// The telegrams of the file (extract_conversation), in capture order.
 [[nodiscard]] base::Expected<CaptureConversation, std::string> read_capture_conversation(
-    const std::filesystem::path& path, protocol::ConversationConfig config = {});
+    const std::filesystem::path& path, ConversationConfig config = {});
 
 }  // namespace ldoem::capture

@@ -29,7 +29,7 @@
 
 #include "ldoem/protocol/bytes.hpp"
 #include "ldoem/protocol/can_frame.hpp"
-#include "ldoem/protocol/capture_packets.hpp"
+#include "ldoem/capture/capture_packets.hpp"
 #include "ldoem/base/expected.hpp"
 #include "ldoem/base/sim_time.hpp"
 
@@ -104,7 +104,7 @@ class CaptureWriter {
   void shift_files();             // the worker thread
   Written commit(const std::function<protocol::Bytes()>& build);
   Written write_all(const protocol::Bytes& blocks);
-  protocol::TcpSegment segment(std::uint32_t connection, WireDirection direction, std::uint8_t flags,
+  TcpSegment segment(std::uint32_t connection, WireDirection direction, std::uint8_t flags,
                                const TcpConnection& state) const;
   void append_packet(protocol::Bytes& out, std::uint32_t interface, base::SimTime time, ByteView data,
                      WireDirection direction) const;

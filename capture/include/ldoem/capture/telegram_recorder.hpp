@@ -13,7 +13,7 @@
 #include <string>
 
 #include "ldoem/capture/capture_writer.hpp"
-#include "ldoem/protocol/capture_conversation.hpp"
+#include "ldoem/capture/capture_conversation.hpp"
 #include "ldoem/protocol/isotp.hpp"
 
 namespace ldoem::capture {

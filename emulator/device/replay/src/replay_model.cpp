@@ -103,7 +103,7 @@ base::Expected<std::unique_ptr<ReplayModel>, std::string> load_replay_model(cons
                                                                             ReplayModel::Warn warn,
                                                                             std::ostream& report) {
   const std::string name = source.capture.string();
-  protocol::ConversationConfig config;
+  capture::ConversationConfig config;
   config.tcp_port = source.capture_tcp_port;  // unset: detected from the frames (docs/replay.md)
   if (source.can_ids) {
     config.request_can_id = source.can_ids->first;
@@ -113,9 +113,9 @@ base::Expected<std::unique_ptr<ReplayModel>, std::string> load_replay_model(cons
   if (!loaded) return base::Unexpected(loaded.error());
   if (!loaded->warning.empty()) report << "ldoem-emud: warning: " << loaded->warning << '\n';
   const auto& telegrams = loaded->conversation.telegrams;
-  const auto transport = source.transport ? source.transport : protocol::busiest_transport(telegrams);
+  const auto transport = source.transport ? source.transport : capture::busiest_transport(telegrams);
   if (!transport) return base::Unexpected(name + ": no LD-OEM telegram in it");
-  auto exchanges = protocol::exchanges_of(telegrams, *transport);
+  auto exchanges = capture::exchanges_of(telegrams, *transport);
   if (exchanges.empty()) {
     return base::Unexpected(name + ": no request on " + std::string(protocol::transport_name(*transport)));
   }

@@ -2,7 +2,7 @@
 // the real one answered. Pure: requests and simulated time go in, telegrams to send and when to
 // send them come out; ldoem-replay puts it behind the emulator's endpoints.
 //
-// The recording is cut into exchanges (protocol::exchanges_of). A request is matched
+// The recording is cut into exchanges (capture::exchanges_of). A request is matched
 //   1. to the next exchange in recorded order when its payload is byte-identical, else
 //   2. to the first later exchange with an identical request, else
 //   3. to any earlier one (a host that repeats itself), oldest first;
@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "ldoem/protocol/bytes.hpp"
-#include "ldoem/protocol/capture_conversation.hpp"
+#include "ldoem/capture/capture_conversation.hpp"
 #include "ldoem/base/sim_time.hpp"
 
 namespace ldoem::replay {
@@ -27,8 +27,8 @@ namespace ldoem::replay {
 using protocol::Bytes;
 using base::SimTime;
 
-using protocol::Exchange;
-using protocol::RecordedAnswer;
+using capture::Exchange;
+using capture::RecordedAnswer;
 
 struct ScheduledTelegram {
   SimTime at{};

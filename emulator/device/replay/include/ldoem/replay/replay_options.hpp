@@ -12,7 +12,7 @@
 #include <string_view>
 
 #include "ldoem/daemon/options.hpp"
-#include "ldoem/protocol/capture_conversation.hpp"
+#include "ldoem/capture/capture_conversation.hpp"
 #include "ldoem/base/expected.hpp"
 
 namespace ldoem::replay {

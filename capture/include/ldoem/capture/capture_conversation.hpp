@@ -14,21 +14,21 @@
 
 #include "ldoem/base/device_constants.hpp"
 #include "ldoem/protocol/bytes.hpp"
-#include "ldoem/protocol/capture_packets.hpp"
+#include "ldoem/capture/capture_packets.hpp"
 #include "ldoem/protocol/isotp.hpp"
 #include "ldoem/protocol/serial_framing.hpp"
 #include "ldoem/base/sim_time.hpp"
 #include "ldoem/protocol/tcp_framing.hpp"
 #include "ldoem/protocol/transport.hpp"
 
-namespace ldoem::protocol {
+namespace ldoem::capture {
 
 struct CapturedTelegram {
   base::SimTime time{};  // when its last byte or frame was captured
-  Transport transport = Transport::tcp;
-  WireDirection direction = WireDirection::host_to_device;
+  protocol::Transport transport = protocol::Transport::tcp;
+  protocol::WireDirection direction = protocol::WireDirection::host_to_device;
   std::uint32_t stream = 0;  // TCP: connection index in order of appearance; serial, CAN: 0
-  Bytes payload;             // service WORD then parameters
+  protocol::Bytes payload;             // service WORD then parameters
   bool operator==(const CapturedTelegram&) const = default;
 };
 
@@ -36,10 +36,10 @@ struct ConversationConfig {
   // The device's TCP port. Unset: extract_conversation detects it (detect_device_tcp_port), a
   // ConversationExtractor on its own takes 49152 (spec 4.1).
   std::optional<std::uint16_t> tcp_port;
-  std::uint32_t request_can_id = kIsoTpHostToDeviceId;   // D1
-  std::uint32_t response_can_id = kIsoTpDeviceToHostId;  // D1
+  std::uint32_t request_can_id = protocol::kIsoTpHostToDeviceId;   // D1
+  std::uint32_t response_can_id = protocol::kIsoTpDeviceToHostId;  // D1
   // ISO-TP reassembly bound. Profiles over CAN may exceed D3's 5816 bytes (D1 has no limit).
-  std::size_t max_telegram_bytes = kIsoTpDefaultMaxMessageBytes;
+  std::size_t max_telegram_bytes = protocol::kIsoTpDefaultMaxMessageBytes;
   // How long a recorded ISO-TP message may pause between frames. Not D1's N_Cr: a capture is
   // read after the fact, and a recording host that was briefly descheduled (a loaded CI
   // machine, UML) stamps late frames that the live receiver still took in time.
@@ -71,20 +71,20 @@ class ConversationExtractor {
   struct TcpDirection;
   using FlowKey = std::tuple<std::uint32_t, std::uint16_t, std::uint32_t, std::uint16_t>;
   void add_tcp(base::SimTime time, const TcpSegment& segment);
-  void add_can(base::SimTime time, const CanFrame& frame);
+  void add_can(base::SimTime time, const protocol::CanFrame& frame);
   void add_serial(base::SimTime time, const SerialChunk& chunk);
-  void deliver(base::SimTime time, Transport transport, WireDirection direction, std::uint32_t stream,
-               std::vector<DeframerEvent> events);
+  void deliver(base::SimTime time, protocol::Transport transport, protocol::WireDirection direction, std::uint32_t stream,
+               std::vector<protocol::DeframerEvent> events);
 
   ConversationConfig config_;
   ConversationCounters counters_;
   std::map<FlowKey, std::unique_ptr<TcpDirection>> tcp_flows_;  // key: source then destination
   std::map<FlowKey, std::uint32_t> connections_;  // key: device then host
   std::uint32_t next_connection_ = 0;
-  IsoTpReceiver can_requests_;
-  IsoTpReceiver can_replies_;
-  SerialDeframer serial_requests_;
-  SerialReplyReassembler serial_replies_;
+  protocol::IsoTpReceiver can_requests_;
+  protocol::IsoTpReceiver can_replies_;
+  protocol::SerialDeframer serial_requests_;
+  protocol::SerialReplyReassembler serial_replies_;
   std::vector<CapturedTelegram> telegrams_;
 };
 
@@ -112,20 +112,20 @@ std::optional<std::uint16_t> detect_device_tcp_port(const std::vector<DecodedPac
 // each with its delay after the request. Used by ldoem-emud --replay and ldoem-conformance --against.
 struct RecordedAnswer {
   base::SimTime delay{};
-  Bytes payload;
+  protocol::Bytes payload;
   bool operator==(const RecordedAnswer&) const = default;
 };
 struct Exchange {
-  Bytes request;
+  protocol::Bytes request;
   std::vector<RecordedAnswer> answers;
   bool operator==(const Exchange&) const = default;
 };
 
 // The exchanges of one transport (all its streams, in capture order). What the device sent
 // before the first request is dropped.
-std::vector<Exchange> exchanges_of(const std::vector<CapturedTelegram>& telegrams, Transport transport);
+std::vector<Exchange> exchanges_of(const std::vector<CapturedTelegram>& telegrams, protocol::Transport transport);
 
 // The transport with the most telegrams, or nothing for an empty conversation.
-std::optional<Transport> busiest_transport(const std::vector<CapturedTelegram>& telegrams);
+std::optional<protocol::Transport> busiest_transport(const std::vector<CapturedTelegram>& telegrams);
 
-}  // namespace ldoem::protocol
+}  // namespace ldoem::capture

@@ -21,7 +21,7 @@
 #include "ldoem/protocol/bytes.hpp"
 #include "ldoem/base/expected.hpp"
 
-namespace ldoem::protocol {
+namespace ldoem::capture {
 
 // Link-layer header types (tcpdump.org's LINKTYPE_ registry) that ldoem reads or writes.
 enum class LinkType : std::uint16_t {
@@ -50,10 +50,10 @@ inline constexpr std::uint32_t kCaptureSnapLength = 262144;
 // pcapng's epb_flags direction bits, seen from the device: a request comes in.
 enum class PacketDirection : std::uint8_t { unknown = 0, inbound = 1, outbound = 2 };
 
-Bytes encode_pcapng_section_header(std::string_view application);
-Bytes encode_pcapng_interface(LinkType link_type, std::string_view name);
+protocol::Bytes encode_pcapng_section_header(std::string_view application);
+protocol::Bytes encode_pcapng_interface(LinkType link_type, std::string_view name);
 // time_ns: nanoseconds since the epoch of the capture (ldoem: device time, docs/capture.md).
-Bytes encode_pcapng_packet(std::uint32_t interface_id, std::uint64_t time_ns, ByteView data,
+protocol::Bytes encode_pcapng_packet(std::uint32_t interface_id, std::uint64_t time_ns, protocol::ByteView data,
                            PacketDirection direction);
 
 enum class CaptureFormatError : std::uint8_t {
@@ -77,15 +77,15 @@ struct CapturePacket {
   std::uint32_t interface_id = 0;
   std::uint64_t time_ns = 0;
   PacketDirection direction = PacketDirection::unknown;
-  Bytes data;
+  protocol::Bytes data;
   bool operator==(const CapturePacket&) const = default;
 };
 
 // Every packet of a pcapng file's bytes, in file order. A later section header starts a new
 // set of interfaces (interface ids are per section).
-[[nodiscard]] base::Expected<std::vector<CapturePacket>, CaptureFormatFailure> decode_pcapng(ByteView file);
+[[nodiscard]] base::Expected<std::vector<CapturePacket>, CaptureFormatFailure> decode_pcapng(protocol::ByteView file);
 
 // True when the bytes start with a pcapng section header type.
-bool looks_like_pcapng(ByteView file);
+bool looks_like_pcapng(protocol::ByteView file);
 
-}  // namespace ldoem::protocol
+}  // namespace ldoem::capture

@@ -15,17 +15,17 @@
 
 #include "ldoem/protocol/bytes.hpp"
 #include "ldoem/protocol/can_frame.hpp"
-#include "ldoem/protocol/pcapng.hpp"
+#include "ldoem/capture/pcapng.hpp"
 #include "ldoem/protocol/wire_direction.hpp"
 
-namespace ldoem::protocol {
+namespace ldoem::capture {
 
 inline constexpr std::size_t kSocketCanHeaderBytes = 8;
 inline constexpr std::uint32_t kSocketCanExtendedFlag = 0x80000000;
 inline constexpr std::uint32_t kSocketCanRemoteFlag = 0x40000000;
 inline constexpr std::uint32_t kSocketCanErrorFlag = 0x20000000;
 
-Bytes encode_socketcan_packet(const CanFrame& frame);
+protocol::Bytes encode_socketcan_packet(const protocol::CanFrame& frame);
 
 struct TcpSegment {
   std::uint32_t source_ip = 0;  // host byte order
@@ -35,7 +35,7 @@ struct TcpSegment {
   std::uint32_t sequence = 0;
   std::uint32_t acknowledgement = 0;
   std::uint8_t flags = 0;  // TCP flag bits, kTcpSyn etc.
-  Bytes payload;
+  protocol::Bytes payload;
   bool operator==(const TcpSegment&) const = default;
 };
 inline constexpr std::uint8_t kTcpFin = 0x01;
@@ -47,26 +47,26 @@ inline constexpr std::uint8_t kTcpAck = 0x10;
 // An IPv4 packet (20-byte header, no options, DF set, TTL 64) holding one TCP segment (20-byte
 // header, window 65535), both checksums computed. Payloads above 65495 bytes do not fit one
 // IPv4 packet: the caller splits them (the recorder uses segments of at most 1460 bytes).
-Bytes encode_ipv4_tcp_packet(const TcpSegment& segment);
+protocol::Bytes encode_ipv4_tcp_packet(const TcpSegment& segment);
 
 struct SerialChunk {
-  WireDirection direction = WireDirection::host_to_device;
-  Bytes bytes;
+  protocol::WireDirection direction = protocol::WireDirection::host_to_device;
+  protocol::Bytes bytes;
   bool operator==(const SerialChunk&) const = default;
 };
 struct LptWrites {
-  Bytes values;  // data-register values in write order (D8)
+  protocol::Bytes values;  // data-register values in write order (D8)
   bool operator==(const LptWrites&) const = default;
 };
 
-Bytes encode_serial_packet(const SerialChunk& chunk);
-Bytes encode_lpt_packet(const LptWrites& writes);
+protocol::Bytes encode_serial_packet(const SerialChunk& chunk);
+protocol::Bytes encode_lpt_packet(const LptWrites& writes);
 
 // What a packet turned out to be. Anything else (IPv6, UDP, ARP, IP fragments, error or remote
 // CAN frames, extended CAN ids, CAN FD, unknown link types) is `std::monostate` and ignored by
 // the conversation extractor.
-using LinkPayload = std::variant<std::monostate, CanFrame, TcpSegment, SerialChunk, LptWrites>;
+using LinkPayload = std::variant<std::monostate, protocol::CanFrame, TcpSegment, SerialChunk, LptWrites>;
 
-LinkPayload decode_link_payload(LinkType link_type, ByteView data);
+LinkPayload decode_link_payload(LinkType link_type, protocol::ByteView data);
 
-}  // namespace ldoem::protocol
+}  // namespace ldoem::capture

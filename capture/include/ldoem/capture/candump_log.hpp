@@ -15,7 +15,7 @@
 #include "ldoem/protocol/can_frame.hpp"
 #include "ldoem/base/expected.hpp"
 
-namespace ldoem::protocol {
+namespace ldoem::capture {
 
 enum class CandumpError : std::uint8_t {
   bad_timestamp,   // no "(seconds.fraction)" at the start
@@ -34,7 +34,7 @@ struct CandumpFailure {
 struct CandumpEntry {
   std::uint64_t time_ns = 0;
   std::string interface;
-  CanFrame frame;
+  protocol::CanFrame frame;
   bool extended_id = false;  // 29-bit identifier: kept, but not D1 traffic
   bool remote = false;       // RTR frame: no data
   bool operator==(const CandumpEntry&) const = default;
@@ -48,9 +48,9 @@ struct CandumpEntry {
 [[nodiscard]] base::Expected<std::vector<CandumpEntry>, CandumpFailure> parse_candump_log(std::string_view text);
 
 // The line candump -l would print for a frame (11-bit identifiers only), e.g. for tests.
-std::string format_candump_line(std::uint64_t time_ns, std::string_view interface, const CanFrame& frame);
+std::string format_candump_line(std::uint64_t time_ns, std::string_view interface, const protocol::CanFrame& frame);
 
 // True when the text starts like a candump log: "(" then a digit.
 bool looks_like_candump_log(std::string_view text);
 
-}  // namespace ldoem::protocol
+}  // namespace ldoem::capture

@@ -1,8 +1,8 @@
-#include "ldoem/protocol/pcapng.hpp"
+#include "ldoem/capture/pcapng.hpp"
 
 #include <array>
 
-namespace ldoem::protocol {
+namespace ldoem::capture {
 namespace {
 
 constexpr std::uint16_t kOptEndOfOpt = 0;
@@ -13,35 +13,35 @@ constexpr std::uint16_t kOptEpbFlags = 2;
 constexpr std::uint8_t kNanosecondResolution = 9;
 constexpr std::size_t kBlockOverhead = 12;  // type, length, trailing length
 
-void put_u16(Bytes& out, std::uint16_t value) {
+void put_u16(protocol::Bytes& out, std::uint16_t value) {
   out.push_back(static_cast<std::uint8_t>(value & 0xFF));
   out.push_back(static_cast<std::uint8_t>(value >> 8));
 }
 
-void put_u32(Bytes& out, std::uint32_t value) {
+void put_u32(protocol::Bytes& out, std::uint32_t value) {
   put_u16(out, static_cast<std::uint16_t>(value & 0xFFFF));
   put_u16(out, static_cast<std::uint16_t>(value >> 16));
 }
 
-void pad_to_4(Bytes& out) {
+void pad_to_4(protocol::Bytes& out) {
   while (out.size() % 4 != 0) out.push_back(0);
 }
 
-void put_option(Bytes& out, std::uint16_t code, ByteView value) {
+void put_option(protocol::Bytes& out, std::uint16_t code, protocol::ByteView value) {
   put_u16(out, code);
   put_u16(out, static_cast<std::uint16_t>(value.size()));
   out.insert(out.end(), value.begin(), value.end());
   pad_to_4(out);
 }
 
-ByteView text_bytes(std::string_view text) {
-  return ByteView(reinterpret_cast<const std::uint8_t*>(text.data()), text.size());
+protocol::ByteView text_bytes(std::string_view text) {
+  return protocol::ByteView(reinterpret_cast<const std::uint8_t*>(text.data()), text.size());
 }
 
 // Wraps a block body in type, total length and trailing total length.
-Bytes make_block(std::uint32_t type, const Bytes& body) {
+protocol::Bytes make_block(std::uint32_t type, const protocol::Bytes& body) {
   const auto total = static_cast<std::uint32_t>(body.size() + kBlockOverhead);
-  Bytes block;
+  protocol::Bytes block;
   block.reserve(total);
   put_u32(block, type);
   put_u32(block, total);
@@ -52,7 +52,7 @@ Bytes make_block(std::uint32_t type, const Bytes& body) {
 
 // Reads integers in the byte order the current section declared.
 struct SectionReader {
-  ByteView bytes;
+  protocol::ByteView bytes;
   bool big_endian = false;
 
   std::uint16_t u16(std::size_t at) const {
@@ -141,8 +141,8 @@ std::string_view describe(CaptureFormatError error) {
   return "unknown capture format error";
 }
 
-Bytes encode_pcapng_section_header(std::string_view application) {
-  Bytes body;
+protocol::Bytes encode_pcapng_section_header(std::string_view application) {
+  protocol::Bytes body;
   put_u32(body, kPcapngByteOrderMagic);
   put_u16(body, 1);
   put_u16(body, 0);
@@ -153,8 +153,8 @@ Bytes encode_pcapng_section_header(std::string_view application) {
   return make_block(kPcapngSectionHeaderType, body);
 }
 
-Bytes encode_pcapng_interface(LinkType link_type, std::string_view name) {
-  Bytes body;
+protocol::Bytes encode_pcapng_interface(LinkType link_type, std::string_view name) {
+  protocol::Bytes body;
   put_u16(body, static_cast<std::uint16_t>(link_type));
   put_u16(body, 0);
   put_u32(body, kCaptureSnapLength);
@@ -165,9 +165,9 @@ Bytes encode_pcapng_interface(LinkType link_type, std::string_view name) {
   return make_block(kPcapngInterfaceDescriptionType, body);
 }
 
-Bytes encode_pcapng_packet(std::uint32_t interface_id, std::uint64_t time_ns, ByteView data,
+protocol::Bytes encode_pcapng_packet(std::uint32_t interface_id, std::uint64_t time_ns, protocol::ByteView data,
                            PacketDirection direction) {
-  Bytes body;
+  protocol::Bytes body;
   body.reserve(data.size() + 40);
   put_u32(body, interface_id);
   put_u32(body, static_cast<std::uint32_t>(time_ns >> 32));
@@ -177,7 +177,7 @@ Bytes encode_pcapng_packet(std::uint32_t interface_id, std::uint64_t time_ns, By
   body.insert(body.end(), data.begin(), data.end());
   pad_to_4(body);
   if (direction != PacketDirection::unknown) {
-    Bytes flags;
+    protocol::Bytes flags;
     put_u32(flags, static_cast<std::uint32_t>(direction));
     put_option(body, kOptEpbFlags, flags);
     put_option(body, kOptEndOfOpt, {});
@@ -185,11 +185,11 @@ Bytes encode_pcapng_packet(std::uint32_t interface_id, std::uint64_t time_ns, By
   return make_block(kPcapngEnhancedPacketType, body);
 }
 
-bool looks_like_pcapng(ByteView file) {
+bool looks_like_pcapng(protocol::ByteView file) {
   return file.size() >= 4 && file[0] == 0x0A && file[1] == 0x0D && file[2] == 0x0D && file[3] == 0x0A;
 }
 
-base::Expected<std::vector<CapturePacket>, CaptureFormatFailure> decode_pcapng(ByteView file) {
+base::Expected<std::vector<CapturePacket>, CaptureFormatFailure> decode_pcapng(protocol::ByteView file) {
   const auto fail = [](CaptureFormatError error, std::size_t offset) {
     return base::Unexpected(CaptureFormatFailure{error, offset});
   };
@@ -262,4 +262,4 @@ base::Expected<std::vector<CapturePacket>, CaptureFormatFailure> decode_pcapng(B
   return packets;
 }
 
-}  // namespace ldoem::protocol
+}  // namespace ldoem::capture

@@ -1,9 +1,9 @@
-#include "ldoem/protocol/candump_log.hpp"
+#include "ldoem/capture/candump_log.hpp"
 
 #include <array>
 #include <cstdio>
 
-namespace ldoem::protocol {
+namespace ldoem::capture {
 namespace {
 
 int hex_value(char c) {
@@ -91,7 +91,7 @@ base::Expected<CandumpEntry, CandumpError> parse_candump_line(std::string_view l
     if (value < 0) return base::Unexpected(CandumpError::bad_identifier);
     id = (id << 4) | static_cast<std::uint32_t>(value);
   }
-  if (id_text.size() == 3 && id > kCanStandardIdMask) return base::Unexpected(CandumpError::bad_identifier);
+  if (id_text.size() == 3 && id > protocol::kCanStandardIdMask) return base::Unexpected(CandumpError::bad_identifier);
   if (id_text.size() == 8 && id > 0x1FFFFFFF) return base::Unexpected(CandumpError::bad_identifier);
   entry.extended_id = id_text.size() == 8;
   if (data_text.starts_with('#')) return base::Unexpected(CandumpError::unsupported);
@@ -105,7 +105,7 @@ base::Expected<CandumpEntry, CandumpError> parse_candump_line(std::string_view l
     entry.frame.length = data_text.empty() ? 0 : static_cast<std::uint8_t>(data_text[0] - '0');
     return entry;
   }
-  if (data_text.size() % 2 != 0 || data_text.size() > 2 * kCanMaxDataBytes) return base::Unexpected(CandumpError::bad_data);
+  if (data_text.size() % 2 != 0 || data_text.size() > 2 * protocol::kCanMaxDataBytes) return base::Unexpected(CandumpError::bad_data);
   entry.frame.id = id;
   entry.frame.length = static_cast<std::uint8_t>(data_text.size() / 2);
   for (std::size_t i = 0; i < entry.frame.length; ++i) {
@@ -133,7 +133,7 @@ base::Expected<std::vector<CandumpEntry>, CandumpFailure> parse_candump_log(std:
   return entries;
 }
 
-std::string format_candump_line(std::uint64_t time_ns, std::string_view interface, const CanFrame& frame) {
+std::string format_candump_line(std::uint64_t time_ns, std::string_view interface, const protocol::CanFrame& frame) {
   std::array<char, 40> head{};
   std::snprintf(head.data(), head.size(), "(%llu.%06llu) ",
                 static_cast<unsigned long long>(time_ns / 1'000'000'000ull),
@@ -141,7 +141,7 @@ std::string format_candump_line(std::uint64_t time_ns, std::string_view interfac
   std::string line = head.data();
   line += interface;
   std::array<char, 8> id{};
-  std::snprintf(id.data(), id.size(), " %03X#", static_cast<unsigned>(frame.id & kCanStandardIdMask));
+  std::snprintf(id.data(), id.size(), " %03X#", static_cast<unsigned>(frame.id & protocol::kCanStandardIdMask));
   line += id.data();
   static constexpr char kDigits[] = "0123456789ABCDEF";
   for (std::uint8_t byte : frame.payload()) {
@@ -156,4 +156,4 @@ bool looks_like_candump_log(std::string_view text) {
   return text.size() >= 2 && text[0] == '(' && text[1] >= '0' && text[1] <= '9';
 }
 
-}  // namespace ldoem::protocol
+}  // namespace ldoem::capture

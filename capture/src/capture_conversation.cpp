@@ -1,4 +1,4 @@
-#include "ldoem/protocol/capture_conversation.hpp"
+#include "ldoem/capture/capture_conversation.hpp"
 
 #include <algorithm>
 #include <map>
@@ -8,18 +8,18 @@
 #include <utility>
 #include <type_traits>
 
-namespace ldoem::protocol {
+namespace ldoem::capture {
 
 // One direction of one TCP connection: where the next byte belongs and the frames so far.
 struct ConversationExtractor::TcpDirection {
-  TcpDeframer deframer;
+  protocol::TcpDeframer deframer;
   std::optional<std::uint32_t> next_sequence;
 };
 
 namespace {
 
-IsoTpReceiverConfig receiver_config(std::uint32_t flow_control_id, const ConversationConfig& conversation) {
-  IsoTpReceiverConfig config;
+protocol::IsoTpReceiverConfig receiver_config(std::uint32_t flow_control_id, const ConversationConfig& conversation) {
+  protocol::IsoTpReceiverConfig config;
   config.flow_control_id = flow_control_id;
   config.max_message_bytes = conversation.max_telegram_bytes;
   config.n_cr_timeout = conversation.isotp_gap_limit;
@@ -44,7 +44,7 @@ void ConversationExtractor::add(base::SimTime time, const LinkPayload& payload) 
         using T = std::decay_t<decltype(value)>;
         if constexpr (std::is_same_v<T, TcpSegment>) {
           add_tcp(time, value);
-        } else if constexpr (std::is_same_v<T, CanFrame>) {
+        } else if constexpr (std::is_same_v<T, protocol::CanFrame>) {
           add_can(time, value);
         } else if constexpr (std::is_same_v<T, SerialChunk>) {
           add_serial(time, value);
@@ -65,16 +65,16 @@ std::vector<CapturedTelegram> ConversationExtractor::take() {
 }
 
 void ConversationExtractor::add_tcp(base::SimTime time, const TcpSegment& segment) {
-  WireDirection direction;
+  protocol::WireDirection direction;
   if (segment.destination_port == *config_.tcp_port) {
-    direction = WireDirection::host_to_device;
+    direction = protocol::WireDirection::host_to_device;
   } else if (segment.source_port == *config_.tcp_port) {
-    direction = WireDirection::device_to_host;
+    direction = protocol::WireDirection::device_to_host;
   } else {
     ++counters_.ignored_packets;
     return;
   }
-  const bool to_device = direction == WireDirection::host_to_device;
+  const bool to_device = direction == protocol::WireDirection::host_to_device;
   const auto connection_key = to_device
       ? std::tuple{segment.destination_ip, segment.destination_port, segment.source_ip, segment.source_port}
       : std::tuple{segment.source_ip, segment.source_port, segment.destination_ip, segment.destination_port};
@@ -96,7 +96,7 @@ void ConversationExtractor::add_tcp(base::SimTime time, const TcpSegment& segmen
     flow = std::make_unique<TcpDirection>();
     return;
   }
-  ByteView data(segment.payload);
+  protocol::ByteView data(segment.payload);
   if (!data.empty()) {
     if (!flow->next_sequence) flow->next_sequence = segment.sequence;
     const auto ahead = static_cast<std::int32_t>(segment.sequence - *flow->next_sequence);
@@ -107,45 +107,45 @@ void ConversationExtractor::add_tcp(base::SimTime time, const TcpSegment& segmen
       flow->next_sequence = segment.sequence;
     } else if (ahead < 0) {
       const auto repeated = static_cast<std::size_t>(-static_cast<std::int64_t>(ahead));
-      data = repeated >= data.size() ? ByteView{} : data.subspan(repeated);
+      data = repeated >= data.size() ? protocol::ByteView{} : data.subspan(repeated);
     }
     *flow->next_sequence += static_cast<std::uint32_t>(data.size());
-    deliver(time, Transport::tcp, direction, connection->second, flow->deframer.feed(data));
+    deliver(time, protocol::Transport::tcp, direction, connection->second, flow->deframer.feed(data));
   }
   if ((segment.flags & kTcpFin) != 0 && flow->next_sequence) *flow->next_sequence += 1;
 }
 
-void ConversationExtractor::add_can(base::SimTime time, const CanFrame& frame) {
-  IsoTpReceiver* receiver = nullptr;
-  WireDirection direction = WireDirection::host_to_device;
+void ConversationExtractor::add_can(base::SimTime time, const protocol::CanFrame& frame) {
+  protocol::IsoTpReceiver* receiver = nullptr;
+  protocol::WireDirection direction = protocol::WireDirection::host_to_device;
   if (frame.id == config_.request_can_id) {
     receiver = &can_requests_;
   } else if (frame.id == config_.response_can_id) {
     receiver = &can_replies_;
-    direction = WireDirection::device_to_host;
+    direction = protocol::WireDirection::device_to_host;
   } else {
     ++counters_.ignored_packets;
     return;
   }
-  const IsoTpReceiveResult result = receiver->on_frame(time, frame);
+  const protocol::IsoTpReceiveResult result = receiver->on_frame(time, frame);
   if (result.error) ++counters_.framing_errors;
   if (result.message) {
-    telegrams_.push_back(CapturedTelegram{time, Transport::can, direction, 0, *result.message});
+    telegrams_.push_back(CapturedTelegram{time, protocol::Transport::can, direction, 0, *result.message});
   }
 }
 
 void ConversationExtractor::add_serial(base::SimTime time, const SerialChunk& chunk) {
-  if (chunk.direction == WireDirection::host_to_device) {
-    deliver(time, Transport::serial, chunk.direction, 0, serial_requests_.feed(chunk.bytes));
+  if (chunk.direction == protocol::WireDirection::host_to_device) {
+    deliver(time, protocol::Transport::serial, chunk.direction, 0, serial_requests_.feed(chunk.bytes));
   } else {
-    deliver(time, Transport::serial, chunk.direction, 0, serial_replies_.feed(chunk.bytes));
+    deliver(time, protocol::Transport::serial, chunk.direction, 0, serial_replies_.feed(chunk.bytes));
   }
 }
 
-void ConversationExtractor::deliver(base::SimTime time, Transport transport, WireDirection direction,
-                                    std::uint32_t stream, std::vector<DeframerEvent> events) {
+void ConversationExtractor::deliver(base::SimTime time, protocol::Transport transport, protocol::WireDirection direction,
+                                    std::uint32_t stream, std::vector<protocol::DeframerEvent> events) {
   for (auto& event : events) {
-    if (auto* telegram = std::get_if<Telegram>(&event)) {
+    if (auto* telegram = std::get_if<protocol::Telegram>(&event)) {
       telegrams_.push_back(CapturedTelegram{time, transport, direction, stream, std::move(telegram->payload)});
     } else {
       ++counters_.framing_errors;
@@ -165,8 +165,8 @@ std::optional<std::uint16_t> detect_device_tcp_port(const std::vector<DecodedPac
     const auto* segment = std::get_if<TcpSegment>(&packet.payload);
     if (segment == nullptr) continue;
     if ((segment->flags & (kTcpSyn | kTcpAck)) == kTcpSyn) syn_targets.insert(segment->destination_port);
-    const ByteView data(segment->payload);
-    if (data.size() < kTcpMagic.size() || !std::equal(kTcpMagic.begin(), kTcpMagic.end(), data.begin())) {
+    const protocol::ByteView data(segment->payload);
+    if (data.size() < protocol::kTcpMagic.size() || !std::equal(protocol::kTcpMagic.begin(), protocol::kTcpMagic.end(), data.begin())) {
       continue;
     }
     candidates[segment->destination_port].peers.emplace(segment->source_ip, segment->source_port);
@@ -202,12 +202,12 @@ Conversation extract_conversation(const std::vector<DecodedPacket>& packets, Con
   return conversation;
 }
 
-std::vector<Exchange> exchanges_of(const std::vector<CapturedTelegram>& telegrams, Transport transport) {
+std::vector<Exchange> exchanges_of(const std::vector<CapturedTelegram>& telegrams, protocol::Transport transport) {
   std::vector<Exchange> exchanges;
   base::SimTime request_time{};
   for (const auto& telegram : telegrams) {
     if (telegram.transport != transport) continue;
-    if (telegram.direction == WireDirection::host_to_device) {
+    if (telegram.direction == protocol::WireDirection::host_to_device) {
       exchanges.push_back(Exchange{telegram.payload, {}});
       request_time = telegram.time;
     } else if (!exchanges.empty()) {
@@ -218,10 +218,10 @@ std::vector<Exchange> exchanges_of(const std::vector<CapturedTelegram>& telegram
   return exchanges;
 }
 
-std::optional<Transport> busiest_transport(const std::vector<CapturedTelegram>& telegrams) {
-  std::map<Transport, std::size_t> counts;
+std::optional<protocol::Transport> busiest_transport(const std::vector<CapturedTelegram>& telegrams) {
+  std::map<protocol::Transport, std::size_t> counts;
   for (const auto& telegram : telegrams) ++counts[telegram.transport];
-  std::optional<Transport> best;
+  std::optional<protocol::Transport> best;
   std::size_t most = 0;
   for (const auto& [transport, count] : counts) {
     if (count > most) {
@@ -232,4 +232,4 @@ std::optional<Transport> busiest_transport(const std::vector<CapturedTelegram>& 
   return best;
 }
 
-}  // namespace ldoem::protocol
+}  // namespace ldoem::capture
