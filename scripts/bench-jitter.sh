@@ -36,7 +36,7 @@ while [ $# -gt 0 ]; do
   esac
 done
 emud=$build/emulator/daemon/ldoem-emud
-client=$build/tests/robustness/ldoem-latency
+client=$build/tools/latency/ldoem-latency
 for program in "$emud" "$client"; do
   [ -x "$program" ] || { echo "bench-jitter.sh: $program missing (build ldoem-emud ldoem-latency)" >&2; exit 2; }
 done

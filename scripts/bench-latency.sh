@@ -53,9 +53,9 @@ while [ $# -gt 0 ]; do
   esac
 done
 new_emud=$build/emulator/daemon/ldoem-emud
-client=$build/tests/robustness/ldoem-latency
+client=$build/tools/latency/ldoem-latency
 for program in "$new_emud" "$client"; do
-  [ -x "$program" ] || { echo "bench-latency.sh: $program missing (build tests/robustness)" >&2; exit 2; }
+  [ -x "$program" ] || { echo "bench-latency.sh: $program missing (build ldoem-latency)" >&2; exit 2; }
 done
 [ "$rounds" -gt 1 ] && [ -z "$old_emud" ] && { echo "bench-latency.sh: --rounds goes with --compare" >&2; exit 2; }
 # The daemons measured: "new" (BUILD_DIR's), and "old" with --compare. Each row runs them in turn,

@@ -4,7 +4,7 @@
 9801-point scan to numpy (ldoem.scan). Writes the table into docs/python.md with --write-doc.
 
     PYTHONPATH=build/default/python /usr/bin/python3 scripts/bench-python.py [--seconds 3] [--rounds 3]
-        [--latency build/default/tests/robustness/ldoem-latency] [--write-doc]
+        [--latency build/default/tools/latency/ldoem-latency] [--write-doc]
 
 The stream: a wall 5 m ahead, the flash at 20 Hz and 0.5 deg (scripts/lib/latency-daemon.sh's
 scene), GET_PROFILE 0000 39FF over TCP, the daemon in virtual time: it streams as fast as the host
@@ -70,7 +70,7 @@ def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--seconds", type=float, default=3.0)
     parser.add_argument("--rounds", type=int, default=3)
-    parser.add_argument("--latency", default=str(ROOT / "build/default/tests/robustness/ldoem-latency"))
+    parser.add_argument("--latency", default=str(ROOT / "build/default/tools/latency/ldoem-latency"))
     parser.add_argument("--write-doc", action="store_true")
     options = parser.parse_args()
     load_before = os.getloadavg()[0]

@@ -46,7 +46,7 @@ while [ $# -gt 0 ]; do
   esac
 done
 this_emud=$build/emulator/daemon/ldoem-emud
-client=$build/tests/robustness/ldoem-latency
+client=$build/tools/latency/ldoem-latency
 scan=$build/driver/scan/ldoem-scan
 for program in "$this_emud" "$client" "$scan" ${baseline:+"$baseline"}; do
   [ -x "$program" ] || { echo "bench-wire-fault-hook.sh: $program missing (build ldoem-emud, ldoem-scan and ldoem-latency)" >&2; exit 2; }

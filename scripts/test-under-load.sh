@@ -28,7 +28,7 @@ stress_pid=$!
 setsid bash -c 'while sleep 300; do echo "test-under-load: load average $(cut -d" " -f1-3 /proc/loadavg)"; done' &
 sampler_pid=$!
 # run-against-daemon.sh appends each conformance run's summary here (plain, UML and ASan builds).
-summaries=(build/default/tests/conformance/summaries.log build/asan/tests/conformance/summaries.log)
+summaries=(build/default/tools/conformance/summaries.log build/asan/tools/conformance/summaries.log)
 rm -f "${summaries[@]}"
 started=$SECONDS
 scripts/test.sh 2>&1 | tee "$log"
