@@ -1,4 +1,4 @@
-// The capture codecs of protocol/ (docs/capture.md): pcapng blocks, the per-link packet
+// The capture codecs (capture/, docs/capture.md): pcapng blocks, the per-link packet
 // payloads (SocketCAN, synthesized IPv4/TCP, serial, LPT) and the candump log line grammar.
 #include <gtest/gtest.h>
 

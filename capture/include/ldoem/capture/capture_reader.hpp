@@ -1,9 +1,9 @@
 // Reads a capture file into packets and telegrams (docs/capture.md). Three formats:
 // - pcapng (what `ldoem-emud --record` writes; several link types in one file): decoded by
-//   protocol/'s pure pcapng codec;
+//   the pure pcapng codec (pcapng.hpp);
 // - classic pcap, and pcapng with one link type, as tcpdump and Wireshark write them: read
 //   through libpcap (any byte order, micro- or nanosecond stamps);
-// - a can-utils `candump -l` log: parsed by protocol/'s candump codec.
+// - a can-utils `candump -l` log: parsed by the candump codec (candump_log.hpp).
 // Files larger than kMaxCaptureFileBytes are refused rather than read into memory.
 #pragma once
 

@@ -1,5 +1,5 @@
 // pcapng blocks (the IETF draft "PCAP Next Generation Dump File Format"), as pure codecs: the
-// capture writer (capture/) puts these bytes in a file, the capture reader decodes a file's
+// capture writer (capture_writer.hpp) puts these bytes in a file, the capture reader decodes a file's
 // bytes. No I/O here. docs/capture.md says which link types ldoem writes and why.
 //
 // What we write (always little-endian, one section):
