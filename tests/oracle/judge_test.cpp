@@ -94,15 +94,19 @@ TEST(Judge, MovingMeshesOneUlpApart_NearerByMoreThanThePoseRoundingIsAFault) {
   EXPECT_EQ(v.fault, Fault::wrong_object) << v.what;
 }
 
-// The whole case as numerics_sweep --case replays it (the hex of its bytes): both casters,
-// every ray, judged.
-Stats replay(const std::string& hex) {
+// A sweep case from the hex of its bytes, as numerics_sweep --case reads it.
+OracleCase case_of(const std::string& hex) {
   std::vector<std::uint8_t> bytes;
   for (std::size_t k = 0; k + 1 < hex.size(); k += 2) {
     bytes.push_back(static_cast<std::uint8_t>(std::stoi(hex.substr(k, 2), nullptr, 16)));
   }
+  return make_case(bytes);
+}
+
+// The whole case as numerics_sweep --case replays it: both casters, every ray, judged.
+Stats replay(const std::string& hex) {
   Stats stats;
-  run_case(make_case(bytes), stats);
+  run_case(case_of(hex), stats);
   return stats;
 }
 
@@ -166,9 +170,7 @@ TEST(Judge, SweepSliverBehindATriangle_NoFault) {
   EXPECT_EQ(stats.fault_count(), 0u) << (stats.faults.empty() ? std::string() : stats.faults.front());
   // Within the judge's bounds a swap is allowed (each triangle's float distance may err); the
   // caster now gives the nearer triangle at its double range.
-  std::vector<std::uint8_t> bytes;
-  for (std::size_t k = 0; k + 1 < hex.size(); k += 2) bytes.push_back(static_cast<std::uint8_t>(std::stoi(hex.substr(k, 2), nullptr, 16)));
-  const OracleCase c = make_case(bytes);
+  const OracleCase c = case_of(hex);
   const raycast::OdeWorld world(c.scene);
   const raycast::EmbreeRayCaster caster(world);
   const auto hit = caster.cast(c.rays.at(0));
