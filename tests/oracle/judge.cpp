@@ -289,11 +289,15 @@ Verdict judge(std::span<const Part> parts, std::span<const PartScale> scales, co
       }
       // A plane the ray is parallel to within the rounding of the caster's n . d: the sign of
       // that product, so whether the plane lies ahead, is not decided, nor its range
-      // (docs/numerics.md "Error bounds", planes): any range in (0, reach] may be answered, and
-      // may hide what lies beyond it.
+      // (docs/numerics.md "Error bounds", planes): a range in (0, reach] may be answered, and
+      // may hide what lies beyond it, but only one the rounded quotient can reach: the origin's
+      // height over the plane (less its rounding) divided by at most kPlaneParallelCosine.
       for (std::size_t i = 0; !found && i < parts.size(); ++i) {
         if (parts[i].object != answer.object || parts[i].kind != Kind::plane) continue;
-        if (incidence(parts[i], ray, answer.range_m).cosine <= kPlaneParallelCosine) {
+        const double height = std::abs(dot(parts[i].normal, ray.origin) - parts[i].offset) / norm(parts[i].normal);
+        const double height_rounding = kDoubleOps * kDoubleRoundoff * magnitude(parts[i], scales[i], ray, 0.0);
+        if (incidence(parts[i], ray, answer.range_m).cosine <= kPlaneParallelCosine &&
+            answer.range_m * kPlaneParallelCosine >= height - height_rounding) {
           found = i;
           found_bound = ray.reach;
           v.excused = true;

@@ -147,10 +147,17 @@ TEST(Judge, PlaneBehindAtAGrazingAngle_HitIsAFault) {
   const std::vector<Part> parts{plane};
   const std::vector<PartScale> scales(1);
   EXPECT_EQ(judge(parts, scales, ray, UINT32_MAX, CasterAnswer{true, 0, 65536.0}, Engine::embree).fault, Fault::wrong_object);
-  // Parallel within the tolerance (1e-16 rad): either answer.
-  const OracleRay parallel{{0, 0, 1}, {1, 0, 1e-16}, 1e9};
+  // Parallel within the tolerance (1e-16 rad), 1e-12 m above: a miss or a hit anywhere the
+  // rounded quotient reaches (1e-12 m / 16 u is 56 m or more).
+  const OracleRay parallel{{0, 0, 1e-12}, {1, 0, 1e-16}, 1e9};
   EXPECT_EQ(judge(parts, scales, parallel, UINT32_MAX, CasterAnswer{true, 0, 65536.0}, Engine::embree).fault, Fault::none);
   EXPECT_EQ(judge(parts, scales, parallel, UINT32_MAX, CasterAnswer{}, Engine::embree).fault, Fault::none);
+  EXPECT_EQ(judge(parts, scales, parallel, UINT32_MAX, CasterAnswer{true, 0, 1.0}, Engine::embree).fault, Fault::wrong_object);
+  // 1 m above and parallel within the tolerance: no rounding of n . d brings the plane within
+  // 2.8e14 m, so a hit at 65536 m is a fault.
+  const OracleRay high{{0, 0, 1}, {1, 0, 1e-16}, 1e9};
+  EXPECT_EQ(judge(parts, scales, high, UINT32_MAX, CasterAnswer{true, 0, 65536.0}, Engine::embree).fault, Fault::wrong_object);
+  EXPECT_EQ(judge(parts, scales, high, UINT32_MAX, CasterAnswer{}, Engine::embree).fault, Fault::none);
 }
 
 // "Findings" 8: a ray through a fold of a 4e-6 m mesh 1e6 m out, its triangle at 3.18251e-6 m,
