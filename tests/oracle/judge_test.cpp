@@ -100,5 +100,28 @@ TEST(Judge, SweepSeed100Case71401_NoFault) {
   EXPECT_EQ(stats.fault_count(), 0u) << (stats.faults.empty() ? std::string() : stats.faults.front());
 }
 
+// Sweep case 62c92895... (docs/numerics.md "Findings" 7, from the 1.3e8-answer run): a ray
+// grazing one triangle of a far-posed mesh (cos 1.1e-6) and meeting another nearer. The moving
+// caster answered the grazed one, 6.4 m too far: a fault of the caster, the judge unchanged.
+TEST(Judge, SweepCase62c92895_NoFault) {
+  const std::string hex =
+      "62c92895c2d51f312e24db1dffc2840b121858b9e3918ddaf9f1c08b31bb85f51978896974100025f13625e807e321b14fc8f27c1364ca"
+      "35877e5ee6968c5860b8dc4c91cc010ce8564b788ecdc5ee516b59c6e395cad560d1d612508811ba205bd43cf0a8285f51ecaa0740ae56"
+      "683c9c476a5033c49850e9052281120e53580da2997a6f08cb13204e530f2b6e947189e4381c8eaa8b3970786a256605ab340fcf206d42"
+      "76a6b8979e1ba1e1626df370c7aaa5b93abe9490c71c38aba225827193a9c846c752863a1a87161167325f4691842fe8e44c13deae4305"
+      "dd2847901e4e7e654b06dc23f69275fb6624ec57cb1224ee10294715fa7e22027c377413a9558b2e55bd18eac0f63b20684f6ae38a8880"
+      "217216597357df341f8b55334b3037ce46d9b99d8a64a926ab8e255d371a9dfab3cddd6b3fcdd385b29dc24f93f684161d2d5dba58a6af"
+      "acf75056f36862c8f7048bd3276910dc516f006526317d8876149dbfc110097c3a37c3f950b8ef7ec6dadd83fe28a92b2e126dd6589105"
+      "292a0c7a51404020866144a9ceaa1b";
+  std::vector<std::uint8_t> bytes;
+  for (std::size_t k = 0; k + 1 < hex.size(); k += 2) {
+    bytes.push_back(static_cast<std::uint8_t>(std::stoi(hex.substr(k, 2), nullptr, 16)));
+  }
+  Stats stats;
+  run_case(make_case(bytes), stats);
+  EXPECT_GT(stats.rays, 0u);
+  EXPECT_EQ(stats.fault_count(), 0u) << (stats.faults.empty() ? std::string() : stats.faults.front());
+}
+
 }  // namespace
 }  // namespace ldoem::oracle
