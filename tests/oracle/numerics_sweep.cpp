@@ -1,9 +1,11 @@
 // The seeded random sweep of scripts/numerics-report: random byte strings through the same
 // cases and judge as the differential fuzzer (fuzz_raycast_oracle.cpp), for a time budget or a
 // number of cases, then the tallies as key=value lines (differential.hpp). Also writes the
-// fuzzer's seed corpus from the hard scenes.
-//   numerics_sweep [--seconds S] [--cases N] [--seed K] [--write-seeds DIR SCENE.yaml...]
+// fuzzer's seed corpus from the hard scenes. --faults-file appends every fault's case to PATH
+// (faults_file.hpp: one line per fault, at most 10,000 lines).
+//   numerics_sweep [--seconds S] [--cases N] [--seed K] [--faults-file PATH] [--write-seeds DIR SCENE.yaml...]
 #include "differential.hpp"
+#include "faults_file.hpp"
 
 #include "ldoem/scene/scene_loader.hpp"
 
@@ -13,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <random>
 #include <string>
 
@@ -48,11 +51,12 @@ int write_seeds(const std::filesystem::path& dir, int argc, char** argv, int fir
 int main(int argc, char** argv) {
   double seconds = 10.0;
   unsigned long long cases = 0, seed = 1;
+  std::unique_ptr<ldoem::oracle::FaultsFile> faults_file;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--write-seeds" && i + 1 < argc) return write_seeds(argv[i + 1], argc, argv, i + 2);
     if (i + 1 >= argc) {
-      std::cerr << "usage: numerics_sweep [--seconds S] [--cases N] [--seed K] [--write-seeds DIR SCENE...]\n";
+      std::cerr << "usage: numerics_sweep [--seconds S] [--cases N] [--seed K] [--faults-file PATH] [--write-seeds DIR SCENE...]\n";
       return 2;
     }
     if (arg == "--case") {  // one case, given as the hex of its bytes (as the report prints it)
@@ -65,13 +69,20 @@ int main(int argc, char** argv) {
         std::cout << "object " << k << " shape " << c.scene.objects[k].shape.index() << " at " << c.scene.objects[k].pose.position_m.transpose() << "\n";
       }
       ldoem::oracle::run_case(c, one, "given");
+      if (faults_file) faults_file->add(one, h);
       std::cout << one.text();
       return one.fault_count() > 0 ? 1 : 0;
     }
     if (arg == "--seconds") seconds = std::stod(argv[++i]);
     else if (arg == "--cases") cases = std::stoull(argv[++i]);
     else if (arg == "--seed") seed = std::stoull(argv[++i]);
-    else {
+    else if (arg == "--faults-file") {
+      faults_file = std::make_unique<ldoem::oracle::FaultsFile>(argv[++i]);
+      if (!faults_file->ok()) {
+        std::cerr << "numerics_sweep: cannot append to " << argv[i] << "\n";
+        return 2;
+      }
+    } else {
       std::cerr << "numerics_sweep: unknown argument '" << arg << "'\n";
       return 2;
     }
@@ -89,6 +100,7 @@ int main(int argc, char** argv) {
     if (one.fault_count() > 0 || one.oracle_failed > 0) {
       one = {};
       ldoem::oracle::run_case(ldoem::oracle::make_case(bytes), one, hex(bytes));
+      if (faults_file) faults_file->add(one, hex(bytes));
     }
     // Worst cases are tagged with their bytes only when they become the worst (cheap).
     for (std::size_t k = 0; k < one.kinds.size(); ++k) {
@@ -97,5 +109,6 @@ int main(int argc, char** argv) {
     stats.merge(one);
   }
   std::cout << "seed=" << seed << "\n" << stats.text();
+  if (faults_file) std::cout << "faults_file_written=" << faults_file->written() << "\nfaults_file_dropped=" << faults_file->dropped() << "\n";
   return stats.fault_count() > 0 ? 1 : 0;
 }
