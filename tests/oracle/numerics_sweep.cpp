@@ -2,13 +2,18 @@
 // cases and judge as the differential fuzzer (fuzz_raycast_oracle.cpp), for a time budget or a
 // number of cases, then the tallies as key=value lines (differential.hpp). Also writes the
 // fuzzer's seed corpus from the hard scenes. --faults-file appends every fault's case to PATH
-// (faults_file.hpp: one line per fault, at most 10,000 lines).
-//   numerics_sweep [--seconds S] [--cases N] [--seed K] [--faults-file PATH] [--write-seeds DIR SCENE.yaml...]
+// (faults_file.hpp: one line per fault, at most 10,000 lines). --far-meshes keeps only scenes
+// generated 1e6 m from the origin with at least one mesh (where the float arithmetic is weakest),
+// by setting the case's "far" bit and skipping the cases without a mesh: every case still
+// replays with --case (--cases N counts the cases drawn, skipped ones included).
+//   numerics_sweep [--seconds S] [--cases N] [--seed K] [--faults-file PATH] [--far-meshes]
+//                  [--write-seeds DIR SCENE.yaml...]
 #include "differential.hpp"
 #include "faults_file.hpp"
 
 #include "ldoem/scene/scene_loader.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -52,11 +57,16 @@ int main(int argc, char** argv) {
   double seconds = 10.0;
   unsigned long long cases = 0, seed = 1;
   std::unique_ptr<ldoem::oracle::FaultsFile> faults_file;
+  bool far_meshes = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--write-seeds" && i + 1 < argc) return write_seeds(argv[i + 1], argc, argv, i + 2);
+    if (arg == "--far-meshes") {
+      far_meshes = true;
+      continue;
+    }
     if (i + 1 >= argc) {
-      std::cerr << "usage: numerics_sweep [--seconds S] [--cases N] [--seed K] [--faults-file PATH] [--write-seeds DIR SCENE...]\n";
+      std::cerr << "usage: numerics_sweep [--seconds S] [--cases N] [--seed K] [--faults-file PATH] [--far-meshes] [--write-seeds DIR SCENE...]\n";
       return 2;
     }
     if (arg == "--case") {  // one case, given as the hex of its bytes (as the report prints it)
@@ -95,8 +105,15 @@ int main(int argc, char** argv) {
     std::vector<std::uint8_t> bytes(64 + random() % 448);
     for (auto& b : bytes) b = static_cast<std::uint8_t>(random());
     bytes[0] &= 0xFE;  // generated scenes (the explicit form is for seeds)
+    if (far_meshes) bytes[0] |= 2;  // the scene 1e6 m out (cases.cpp)
+    const auto c = ldoem::oracle::make_case(bytes);
+    if (far_meshes && std::none_of(c.scene.objects.begin(), c.scene.objects.end(), [](const ldoem::scene::SceneObject& o) {
+          return std::holds_alternative<ldoem::scene::Mesh>(o.shape);
+        })) {
+      continue;
+    }
     ldoem::oracle::Stats one;
-    ldoem::oracle::run_case(ldoem::oracle::make_case(bytes), one);
+    ldoem::oracle::run_case(c, one);
     if (one.fault_count() > 0 || one.oracle_failed > 0) {
       one = {};
       ldoem::oracle::run_case(ldoem::oracle::make_case(bytes), one, hex(bytes));
