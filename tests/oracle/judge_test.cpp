@@ -123,5 +123,29 @@ TEST(Judge, SweepCase62c92895_NoFault) {
   EXPECT_EQ(stats.fault_count(), 0u) << (stats.faults.empty() ? std::string() : stats.faults.front());
 }
 
+// A --far-meshes sweep case (docs/numerics.md "Findings" 8): a ray from a far-posed sliver,
+// grazing its plane. The moving caster's plain cross product put the exact crossing behind the
+// origin 1.08e-4 m ahead of it; a fault of the caster, the judge unchanged.
+TEST(Judge, SweepCase269cc5b4_NoFault) {
+  const std::string hex =
+      "269cc5b4c3fcd54a3576186b976ede943ee22fac2ea9adcf6cfb4ed68e03f8e6c3811a5e1a01d9c40406509822609d21fb00c9c7b32dc2"
+      "285a70cb4c5865aa23e2b73272a00a6e77b27079a991b16c03c1cb9c4ecaac93a51b44fb3155746446f3db7fb9e4f3b9ab0687f0930d9d"
+      "4b5142a71aac99392b3dfabd78c7eccf21b47e8eae514e6d25df31d8293d335cd432e6ab69925aa3f5a99bcb537ead13ddb59c0a56748e"
+      "6d0bd06c878ba5d5b52b7d86d91bd77a7d61d554388ee07839e11f3a9a0580d3c3c31e81f6a85e6f11d9094c548279121aae58b8ce7e71"
+      "aa041ab021a319bf082748cd0652144928547c3b75a1da0fe24fcd40d29ea030887f3b4649a22aaa16514e721ba712f05d45f4cd0e0461"
+      "2899a315ce1f16507feb42cca8729b62071e038dfc07a03ebffdca6f3162e477a5de4ec2ba8bf1f28cfef0f8f4a4d89767200300ea521d"
+      "9d7e801fe0a8bbd404e234219a85b1403642fc27950e450faec20eebdf385342bf0edcda5c6ece2dff62687c6aa18aa659c8e9bdb47034"
+      "aa7f813f4d6cd7e93e71647ba2c8522f44d809f243790e1631ad8e0c7bc4db2d29f99e8aec39d284cf4eed431caee505abaed3f6331651"
+      "b2790402811f45f192e289452446fef6227cdb";
+  std::vector<std::uint8_t> bytes;
+  for (std::size_t k = 0; k + 1 < hex.size(); k += 2) {
+    bytes.push_back(static_cast<std::uint8_t>(std::stoi(hex.substr(k, 2), nullptr, 16)));
+  }
+  Stats stats;
+  run_case(make_case(bytes), stats);
+  EXPECT_GT(stats.rays, 0u);
+  EXPECT_EQ(stats.fault_count(), 0u) << (stats.faults.empty() ? std::string() : stats.faults.front());
+}
+
 }  // namespace
 }  // namespace ldoem::oracle

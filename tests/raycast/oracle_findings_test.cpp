@@ -189,5 +189,33 @@ TEST(OracleFindings, MovingMesh_GrazingTriangleDoesNotHideANearerOne) {
   EXPECT_NEAR(hit->range_m, 73.240778630656649, 1e-6);
 }
 
+// Found (a --far-meshes sweep, docs/numerics.md "Findings" 8): a sliver triangle (edges 1.06e-7
+// rad apart, 8.5 m long) posed 1.4e6 m out, a ray starting 5e-10 m from it and grazing its plane
+// (cos 5.5e-6). The exact plane crossing is behind the origin (no hit); the plain double cross
+// product turned the sliver's normal by ~1e-9 rad, which put the crossing 1.08e-4 m ahead, and
+// the caster answered that. The normal is now taken to within an ulp per component.
+TEST(OracleFindings, MovingSliver_NormalFromAnAccurateCrossProduct) {
+  const auto hex = [](const char* x) { return std::strtod(x, nullptr); };
+  const auto hexf = [&](const char* x, const char* y, const char* z) {
+    return Eigen::Vector3f(static_cast<float>(hex(x)), static_cast<float>(hex(y)), static_cast<float>(hex(z)));
+  };
+  scene::SceneObject sliver = make_object(triangle_mesh({hexf("-0x1.4b6bdep-1", "-0x1.c02068p+1", "-0x1.5a9522p+2"),
+                                                         hexf("-0x1.404f5p+2", "0x1.2cc37cp+1", "-0x1.1eff86p+0"),
+                                                         hexf("-0x1.948a06p+1", "-0x1.0368e2p-3", "-0x1.7826dep+1")}),
+                                          Eigen::Vector3d(hex("0x1.e848d42e854cfp+19"), hex("-0x1.e8473545bb46p+19"),
+                                                          hex("0x1.24fa492cb9d66p+18")));
+  sliver.pose.orientation = Eigen::Quaterniond(hex("-0x1.e4de1e91bea07p-2"), hex("-0x1.4108174d44388p-1"),
+                                               hex("-0x1.081bb389c17ap-1"), hex("0x1.5d9a215a88e82p-2"));
+  const FixedPoses still({sliver.pose});
+  MovingRayCaster moving({sliver}, {0}, still);
+  moving.prepare(0.0, 1.0);
+  const Ray ray{Eigen::Vector3d(hex("0x1.e848caeaa09e6p+19"), hex("-0x1.e847185613d24p+19"), hex("0x1.24fb642053c15p+18")),
+                Eigen::Vector3d(hex("-0x1.f7eba446111eep-1"), hex("-0x1.0780ceb71ce4ap-4"), hex("0x1.5198ee308a7dbp-3")),
+                hex("0x1.1188faf151ea2p+9"), 0.0};
+  const auto hit = moving.cast(ray);
+  expect_sane(hit, ray);
+  EXPECT_FALSE(hit.has_value()) << hit->range_m;
+}
+
 }  // namespace
 }  // namespace ldoem::raycast
