@@ -5,7 +5,8 @@
 // (faults_file.hpp: one line per fault, at most 10,000 lines). --far-meshes keeps only scenes
 // generated 1e6 m from the origin with at least one mesh (where the float arithmetic is weakest),
 // by setting the case's "far" bit and skipping the cases without a mesh: every case still
-// replays with --case (--cases N counts the cases drawn, skipped ones included).
+// replays with --case, and --cases N with the seed of a timed run and its case count runs the
+// same cases again (the skipped ones are not counted).
 //   numerics_sweep [--seconds S] [--cases N] [--seed K] [--faults-file PATH] [--far-meshes]
 //                  [--write-seeds DIR SCENE.yaml...]
 #include "differential.hpp"
@@ -100,7 +101,7 @@ int main(int argc, char** argv) {
   std::mt19937_64 random(seed);
   ldoem::oracle::Stats stats;
   const auto start = std::chrono::steady_clock::now();
-  for (unsigned long long n = 0; cases == 0 || n < cases; ++n) {
+  for (unsigned long long n = 0; cases == 0 || n < cases;) {
     if (cases == 0 && std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > seconds) break;
     std::vector<std::uint8_t> bytes(64 + random() % 448);
     for (auto& b : bytes) b = static_cast<std::uint8_t>(random());
@@ -112,6 +113,7 @@ int main(int argc, char** argv) {
         })) {
       continue;
     }
+    ++n;
     ldoem::oracle::Stats one;
     ldoem::oracle::run_case(c, one);
     if (one.fault_count() > 0 || one.oracle_failed > 0) {
