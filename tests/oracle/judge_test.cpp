@@ -69,7 +69,7 @@ TEST(Judge, MovingMeshesOneUlpApart_TieWithinThePoseRounding) {
   EXPECT_EQ(v.fault, Fault::none) << v.what;
   // The static caster rounds the double world triangle to float itself: no such term (its
   // scale: the float frame's centre, between the copies). Its order bound, 1.7e-11 m with
-  // Embree's float normal (docs/numerics.md "Findings" 9), is a twentieth of the moving one:
+  // Embree's float normal (docs/numerics.md "Findings" 11), is a twentieth of the moving one:
   // with the first copy 1e-10 m nearer, the same answer is a fault from it, not from the
   // moving caster.
   std::vector<PartScale> frame(2, PartScale{c.pose_a, scales[0].size_m});
@@ -122,7 +122,7 @@ TEST(Judge, SweepSeed100Case71401_NoFault) {
   EXPECT_EQ(stats.fault_count(), 0u) << (stats.faults.empty() ? std::string() : stats.faults.front());
 }
 
-// docs/numerics.md "Findings" 7. A ray lying in a plane to within rounding (its origin 1.2e-12 m
+// docs/numerics.md "Findings" 9. A ray lying in a plane to within rounding (its origin 1.2e-12 m
 // off it, its direction 6.2e-18 from parallel, pointing away): the static caster's n . d came
 // out -2^-54 and its height -2^-38, a hit at exactly 2^16 m where the exact plane is behind.
 // Whether a plane that parallel is hit is not decided by the arithmetic.
@@ -160,7 +160,7 @@ TEST(Judge, PlaneBehindAtAGrazingAngle_HitIsAFault) {
   EXPECT_EQ(judge(parts, scales, high, UINT32_MAX, CasterAnswer{}, Engine::embree).fault, Fault::none);
 }
 
-// "Findings" 8: a ray through a fold of a 4e-6 m mesh 1e6 m out, its triangle at 3.18251e-6 m,
+// "Findings" 10: a ray through a fold of a 4e-6 m mesh 1e6 m out, its triangle at 3.18251e-6 m,
 // a sliver behind it at 3.18253e-6 m whose float distance (normal lost to cancellation) was
 // 1.1e-10 m short; Embree kept the least float distance, the sliver. The caster now orders
 // triangles by their double ranges.
@@ -201,7 +201,7 @@ TEST(Judge, SweepTriangleSeventyMetresBehind_NoFault) {
   EXPECT_EQ(stats.fault_count(), 0u) << (stats.faults.empty() ? std::string() : stats.faults.front());
 }
 
-// "Findings" 9: a ray starting 2.7e-11 m before a sliver (twice its area 3.2e-16 m^2, edges
+// "Findings" 11: a ray starting 2.7e-11 m before a sliver (twice its area 3.2e-16 m^2, edges
 // 5e-6 m) of a mesh 1e6 m out. Embree's float distance of the sliver errs by ~8e-10 m (its
 // normal, a cross product of edges, lost to cancellation), so it fell below tnear = 0 and the
 // caster answered a plane at 4.5e-6 m. The order bound of a triangle carries the sliver factor.
@@ -260,6 +260,43 @@ TEST(Judge, SweepSliverAtTheOrigin_NoFault) {
       "07b9fa951e9a528484002fd9b8fd56a2e5bd353eac8afa108ad7f34c2caae57775cfea14f55171dd39f674d23c21020958e817dad98b65"
       "03aa7de56cd00ca14370232b98b4dc2948b4ee400cb52da5bb7a4c9e1abe46e52f2bbd9f59675952d9ef69da6c9d4d43f00f52c37b2607"
       "5d9f570e40fb52b41dcd722ca36450af4d920b04bcba8ecc6f061f1a7fceeefee2ced04687a3abbc27a90223");
+  EXPECT_EQ(stats.fault_count(), 0u) << (stats.faults.empty() ? std::string() : stats.faults.front());
+}
+
+// Sweep case 62c92895... (docs/numerics.md "Findings" 7, from the 1.3e8-answer run): a ray
+// grazing one triangle of a far-posed mesh (cos 1.1e-6) and meeting another nearer. The moving
+// caster answered the grazed one, 6.4 m too far: a fault of the caster, the judge unchanged.
+TEST(Judge, SweepCase62c92895_NoFault) {
+  const std::string hex =
+      "62c92895c2d51f312e24db1dffc2840b121858b9e3918ddaf9f1c08b31bb85f51978896974100025f13625e807e321b14fc8f27c1364ca"
+      "35877e5ee6968c5860b8dc4c91cc010ce8564b788ecdc5ee516b59c6e395cad560d1d612508811ba205bd43cf0a8285f51ecaa0740ae56"
+      "683c9c476a5033c49850e9052281120e53580da2997a6f08cb13204e530f2b6e947189e4381c8eaa8b3970786a256605ab340fcf206d42"
+      "76a6b8979e1ba1e1626df370c7aaa5b93abe9490c71c38aba225827193a9c846c752863a1a87161167325f4691842fe8e44c13deae4305"
+      "dd2847901e4e7e654b06dc23f69275fb6624ec57cb1224ee10294715fa7e22027c377413a9558b2e55bd18eac0f63b20684f6ae38a8880"
+      "217216597357df341f8b55334b3037ce46d9b99d8a64a926ab8e255d371a9dfab3cddd6b3fcdd385b29dc24f93f684161d2d5dba58a6af"
+      "acf75056f36862c8f7048bd3276910dc516f006526317d8876149dbfc110097c3a37c3f950b8ef7ec6dadd83fe28a92b2e126dd6589105"
+      "292a0c7a51404020866144a9ceaa1b";
+  const Stats stats = replay(hex);
+  EXPECT_GT(stats.rays, 0u);
+  EXPECT_EQ(stats.fault_count(), 0u) << (stats.faults.empty() ? std::string() : stats.faults.front());
+}
+
+// A --far-meshes sweep case (docs/numerics.md "Findings" 8): a ray from a far-posed sliver,
+// grazing its plane. The moving caster's plain cross product put the exact crossing behind the
+// origin 1.08e-4 m ahead of it; a fault of the caster, the judge unchanged.
+TEST(Judge, SweepCase269cc5b4_NoFault) {
+  const std::string hex =
+      "269cc5b4c3fcd54a3576186b976ede943ee22fac2ea9adcf6cfb4ed68e03f8e6c3811a5e1a01d9c40406509822609d21fb00c9c7b32dc2"
+      "285a70cb4c5865aa23e2b73272a00a6e77b27079a991b16c03c1cb9c4ecaac93a51b44fb3155746446f3db7fb9e4f3b9ab0687f0930d9d"
+      "4b5142a71aac99392b3dfabd78c7eccf21b47e8eae514e6d25df31d8293d335cd432e6ab69925aa3f5a99bcb537ead13ddb59c0a56748e"
+      "6d0bd06c878ba5d5b52b7d86d91bd77a7d61d554388ee07839e11f3a9a0580d3c3c31e81f6a85e6f11d9094c548279121aae58b8ce7e71"
+      "aa041ab021a319bf082748cd0652144928547c3b75a1da0fe24fcd40d29ea030887f3b4649a22aaa16514e721ba712f05d45f4cd0e0461"
+      "2899a315ce1f16507feb42cca8729b62071e038dfc07a03ebffdca6f3162e477a5de4ec2ba8bf1f28cfef0f8f4a4d89767200300ea521d"
+      "9d7e801fe0a8bbd404e234219a85b1403642fc27950e450faec20eebdf385342bf0edcda5c6ece2dff62687c6aa18aa659c8e9bdb47034"
+      "aa7f813f4d6cd7e93e71647ba2c8522f44d809f243790e1631ad8e0c7bc4db2d29f99e8aec39d284cf4eed431caee505abaed3f6331651"
+      "b2790402811f45f192e289452446fef6227cdb";
+  const Stats stats = replay(hex);
+  EXPECT_GT(stats.rays, 0u);
   EXPECT_EQ(stats.fault_count(), 0u) << (stats.faults.empty() ? std::string() : stats.faults.front());
 }
 

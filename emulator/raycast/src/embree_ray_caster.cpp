@@ -142,10 +142,10 @@ double triangle_range(const TrianglePlane& plane, const Eigen::Vector3d& local_o
 // Triangles are ordered here by their double ranges, not by Embree's float distances: on a
 // sliver (a triangle much narrower than long) Embree's float normal loses most of its digits to
 // cancellation and its distance can be off by hundreds of float ulps (1.1e-10 m at 3.2e-6 m,
-// docs/numerics.md "Findings" 8), which let a farther sliver win. The accepted triangle's tfar
+// docs/numerics.md "Findings" 10), which let a farther sliver win. The accepted triangle's tfar
 // becomes its double range rounded up (Embree lets a filter set tfar), so a triangle is only
 // lost when its own float distance lies beyond the nearest double range found so far, or below
-// tnear = 0 (the judge's order bound, "Findings" 9).
+// tnear = 0 (the judge's order bound, "Findings" 11).
 void accept_triangle_ahead(const RTCFilterFunctionNArguments* args) {
   const auto* planes = static_cast<const TrianglePlane*>(args->geometryUserPtr);
   auto* context = reinterpret_cast<CastContext*>(args->context);
