@@ -300,5 +300,18 @@ TEST(Judge, SweepCase269cc5b4_NoFault) {
   EXPECT_EQ(stats.fault_count(), 0u) << (stats.faults.empty() ? std::string() : stats.faults.front());
 }
 
+// A --far-meshes sweep case (docs/numerics.md "Findings" 12): the static caster's plain cross
+// product of a far sliver (L^2 / 2A = 4.3e6) put a grazing ray's crossing 3.0e-4 m ahead, the
+// exact one being 4.0e-5 m behind the origin; a fault of the caster, the judge unchanged.
+TEST(Judge, SweepCase069f2bab_NoFault) {
+  const std::string hex =
+      "069f2bab18fa0f95f59e8460e8426f272d465bac8c96f099ab2ebc8f4a0c6ff6d3d25d3445080faca3e6cdc51e9b0f37ad50a73c99473b"
+      "7f7ad3cd9b90bbcb1806506e26ac2b4e6c6d0946d982cda19016462b0a56def8fb7552cdaecb43b00f19c28025efbb149ce5e71c604381"
+      "a13d801ae56eacc34ca58a8b4cafebb02b6c1f6f42740f42f991f5dd7db669db1183";
+  const Stats stats = replay(hex);
+  EXPECT_GT(stats.rays, 0u);
+  EXPECT_EQ(stats.fault_count(), 0u) << (stats.faults.empty() ? std::string() : stats.faults.front());
+}
+
 }  // namespace
 }  // namespace ldoem::oracle

@@ -217,5 +217,40 @@ TEST(OracleFindings, MovingSliver_NormalFromAnAccurateCrossProduct) {
   EXPECT_FALSE(hit.has_value()) << hit->range_m;
 }
 
+
+// Found (docs/numerics.md "Findings" 12, far-mesh sweep case 069f2bab...): the same sliver
+// through the static caster, whose planes (built once) took the plain cross product before. A
+// single triangle 10.8 m long and 5e-6 m wide (twice its area 2.7e-5 m^2) posed 1e6 m out; the
+// ray passes 5e-10 m from its plane at cos 1.8e-6. Embree's float test takes the triangle (its
+// crossing is decided only to metres along so grazing a plane), and the plain normal put the
+// double crossing 3.0e-4 m ahead; the exact one is 4.0e-5 m behind the origin: no hit.
+TEST(OracleFindings, StaticSliver_NormalFromAnAccurateCrossProduct) {
+  const auto hex = [](const char* x) { return std::strtod(x, nullptr); };
+  const auto hexf = [&](const char* x, const char* y, const char* z) {
+    return Eigen::Vector3f(static_cast<float>(hex(x)), static_cast<float>(hex(y)), static_cast<float>(hex(z)));
+  };
+  scene::SceneObject sliver = make_object(triangle_mesh({hexf("0x1.217636p+2", "-0x1.88287ep+1", "-0x1.4713ep+1"),
+                                                         hexf("-0x1.2489a2p+2", "-0x1.489e3ap+1", "0x1.9d0f7ap+1"),
+                                                         hexf("-0x1.14958ep+2", "-0x1.4a5c22p+1", "0x1.88c598p+1")}),
+                                          Eigen::Vector3d(hex("0x1.e847d3a5fab0cp+19"), hex("-0x1.e847772d5f8cbp+19"),
+                                                          hex("0x1.24fab504e7135p+18")));
+  sliver.pose.orientation = Eigen::Quaterniond(hex("-0x1.55da3a12a38cdp-1"), hex("0x1.f80e4dad43213p-3"),
+                                               hex("-0x1.9df503324a513p-2"), hex("0x1.263684b202a1cp-1"));
+  // The case's other objects, which the ray misses: with them Embree's float frame (the centre
+  // of every bound) and so the float triangle are the case's.
+  const Eigen::Vector3d axis(hex("0x1.e8479ed69739p+19"), hex("-0x1.e847cfd6aeadap+19"), hex("0x1.24f981447461fp+18"));
+  const scene::Cylinder cylinder{hex("0x1.61b24f9fc6f59p-1"), hex("0x1.61b24f9fc6f59p+0")};
+  auto rig = rig_of<EmbreeRayCaster>(
+      {make_object(cylinder, axis), sliver, make_object(cylinder, Eigen::Vector3d(hex("0x1.e8479ed697391p+19"), axis.y(), axis.z())),
+       make_object(scene::Box{Eigen::Vector3d(hex("0x1.ba11b1e81d28ap+3"), hex("0x1.96677716ce677p+2"), hex("0x1.a2182d94b752bp+3"))},
+                   Eigen::Vector3d(hex("0x1.e846ed75d5249p+19"), hex("-0x1.e846717c07ddfp+19"), hex("0x1.24fa66e53c163p+18")))});
+  const Ray ray{Eigen::Vector3d(hex("0x1.e847ab1eb30b4p+19"), hex("-0x1.e8478888dd73fp+19"), hex("0x1.24fb541259981p+18")),
+                Eigen::Vector3d(hex("-0x1.3c3ddaac725d9p-1"), hex("-0x1.3cee56a7a3a74p-1"), hex("-0x1.f0bfd412450e3p-2")),
+                hex("0x1.5ac9d411a812cp+9"), 0.0};
+  const auto hit = rig->caster.cast(ray);
+  expect_sane(hit, ray);
+  EXPECT_FALSE(hit.has_value()) << hit->range_m;
+}
+
 }  // namespace
 }  // namespace ldoem::raycast

@@ -49,13 +49,6 @@ struct TrianglePlane {
   Eigen::Vector3d point;   // the first vertex, world frame
 };
 
-// a * b - c * d to within 1.5 ulps of the result (Kahan's algorithm with fused multiply-adds),
-// where the plain expression loses everything the two products share.
-double difference_of_products(double a, double b, double c, double d) {
-  const double cd = c * d;
-  return std::fma(a, b, -cd) + std::fma(-c, d, cd);
-}
-
 // The triangle's plane from its double world vertices, computed exactly as EmbreeRayCaster
 // (and the oracle's parts_of) computes those vertices from the pose, so that a mesh standing
 // still is the same triangle for both casters. The normal's cross product is taken component by
@@ -70,9 +63,7 @@ TrianglePlane world_plane(const MeshQuery& q, unsigned primitive) {
   };
   const Eigen::Vector3d a = world(t[0]);
   const Eigen::Vector3d e1 = world(t[1]) - a, e2 = world(t[2]) - a;
-  const Eigen::Vector3d normal(difference_of_products(e1.y(), e2.z(), e1.z(), e2.y()),
-                               difference_of_products(e1.z(), e2.x(), e1.x(), e2.z()),
-                               difference_of_products(e1.x(), e2.y(), e1.y(), e2.x()));
+  const Eigen::Vector3d normal = accurate_cross(e1, e2);
   const double length = normal.norm();
   return {length > 0.0 && std::isfinite(length) ? Eigen::Vector3d(normal / length) : Eigen::Vector3d::Zero(), a};
 }
