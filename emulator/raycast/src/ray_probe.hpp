@@ -1,5 +1,6 @@
 // What both casters share: checking a Ray, one ODE ray geom per thread, and turning one
-// dCollide contact into a Hit with the guards of docs/scenes.md "Numerical edge cases".
+// dCollide contact into a Hit with the guards of docs/scenes.md "Numerical edge cases", and the
+// accurate cross product of their triangle planes.
 // Internal to ldoem_raycast.
 #pragma once
 
