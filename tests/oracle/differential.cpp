@@ -142,6 +142,11 @@ void tally(Stats& stats, const Verdict& v, Engine engine, const std::vector<Part
     case Fault::missed: ++stats.missed; break;
     case Fault::oracle_failed: ++stats.oracle_failed; break;
   }
+  if (v.fault != Fault::none && v.fault != Fault::oracle_failed) {
+    const std::string tag = std::string(engine_name) + " " + fault_name(v.fault);
+    ++stats.faults_by[tag];
+    stats.case_faults.push_back(tag + ": " + v.what);
+  }
   if (v.fault != Fault::none && stats.faults.size() < 20) {
     stats.faults.push_back(std::string(engine_name) + " " + fault_name(v.fault) + ": " + v.what + (describe.empty() ? "" : "; case " + describe));
   }
@@ -173,6 +178,8 @@ void Stats::merge(const Stats& o) {
   missed += o.missed;
   not_finite += o.not_finite;
   oracle_failed += o.oracle_failed;
+  fault_cases += o.fault_cases;
+  for (const auto& [tag, count] : o.faults_by) faults_by[tag] += count;
   for (std::size_t i = 0; i < kinds.size(); ++i) {
     KindStats& k = kinds[i];
     const KindStats& ok = o.kinds[i];
@@ -195,7 +202,13 @@ std::string Stats::text() const {
   s.precision(3);
   s << "cases=" << cases << "\nrays=" << rays << "\nexact=" << exact << "\nexcused=" << excused << "\nwrong_object=" << wrong_object
     << "\nrange_faults=" << range_faults << "\nmissed=" << missed << "\nnot_finite=" << not_finite
-    << "\noracle_failed=" << oracle_failed << "\n";
+    << "\noracle_failed=" << oracle_failed << "\nfault_cases=" << fault_cases << "\n";
+  // "faults_by.moving.range=3": the caster and kind joined by a dot (scripts/numerics-report).
+  for (const auto& [tag, count] : faults_by) {
+    std::string key = tag;
+    std::replace(key.begin(), key.end(), ' ', '.');
+    s << "faults_by." << key << "=" << count << "\n";
+  }
   for (std::size_t i = 0; i < kinds.size(); ++i) {
     const KindStats& k = kinds[i];
     const std::string name = kind_name(static_cast<Kind>(i));
@@ -209,6 +222,7 @@ std::string Stats::text() const {
 
 void run_case(const OracleCase& c, Stats& stats, const std::string& describe) {
   ++stats.cases;
+  const std::uint64_t faults_before = stats.fault_count();
   if (c.scene.objects.empty()) return;
   const raycast::OdeWorld world(c.scene);
   const raycast::EmbreeRayCaster embree(world);
@@ -255,6 +269,7 @@ void run_case(const OracleCase& c, Stats& stats, const std::string& describe) {
             Engine::moving, moving_parts, ray, describe);
     }
   }
+  if (stats.fault_count() > faults_before) ++stats.fault_cases;
 }
 
 }  // namespace ldoem::oracle

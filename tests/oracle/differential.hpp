@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,12 @@ struct Stats {
   std::uint64_t oracle_failed = 0;
   std::array<KindStats, 6> kinds{};  // by Kind
   std::vector<std::string> faults;   // the first few, with their inputs
+  std::uint64_t fault_cases = 0;     // cases with at least one fault
+  // Faults by "caster kind" ("moving range"), every one counted.
+  std::map<std::string, std::uint64_t> faults_by;
+  // Every fault of this one run_case, uncapped (at most two per ray); merge() leaves them out,
+  // the sweep writes them to its faults file (faults_file.hpp) case by case.
+  std::vector<std::string> case_faults;  // "caster kind: what"
 
   std::uint64_t fault_count() const { return wrong_object + range_faults + missed + not_finite; }
   void merge(const Stats& other);

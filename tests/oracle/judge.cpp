@@ -131,7 +131,8 @@ double range_bound(const Part& part, const PartScale& scale, const OracleRay& ra
   const bool single = !float_range(part, ray, t, engine);
   const double k_u = single ? kDoubleOps * kDoubleRoundoff : kFloatOps * kFloatRoundoff;
   const double cosine = in.curved ? std::max(in.cosine, std::sqrt(k_u)) : in.cosine;
-  return k_u * magnitude(part, scale, ray, t) / cosine;
+  // Embree's float distance (a grazing triangle's range) carries its float normal's error.
+  return k_u * magnitude(part, scale, ray, t) / cosine + (single ? 0.0 : float_normal_error(part, ray, t));
 }
 
 double boundary_bound(const Part& part, const PartScale& scale, const OracleRay& ray, double t, Engine engine) {
@@ -153,12 +154,26 @@ double pose_rounding(const Part& part, const PartScale& scale, const OracleRay& 
   return 4.0 * kDoubleRoundoff * (norm(scale.reference) + scale.size_m) / cosine;
 }
 
+double float_normal_error(const Part& part, const OracleRay& ray, double t) {
+  if (part.kind != Kind::triangle) return 0.0;
+  const auto& v = part.vertices;
+  const Vec ab = minus(v[1], v[0]), bc = minus(v[2], v[1]), ca = minus(v[0], v[2]);
+  const double longest = std::sqrt(std::max({dot(ab, ab), dot(bc, bc), dot(ca, ca)}));
+  const double twice_area = norm(cross(ab, minus(v[2], v[0])));
+  if (!(twice_area > 0.0)) return std::numeric_limits<double>::infinity();
+  const double cosine = std::max(incidence(part, ray, t).cosine, 1e-300);
+  return 8.0 * kFloatRoundoff * longest * longest * longest / twice_area / cosine;
+}
+
 double order_bound(const Part& part, const PartScale& scale, const OracleRay& ray, double t, Engine engine) {
   if (part.kind != Kind::triangle) return range_bound(part, scale, ray, t, engine);
   const double cosine = std::max(incidence(part, ray, t).cosine, 1e-300);
-  // Embree orders a triangle by its float distance, which for the moving caster is that of the
-  // unrounded triangle: its double range may lie pose_rounding further (docs/numerics.md).
-  return kFloatOps * kFloatRoundoff * magnitude(part, scale, ray, t) / cosine + pose_rounding(part, scale, ray, t, engine);
+  // Embree orders a triangle (against the reach its query gets, and the origin: tnear = 0) by
+  // its float distance, whose normal loses digits to cancellation on a sliver (float_normal_error),
+  // and which for the moving caster is that of the unrounded triangle: its double range may lie
+  // pose_rounding further (docs/numerics.md).
+  return kFloatOps * kFloatRoundoff * magnitude(part, scale, ray, t) / cosine + float_normal_error(part, ray, t) +
+         pose_rounding(part, scale, ray, t, engine);
 }
 
 const char* fault_name(Fault fault) {
@@ -270,6 +285,22 @@ Verdict judge(std::span<const Part> parts, std::span<const PartScale> scales, co
             v.excused = true;
             break;
           }
+        }
+      }
+      // A plane the ray is parallel to within the rounding of the caster's n . d: the sign of
+      // that product, so whether the plane lies ahead, is not decided, nor its range
+      // (docs/numerics.md "Error bounds", planes): a range in (0, reach] may be answered, and
+      // may hide what lies beyond it, but only one the rounded quotient can reach: the origin's
+      // height over the plane (less its rounding) divided by at most kPlaneParallelCosine.
+      for (std::size_t i = 0; !found && i < parts.size(); ++i) {
+        if (parts[i].object != answer.object || parts[i].kind != Kind::plane) continue;
+        const double height = std::abs(dot(parts[i].normal, ray.origin) - parts[i].offset) / norm(parts[i].normal);
+        const double height_rounding = kDoubleOps * kDoubleRoundoff * magnitude(parts[i], scales[i], ray, 0.0);
+        if (incidence(parts[i], ray, answer.range_m).cosine <= kPlaneParallelCosine &&
+            answer.range_m * kPlaneParallelCosine >= height - height_rounding) {
+          found = i;
+          found_bound = ray.reach;
+          v.excused = true;
         }
       }
       // A triangle's hit is decided on its float copy: accepted where the hit point lies within

@@ -32,6 +32,10 @@ inline constexpr double kFloatRoundoff = 0x1p-24;
 // longest path of each computation.
 inline constexpr double kDoubleOps = 64.0;
 inline constexpr double kFloatOps = 16.0;
+// A plane whose |n . d| is at most this is parallel to the ray within the casters' rounding of
+// that product (~4 u; the judge's own cosine another ~4 u; doubled): whether it is hit is not
+// decided (docs/numerics.md "Error bounds", planes).
+inline constexpr double kPlaneParallelCosine = 16.0 * kDoubleRoundoff;
 
 // The bound the caster promises on |range - exact range| for a hit on `part` at (about) range
 // t: K u (P + S + t) / cos, P = |origin - reference|, S the part's size, cos the cosine of the
@@ -41,6 +45,12 @@ double range_bound(const Part& part, const PartScale& scale, const OracleRay& ra
 // How far the part's boundary may be misplaced (grown or shrunk) by the caster's arithmetic: a
 // ray passing that close to an edge or a tangent may hit or miss.
 double boundary_bound(const Part& part, const PartScale& scale, const OracleRay& ray, double t, Engine engine);
+// Embree's float normal of a triangle is a cross product of its edges, rounded by ~2 u_float
+// L^2 (L its longest edge), which on a sliver (twice the area 2A much less than L^2) is a large
+// part of it; the float distance moves by that times the hit's distance from a vertex (<= L)
+// over 2A cos: 8 u_float L^3 / (2A cos) (infinite for a degenerate triangle; 0 for other
+// parts). Part of a triangle's order bound (docs/numerics.md "Error bounds").
+double float_normal_error(const Part& part, const OracleRay& ray, double t);
 // The bound on choosing between a triangle and another surface (Embree compares float
 // distances; the moving caster compares a mesh's with the reach its query gets, the range of the
 // nearest object found so far).

@@ -4,6 +4,8 @@
 
 #include "ldoem/raycast/moving_ray_caster.hpp"
 
+#include <cstdlib>
+
 namespace ldoem::raycast {
 namespace {
 
@@ -149,6 +151,105 @@ TEST(OracleFindings, MovingMesh_RangeFromTheDoublePlane) {
     ++hits;
   }
   EXPECT_EQ(hits, 400);
+}
+
+// Found (sweep, docs/numerics.md "Findings" 7): a mesh of two crossing 500 m triangles 1.4e6 m
+// from the origin, a ray meeting one at 73.24 m (cos 0.17) and grazing the other's plane
+// (cos 1.1e-6) at 79.63 m. Embree's float distance to the grazing triangle (its error grows as
+// 1/cos) came out nearer than the other's; the mesh query took it, Embree cut the ray off at
+// that float distance, and the caster answered the grazing triangle's (correct) double range,
+// 79.63 m, past the nearer triangle. Now the query's filter keeps the nearest *double* range
+// and sets Embree's tfar from it, so a triangle is cut off only by another's double range.
+TEST(OracleFindings, MovingMesh_GrazingTriangleDoesNotHideANearerOne) {
+  const auto hex = [](const char* x) { return std::strtod(x, nullptr); };
+  const auto hexf = [&](const char* x, const char* y, const char* z) {
+    return Eigen::Vector3f(static_cast<float>(hex(x)), static_cast<float>(hex(y)), static_cast<float>(hex(z)));
+  };
+  scene::SceneObject mesh = make_object(triangle_mesh({hexf("0x1.7b4958p+8", "-0x1.9964a4p+4", "-0x1.8bb39p+8"),
+                                                       hexf("-0x1.791c8ap+8", "0x1.258a56p+8", "0x1.e77318p+7"),
+                                                       hexf("-0x1.c16e3cp+6", "-0x1.cd1eb8p+7", "0x1.8fb0ep+7"),
+                                                       hexf("-0x1.2a3ef4p+6", "-0x1.46cda8p+6", "-0x1.9f24c6p+8"),
+                                                       hexf("-0x1.3310c6p+7", "-0x1.41732p+8", "0x1.4e67eap+6"),
+                                                       hexf("-0x1.3505fp+7", "0x1.021da2p+8", "0x1.5e639ap+6")}),
+                                        Eigen::Vector3d(hex("0x1.e8995d7abe7a8p+19"), hex("-0x1.e85f9069d4f25p+19"),
+                                                        hex("0x1.24f6bea061b25p+18")));
+  mesh.pose.orientation = Eigen::Quaterniond(hex("0x1.6a09e667f3bcdp-1"), 0.0, 0.0, hex("0x1.6a09e667f3bccp-1"));
+  const FixedPoses still({mesh.pose});
+  MovingRayCaster moving({mesh}, {0}, still);
+  moving.prepare(0.0, 1.0);
+  // The case's ray exactly (make_ray would normalise the direction again).
+  const Ray ray{Eigen::Vector3d(hex("0x1.e88d9bf35e8abp+19"), hex("-0x1.e871509e6e2f3p+19"), hex("0x1.250cede823ec8p+18")),
+                Eigen::Vector3d(hex("-0x1.e6a45bc06fedp-1"), hex("-0x1.0514ab210c13dp-3"), hex("-0x1.2243a9e27a0d4p-2")),
+                hex("0x1.5a4ce4d4dfad4p+15"), 0.0};
+  const auto hit = moving.cast(ray);
+  expect_sane(hit, ray);
+  ASSERT_TRUE(hit.has_value());
+  EXPECT_EQ(hit->object_index, 0u);
+  // The oracle's exact range of the nearer triangle: 73.240778630656649 m (bound 0.0039 m).
+  EXPECT_NEAR(hit->range_m, 73.240778630656649, 1e-6);
+}
+
+// Found (a --far-meshes sweep, docs/numerics.md "Findings" 8): a sliver triangle (edges 1.06e-7
+// rad apart, 8.5 m long) posed 1.4e6 m out, a ray starting 5e-10 m from it and grazing its plane
+// (cos 5.5e-6). The exact plane crossing is behind the origin (no hit); the plain double cross
+// product turned the sliver's normal by ~1e-9 rad, which put the crossing 1.08e-4 m ahead, and
+// the caster answered that. The normal is now taken to within an ulp per component.
+TEST(OracleFindings, MovingSliver_NormalFromAnAccurateCrossProduct) {
+  const auto hex = [](const char* x) { return std::strtod(x, nullptr); };
+  const auto hexf = [&](const char* x, const char* y, const char* z) {
+    return Eigen::Vector3f(static_cast<float>(hex(x)), static_cast<float>(hex(y)), static_cast<float>(hex(z)));
+  };
+  scene::SceneObject sliver = make_object(triangle_mesh({hexf("-0x1.4b6bdep-1", "-0x1.c02068p+1", "-0x1.5a9522p+2"),
+                                                         hexf("-0x1.404f5p+2", "0x1.2cc37cp+1", "-0x1.1eff86p+0"),
+                                                         hexf("-0x1.948a06p+1", "-0x1.0368e2p-3", "-0x1.7826dep+1")}),
+                                          Eigen::Vector3d(hex("0x1.e848d42e854cfp+19"), hex("-0x1.e8473545bb46p+19"),
+                                                          hex("0x1.24fa492cb9d66p+18")));
+  sliver.pose.orientation = Eigen::Quaterniond(hex("-0x1.e4de1e91bea07p-2"), hex("-0x1.4108174d44388p-1"),
+                                               hex("-0x1.081bb389c17ap-1"), hex("0x1.5d9a215a88e82p-2"));
+  const FixedPoses still({sliver.pose});
+  MovingRayCaster moving({sliver}, {0}, still);
+  moving.prepare(0.0, 1.0);
+  const Ray ray{Eigen::Vector3d(hex("0x1.e848caeaa09e6p+19"), hex("-0x1.e847185613d24p+19"), hex("0x1.24fb642053c15p+18")),
+                Eigen::Vector3d(hex("-0x1.f7eba446111eep-1"), hex("-0x1.0780ceb71ce4ap-4"), hex("0x1.5198ee308a7dbp-3")),
+                hex("0x1.1188faf151ea2p+9"), 0.0};
+  const auto hit = moving.cast(ray);
+  expect_sane(hit, ray);
+  EXPECT_FALSE(hit.has_value()) << hit->range_m;
+}
+
+
+// Found (docs/numerics.md "Findings" 12, far-mesh sweep case 069f2bab...): the same sliver
+// through the static caster, whose planes (built once) took the plain cross product before. A
+// single triangle 10.8 m long and 5e-6 m wide (twice its area 2.7e-5 m^2) posed 1e6 m out; the
+// ray passes 5e-10 m from its plane at cos 1.8e-6. Embree's float test takes the triangle (its
+// crossing is decided only to metres along so grazing a plane), and the plain normal put the
+// double crossing 3.0e-4 m ahead; the exact one is 4.0e-5 m behind the origin: no hit.
+TEST(OracleFindings, StaticSliver_NormalFromAnAccurateCrossProduct) {
+  const auto hex = [](const char* x) { return std::strtod(x, nullptr); };
+  const auto hexf = [&](const char* x, const char* y, const char* z) {
+    return Eigen::Vector3f(static_cast<float>(hex(x)), static_cast<float>(hex(y)), static_cast<float>(hex(z)));
+  };
+  scene::SceneObject sliver = make_object(triangle_mesh({hexf("0x1.217636p+2", "-0x1.88287ep+1", "-0x1.4713ep+1"),
+                                                         hexf("-0x1.2489a2p+2", "-0x1.489e3ap+1", "0x1.9d0f7ap+1"),
+                                                         hexf("-0x1.14958ep+2", "-0x1.4a5c22p+1", "0x1.88c598p+1")}),
+                                          Eigen::Vector3d(hex("0x1.e847d3a5fab0cp+19"), hex("-0x1.e847772d5f8cbp+19"),
+                                                          hex("0x1.24fab504e7135p+18")));
+  sliver.pose.orientation = Eigen::Quaterniond(hex("-0x1.55da3a12a38cdp-1"), hex("0x1.f80e4dad43213p-3"),
+                                               hex("-0x1.9df503324a513p-2"), hex("0x1.263684b202a1cp-1"));
+  // The case's other objects, which the ray misses: with them Embree's float frame (the centre
+  // of every bound) and so the float triangle are the case's.
+  const Eigen::Vector3d axis(hex("0x1.e8479ed69739p+19"), hex("-0x1.e847cfd6aeadap+19"), hex("0x1.24f981447461fp+18"));
+  const scene::Cylinder cylinder{hex("0x1.61b24f9fc6f59p-1"), hex("0x1.61b24f9fc6f59p+0")};
+  auto rig = rig_of<EmbreeRayCaster>(
+      {make_object(cylinder, axis), sliver, make_object(cylinder, Eigen::Vector3d(hex("0x1.e8479ed697391p+19"), axis.y(), axis.z())),
+       make_object(scene::Box{Eigen::Vector3d(hex("0x1.ba11b1e81d28ap+3"), hex("0x1.96677716ce677p+2"), hex("0x1.a2182d94b752bp+3"))},
+                   Eigen::Vector3d(hex("0x1.e846ed75d5249p+19"), hex("-0x1.e846717c07ddfp+19"), hex("0x1.24fa66e53c163p+18")))});
+  const Ray ray{Eigen::Vector3d(hex("0x1.e847ab1eb30b4p+19"), hex("-0x1.e8478888dd73fp+19"), hex("0x1.24fb541259981p+18")),
+                Eigen::Vector3d(hex("-0x1.3c3ddaac725d9p-1"), hex("-0x1.3cee56a7a3a74p-1"), hex("-0x1.f0bfd412450e3p-2")),
+                hex("0x1.5ac9d411a812cp+9"), 0.0};
+  const auto hit = rig->caster.cast(ray);
+  expect_sane(hit, ray);
+  EXPECT_FALSE(hit.has_value()) << hit->range_m;
 }
 
 }  // namespace

@@ -38,8 +38,10 @@ struct MeshQuery {
   const scene::Pose* pose = nullptr;
   const std::vector<Eigen::Vector3f>* vertices = nullptr;
   const std::vector<std::array<std::uint32_t, 3>>* triangles = nullptr;
-  double reach_m = 0.0;
   double skip_m = 0.0;  // Embree's float ray starts this far along the double one
+  // The nearest triangle found so far by its double range (at first: the reach, and none).
+  double best_m = 0.0;
+  unsigned best_primitive = RTC_INVALID_GEOMETRY_ID;
 };
 
 struct TrianglePlane {
@@ -49,14 +51,19 @@ struct TrianglePlane {
 
 // The triangle's plane from its double world vertices, computed exactly as EmbreeRayCaster
 // (and the oracle's parts_of) computes those vertices from the pose, so that a mesh standing
-// still is the same triangle for both casters.
+// still is the same triangle for both casters. The normal's cross product is taken component by
+// component to within an ulp: for a sliver (edges 1e-7 rad apart) the plain one turned the
+// normal by u / sin(angle), 1e-9 rad, which 6 m from the vertex moved the plane 6e-9 m and a
+// grazing ray's range by 1e-3 m ("Findings" 8). The edges are exact when the vertices lie within
+// a factor 2 of each other coordinate by coordinate (Sterbenz), as for any mesh far out.
 TrianglePlane world_plane(const MeshQuery& q, unsigned primitive) {
   const auto& t = (*q.triangles)[primitive];
   const auto world = [&](std::uint32_t v) -> Eigen::Vector3d {
     return q.pose->position_m + q.pose->orientation * (*q.vertices)[v].cast<double>();
   };
   const Eigen::Vector3d a = world(t[0]);
-  const Eigen::Vector3d normal = (world(t[1]) - a).cross(world(t[2]) - a);
+  const Eigen::Vector3d e1 = world(t[1]) - a, e2 = world(t[2]) - a;
+  const Eigen::Vector3d normal = accurate_cross(e1, e2);
   const double length = normal.norm();
   return {length > 0.0 && std::isfinite(length) ? Eigen::Vector3d(normal / length) : Eigen::Vector3d::Zero(), a};
 }
@@ -72,13 +79,29 @@ double range_on(const TrianglePlane& plane, const CheckedRay& ray, double embree
   return embree_m;
 }
 
-// Refuses a triangle whose double range is not in (0, reach] (a ray leaving the face it starts
-// on, issue 26), so that traversal goes on to the next one.
-void accept_ahead(const RTCFilterFunctionNArguments* args) {
-  const auto* q = reinterpret_cast<const MeshQuery*>(args->context);
-  const TrianglePlane plane = world_plane(*q, RTCHitN_primID(args->hit, args->N, 0));
+// Keeps the triangle with the nearest double range in (0, reach] (refusing one the ray leaves
+// from, issue 26, so that traversal goes on to the next one), and sets Embree's tfar from that
+// double range rather than from the float distance. Embree orders triangles by float distance,
+// whose error grows as 1/cos: a triangle whose plane the ray grazes may come out metres nearer
+// than it is, and its float tfar then cut off a nearer, well-conditioned triangle
+// (docs/numerics.md "Findings" 7). A triangle is now cut off only when its float distance lies
+// beyond another's double range, that is when the two are within its own float order bound.
+// Ties in double go to the lower triangle index, so that the answer does not depend on the
+// traversal order (and a triangle the filter sees twice stays refused the second time).
+void keep_nearest(const RTCFilterFunctionNArguments* args) {
+  auto* q = reinterpret_cast<MeshQuery*>(const_cast<RTCIntersectContext*>(args->context));
+  const unsigned primitive = RTCHitN_primID(args->hit, args->N, 0);
+  const TrianglePlane plane = world_plane(*q, primitive);
   const double range_m = range_on(plane, *q->ray, RTCRayN_tfar(args->ray, args->N, 0) + q->skip_m);
-  if (!(range_m > 0.0) || range_m > q->reach_m) args->valid[0] = 0;
+  if (!(range_m > 0.0) || range_m > q->best_m || (range_m == q->best_m && primitive >= q->best_primitive)) {
+    args->valid[0] = 0;  // Embree restores the tfar it had
+    return;
+  }
+  q->best_m = range_m;
+  q->best_primitive = primitive;
+  // Never below the double range (rounded up), so that no triangle nearer in double is cut off
+  // by this one's float error; Embree's traversal takes the filter's tfar.
+  RTCRayN_tfar(args->ray, args->N, 0) = round_up_to_float(std::max(range_m - q->skip_m, 0.0));
 }
 
 }  // namespace
@@ -107,7 +130,7 @@ MeshIndex::MeshIndex(const scene::Mesh& mesh) : vertices_m_(mesh.vertices_m), tr
   for (std::size_t t = 0; t < triangles_.size(); ++t) {
     for (int k = 0; k < 3; ++k) indices[3 * t + k] = triangles_[t][k];
   }
-  rtcSetGeometryIntersectFilterFunction(geometry, accept_ahead);
+  rtcSetGeometryIntersectFilterFunction(geometry, keep_nearest);
   rtcCommitGeometry(geometry);
   rtcAttachGeometry(scene_, geometry);
   rtcReleaseGeometry(geometry);
@@ -132,7 +155,7 @@ std::optional<Contact> MeshIndex::intersect(const CheckedRay& ray, const scene::
   q.pose = &pose;
   q.vertices = &vertices_m_;
   q.triangles = &triangles_;
-  q.reach_m = reach_m;
+  q.best_m = reach_m;
   // The float ray, in the object's frame, starts at most two radii of the mesh before its
   // closest approach to the mesh's centre, so that its rounding stays far below the mesh's size
   // however far away the ray starts (issue 26, as in EmbreeRayCaster).
@@ -156,11 +179,10 @@ std::optional<Contact> MeshIndex::intersect(const CheckedRay& ray, const scene::
   rayhit.hit.primID = RTC_INVALID_GEOMETRY_ID;
   rayhit.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(scene_, &q.embree, &rayhit);
-  if (rayhit.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
-  const TrianglePlane plane = world_plane(q, rayhit.hit.primID);
-  const double range_m = range_on(plane, ray, rayhit.ray.tfar + q.skip_m);
-  if (!(range_m > 0.0) || range_m > reach_m) return std::nullopt;
-  return Contact{range_m, plane.normal, object_index};
+  if (q.best_primitive == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+  // The filter's double range: recomputing it from Embree's tfar (which the filter set) would
+  // change a grazing triangle's float-distance range by the rounding of that tfar.
+  return Contact{q.best_m, world_plane(q, q.best_primitive).normal, object_index};
 }
 
 }  // namespace ldoem::raycast::detail
