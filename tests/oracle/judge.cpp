@@ -32,14 +32,19 @@ struct Incidence {
 // Within `edge_gap` of an edge of a box or a cylinder, the least cosine of the faces there.
 Incidence incidence(const Part& part, const OracleRay& ray, double t, double edge_gap = 0.0) {
   const Vec d = unit(ray.direction);
-  const Vec x{ray.origin[0] + t * d[0], ray.origin[1] + t * d[1], ray.origin[2] + t * d[2]};
   if (part.kind == Kind::plane) return {std::abs(dot(unit(part.normal), d)), false};
   if (part.kind == Kind::triangle) {
     const auto& v = part.vertices;
     return {std::abs(dot(unit(cross(minus(v[1], v[0]), minus(v[2], v[0]))), d)), false};
   }
   const auto& r = part.rotation;
-  const Vec w = minus(x, part.centre);
+  // The hit point relative to the centre, (o - centre) + t d: in world coordinates it would be
+  // rounded by u |o| (1e-10 m for a scene 1e6 m out), enough to take a hit 3e-11 m from a
+  // cylinder's rim for one on its side ("Findings" 13). Relative, it is off by a few u (P + t),
+  // within which the faces of an edge are not told apart: the least cosine of both is taken.
+  const Vec s = minus(ray.origin, part.centre);
+  const Vec w{s[0] + t * d[0], s[1] + t * d[1], s[2] + t * d[2]};
+  edge_gap += 8.0 * kDoubleRoundoff * (norm(s) + std::abs(t));
   const Vec u{r[0] * w[0] + r[3] * w[1] + r[6] * w[2], r[1] * w[0] + r[4] * w[1] + r[7] * w[2],
               r[2] * w[0] + r[5] * w[1] + r[8] * w[2]};
   const Vec dl{r[0] * d[0] + r[3] * d[1] + r[6] * d[2], r[1] * d[0] + r[4] * d[1] + r[7] * d[2],

@@ -313,5 +313,57 @@ TEST(Judge, SweepCase069f2bab_NoFault) {
   EXPECT_EQ(stats.fault_count(), 0u) << (stats.faults.empty() ? std::string() : stats.faults.front());
 }
 
+// "Findings" 13 (the 1.1e8-answer run): a ray clipping the rim of a cylinder (radius 0.094 m)
+// posed 1e6 m out: it enters through the cap at cos 4.6e-4 and leaves through the side 2.8e-11
+// m later. The moving caster's range was 1.67e-12 m short, within the cap's bound (1.2e-10 m);
+// the judge took the side's cosine (~1, bound 5.6e-14 m), having placed the hit point in world
+// coordinates, rounded by ~1e-10 m at 1e6 m, nearer the side than the cap.
+const char* const kCylinderRimFarOut =
+      "6272d72a363d785d004da963dc9720546a3f1fc42b7607d12b0daea091ca969f04cb68782179f634bf6ead494638f830a98cbff0796240"
+      "4cef4edbe523087f794bf852a78031d6cac781202ff86bbdcec313ab8703d13b62eabbb4adf021945c01008882f3859bfac6b44eb4a3ad"
+      "d17f05e3db11a24b6cc0acf977ff7915f75361832c68b4efc10c9f1e70d77d50b6cfe24cfe72ed741e82d4816f10055bd0abe4f8c22c94"
+      "7b7b927cab64124ed7e50fa1eaecdaf55b2ff6d0d207894e06fc679b2d51ed8f4cb5b44d151fda2b73ec0ed172c1af3fc2ea7b892f5367"
+      "0a1b054c160001f5a1103bd2b724ae238f5a10e9ff565644e344af0339b5c0117b23b06f196854c1a8519d0bb3dba988c0a5594694c98a"
+      "05b70208f5e0ae477a04fd6b8b0daa4ad9250d33c8d9f42c151f5e3279931be109a775afa6e50c2112d16793edb793208af3be0f68f6b6"
+      "799b6a37e3ce8ec316df81eb2496c215f814374e483937fc83b226ddb95409e1a4ad2b627ef39767aca33bb4d2b43755922dc50788c0e2"
+      "7b15312cacd3bee3892fb52365bac189a3cd8435b5d31975a72bfbf663721d0d4212b9f92bcaf6ecac1f5ccb44ba5fbf8d0e6bb39c6b2b"
+      "891e4f1673d3607850f0c5a69eb5bb793bafaf591e6414a663727611486748060a03b44e516d5cb8232426629b721741322aa7330787ca"
+      "8ff9a6723c";
+
+TEST(Judge, SweepCylinderRimFarOut_NoFault) {
+  const Stats stats = replay(kCylinderRimFarOut);
+  EXPECT_GT(stats.rays, 0u);
+  EXPECT_EQ(stats.fault_count(), 0u) << (stats.faults.empty() ? std::string() : stats.faults.front());
+}
+
+TEST(Judge, CylinderRimFarOut_OffByMoreThanTheCapBoundIsAFault) {
+  const OracleCase c = case_of(kCylinderRimFarOut);
+  const raycast::OdeWorld world(c.scene);
+  const std::vector<Part> all = parts_of(world);
+  const auto ray = std::find_if(c.rays.begin(), c.rays.end(), [](const raycast::Ray& r) {
+    return r.origin_m.x() == 999999.62393206684 && r.direction.x() == 0.12674060591874234;
+  });
+  ASSERT_NE(ray, c.rays.end());
+  const OracleRay r{{ray->origin_m.x(), ray->origin_m.y(), ray->origin_m.z()},
+                    {ray->direction.x(), ray->direction.y(), ray->direction.z()}, std::min(ray->max_range_m, 1e9)};
+  // The cylinder alone (object 2), with the moving caster's scale: its centre, radius + half length.
+  std::vector<Part> parts;
+  for (const Part& p : all) {
+    if (p.object == 2) parts.push_back(p);
+  }
+  ASSERT_EQ(parts.size(), 1u);
+  ASSERT_EQ(parts[0].kind, Kind::cylinder);
+  const std::vector<PartScale> scales{PartScale{parts[0].centre, parts[0].radius + parts[0].half_length}};
+  const double exact = 3.8593504267937164;
+  // The cap's bound, 64 u (P + S + t) / cos with cos 4.6e-4: 1.2e-10 m.
+  const double bound = range_bound(parts[0], scales[0], r, exact, Engine::moving);
+  EXPECT_GT(bound, 1e-10);
+  EXPECT_LT(bound, 1.5e-10);
+  EXPECT_EQ(judge(parts, scales, r, UINT32_MAX, CasterAnswer{true, 2, 3.8593504267920484}, Engine::moving).fault, Fault::none);
+  // 1e-9 m short (eight times the bound, and the rim 2.8e-11 m away does not excuse it).
+  const Verdict v = judge(parts, scales, r, UINT32_MAX, CasterAnswer{true, 2, exact - 1e-9}, Engine::moving);
+  EXPECT_EQ(v.fault, Fault::range) << v.what;
+}
+
 }  // namespace
 }  // namespace ldoem::oracle
