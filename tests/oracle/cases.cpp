@@ -35,12 +35,25 @@ class Bytes {
   std::size_t at_ = 0;
 };
 
+// C++ leaves the order in which a call's arguments are evaluated unspecified: g++ evaluates them
+// last to first, clang (the asan preset) first to last, so `Vector3d(draw(), draw(), draw())`
+// decoded one case two ways. Every draw of several numbers for one call goes through here, in
+// the order g++ used when the committed cases (the regression tests' hexes, the seed corpus)
+// were recorded: the last coordinate first.
+template <typename Draw>
+Vector3d drawn_last_first(Draw draw) {
+  const double z = draw();
+  const double y = draw();
+  const double x = draw();
+  return Vector3d(x, y, z);
+}
+
 double sane(double x, double lo, double hi, double fallback) {
   return std::isfinite(x) && x >= lo && x <= hi ? x : fallback;
 }
 
 Vector3d unit_vector(Bytes& in) {
-  const Vector3d v(in.signed_unit(), in.signed_unit(), in.signed_unit());
+  const Vector3d v = drawn_last_first([&] { return in.signed_unit(); });
   return v.norm() > 1e-3 ? Vector3d(v.normalized()) : Vector3d::UnitX();
 }
 
@@ -49,7 +62,11 @@ Eigen::Quaterniond orientation(Bytes& in) {
     case 0: return Eigen::Quaterniond::Identity();
     case 1: return Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Vector3d::UnitZ()));  // axes swapped
     default: {
-      Eigen::Quaterniond q(in.signed_unit(), in.signed_unit(), in.signed_unit(), in.signed_unit());
+      const double qz = in.signed_unit();  // last first, as drawn_last_first
+      const double qy = in.signed_unit();
+      const double qx = in.signed_unit();
+      const double qw = in.signed_unit();
+      Eigen::Quaterniond q(qw, qx, qy, qz);
       return q.norm() > 1e-3 ? q.normalized() : Eigen::Quaterniond::Identity();
     }
   }
@@ -64,9 +81,9 @@ scene::Mesh mesh(Bytes& in, double s) {
     m.vertices_m.push_back(v.cast<float>());
     return static_cast<std::uint32_t>(m.vertices_m.size() - 1);
   };
-  const Vector3d a = s * Vector3d(in.signed_unit(), in.signed_unit(), in.signed_unit());
-  const Vector3d b = s * Vector3d(in.signed_unit(), in.signed_unit(), in.signed_unit());
-  const Vector3d c = s * Vector3d(in.signed_unit(), in.signed_unit(), in.signed_unit());
+  const Vector3d a = s * drawn_last_first([&] { return in.signed_unit(); });
+  const Vector3d b = s * drawn_last_first([&] { return in.signed_unit(); });
+  const Vector3d c = s * drawn_last_first([&] { return in.signed_unit(); });
   switch (in.u8() % 5) {
     case 0: {  // quad: two triangles sharing the diagonal a-c
       const std::uint32_t i = vertex(a), j = vertex(b), k = vertex(c), l = vertex(a + c - b);
@@ -92,9 +109,9 @@ scene::Mesh mesh(Bytes& in, double s) {
     default: {
       const int n = 1 + in.u8() % 6;
       for (int t = 0; t < n; ++t) {
-        const std::uint32_t i = vertex(s * Vector3d(in.signed_unit(), in.signed_unit(), in.signed_unit()));
-        const std::uint32_t j = vertex(s * Vector3d(in.signed_unit(), in.signed_unit(), in.signed_unit()));
-        const std::uint32_t k = vertex(s * Vector3d(in.signed_unit(), in.signed_unit(), in.signed_unit()));
+        const std::uint32_t i = vertex(s * drawn_last_first([&] { return in.signed_unit(); }));
+        const std::uint32_t j = vertex(s * drawn_last_first([&] { return in.signed_unit(); }));
+        const std::uint32_t k = vertex(s * drawn_last_first([&] { return in.signed_unit(); }));
         m.triangles.push_back({i, j, k});
       }
     }
@@ -115,7 +132,7 @@ scene::SceneObject generated_object(Bytes& in, const Vector3d& centre, double s,
     return copy;
   }
   scene::SceneObject o;
-  o.pose.position_m = centre + 2.0 * s * Vector3d(in.signed_unit(), in.signed_unit(), in.signed_unit());
+  o.pose.position_m = centre + 2.0 * s * drawn_last_first([&] { return in.signed_unit(); });
   o.pose.orientation = orientation(in);
   const auto size = [&] {
     const double x = s * (0.05 + 2.0 * in.unit());
@@ -127,7 +144,7 @@ scene::SceneObject generated_object(Bytes& in, const Vector3d& centre, double s,
       o.shape = scene::Plane{n, n.dot(centre) + s * in.signed_unit()};
       break;
     }
-    case 1: o.shape = scene::Box{Vector3d(size(), size(), size())}; break;
+    case 1: o.shape = scene::Box{drawn_last_first(size)}; break;
     case 2: o.shape = scene::Sphere{size()}; break;
     case 3: o.shape = scene::Cylinder{size(), size()}; break;
     case 4: o.shape = scene::Capsule{size(), size()}; break;
@@ -153,12 +170,15 @@ scene::SceneObject explicit_object(Bytes& in) {
   const auto size = [&] { return sane(in.f64(), 1e-7, 1e6, 1.0); };
   switch (kind) {
     case 0: {
-      Vector3d n(sane(in.f64(), -1, 1, 0), sane(in.f64(), -1, 1, 0), sane(in.f64(), -1, 1, 1));
+      const double nz = sane(in.f64(), -1, 1, 1);  // last first, as drawn_last_first
+      const double ny = sane(in.f64(), -1, 1, 0);
+      const double nx = sane(in.f64(), -1, 1, 0);
+      Vector3d n(nx, ny, nz);
       if (!(n.norm() > 1e-3)) n = Vector3d::UnitZ();
       o.shape = scene::Plane{n.normalized(), sane(in.f64(), -1e7, 1e7, 0.0)};
       break;
     }
-    case 1: o.shape = scene::Box{Vector3d(size(), size(), size())}; break;
+    case 1: o.shape = scene::Box{drawn_last_first(size)}; break;
     case 2: o.shape = scene::Sphere{size()}; break;
     case 3: o.shape = scene::Cylinder{size(), size()}; break;
     case 4: o.shape = scene::Capsule{size(), size()}; break;
@@ -195,7 +215,7 @@ SurfacePoint surface_point(Bytes& in, const scene::SceneObject& o, const Vector3
   const auto world = [&](const Vector3d& local, const Vector3d& normal) { return SurfacePoint{p + r * local, r * normal}; };
   if (const auto* b = std::get_if<scene::Box>(&o.shape)) {
     const Vector3d h = 0.5 * b->size_m;
-    Vector3d local(h.x() * in.signed_unit(), h.y() * in.signed_unit(), h.z() * in.signed_unit());
+    Vector3d local = h.cwiseProduct(drawn_last_first([&] { return in.signed_unit(); }));
     const int axis = in.u8() % 3;
     const double side = in.u8() % 2 ? 1.0 : -1.0;
     local[axis] = side * h[axis];
@@ -223,7 +243,7 @@ SurfacePoint surface_point(Bytes& in, const scene::SceneObject& o, const Vector3
   }
   if (const auto* plane = std::get_if<scene::Plane>(&o.shape)) {
     const Vector3d n = plane->normal.normalized();
-    Vector3d at = centre + s * Vector3d(in.signed_unit(), in.signed_unit(), in.signed_unit());
+    Vector3d at = centre + s * drawn_last_first([&] { return in.signed_unit(); });
     at -= (n.dot(at) - plane->offset_m) * n;
     return {at, n};
   }
@@ -251,7 +271,8 @@ raycast::Ray make_ray(Bytes& in, const scene::Scene& scene, const Vector3d& cent
     case 1: {
       Vector3d tangent = direction - direction.dot(target.normal) * target.normal;
       if (!(tangent.norm() > 1e-6)) tangent = target.normal.unitOrthogonal();
-      const double angle = std::pow(10.0, -15.0 + 12.0 * in.unit()) * (in.u8() % 2 ? 1 : -1);
+      const double magnitude = std::pow(10.0, -15.0 + 12.0 * in.unit());  // the operands of * are
+      const double angle = magnitude * (in.u8() % 2 ? 1 : -1);              // unsequenced too
       direction = std::cos(angle) * tangent.normalized() - std::sin(angle) * target.normal;
       break;
     }
