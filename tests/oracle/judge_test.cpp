@@ -183,12 +183,7 @@ TEST(Judge, SweepSliverBehindATriangle_NoFault) {
   const auto hit = caster.cast(c.rays.at(0));
   ASSERT_TRUE(hit.has_value());
   EXPECT_EQ(hit->object_index, 1u);
-  // Not behind the nearer triangle: its exact range plus its range bound (8.9e-12 m). The old
-  // caster answered the sliver at 3.1825288e-6 m, 1.8e-11 m behind. The default build (g++ -O2)
-  // answers 3.1825108892170759e-6 m; the asan build (clang -O1) 3.18237e-6 m, 1.4e-10 m nearer,
-  // which the judge accepts within the sliver's order bound; why the builds differ is open
-  // (docs/numerics.md "Open").
-  EXPECT_LT(hit->range_m, 3.1825108892170759e-06 + 8.9302113051323109e-12);
+  EXPECT_NEAR(hit->range_m, 3.1825108892170759e-06, 1e-18);
 }
 
 // The same fault 1e6 m out at 2.7e5 m: the caster answered a triangle of the mesh 70 m behind
