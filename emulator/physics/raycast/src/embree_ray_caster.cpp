@@ -17,33 +17,14 @@
 namespace ldoem::raycast {
 namespace {
 
+using detail::round_down_to_float;
+using detail::round_up_to_float;
+using detail::to_float;
+
 // Embree traverses a float copy of the double ray; its boxes are padded by this fraction of the
 // scene's size so that rounding of the ray (origin and direction, ~1e-7 relative) never drops a
 // candidate whose exact ODE test would hit. Padding costs a few extra exact tests, nothing more.
 constexpr double kBoundsPaddingFraction = 1e-5;
-
-// double -> float without undefined behaviour for values beyond the float range.
-float to_float(double value) {
-  constexpr double kFloatMax = std::numeric_limits<float>::max();
-  if (value > kFloatMax) return std::numeric_limits<float>::infinity();
-  if (value < -kFloatMax) return -std::numeric_limits<float>::infinity();
-  return static_cast<float>(value);
-}
-
-float round_down(double value) {
-  const float f = to_float(value);
-  return static_cast<double>(f) > value ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
-}
-
-float round_up(double value) {
-  const float f = to_float(value);
-  if (!(static_cast<double>(f) < value)) return f;
-  // Every cast rounds its reach up: for a positive finite float (the usual case) the next one up
-  // is the next bit pattern, without libm's general nextafter.
-  const auto bits = std::bit_cast<std::uint32_t>(f);
-  if (bits < 0x7f800000u) return std::bit_cast<float>(bits + 1u);
-  return std::nextafter(f, std::numeric_limits<float>::infinity());
-}
 
 struct Bounds {
   Eigen::Vector3d lower = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
@@ -111,7 +92,7 @@ void primitive_intersect(const RTCIntersectFunctionNArguments* args) {
   // Meshes may already have shortened tfar; a primitive behind that triangle loses.
   if (hit->range_m > static_cast<double>(rayhit->ray.tfar) + context->skip_m) return;
   context->best = hit;
-  rayhit->ray.tfar = round_up(std::max(hit->range_m - context->skip_m, 0.0));
+  rayhit->ray.tfar = round_up_to_float(std::max(hit->range_m - context->skip_m, 0.0));
   rayhit->hit.geomID = args->geomID;
   rayhit->hit.primID = args->primID;
   rayhit->hit.Ng_x = static_cast<float>(hit->normal.x());
@@ -163,7 +144,7 @@ void accept_triangle_ahead(const RTCFilterFunctionNArguments* args) {
   context->triangle_prim_id = prim_id;
   // Never beyond a plane or primitive found nearer (the cast keeps it in the end anyway).
   const double nearest_m = context->best ? std::min(range_m, context->best->range_m) : range_m;
-  tfar = round_up(std::max(nearest_m - context->skip_m, 0.0));
+  tfar = round_up_to_float(std::max(nearest_m - context->skip_m, 0.0));
 }
 
 void primitive_occluded(const RTCOccludedFunctionNArguments* args) {
@@ -245,12 +226,12 @@ void EmbreeRayCaster::Impl::attach_primitives(const std::vector<Bounds>& world_b
     const Eigen::Vector3d lower = b.lower - frame_origin_m - Eigen::Vector3d::Constant(padding_m);
     const Eigen::Vector3d upper = b.upper - frame_origin_m + Eigen::Vector3d::Constant(padding_m);
     RTCBounds box{};
-    box.lower_x = round_down(lower.x());
-    box.lower_y = round_down(lower.y());
-    box.lower_z = round_down(lower.z());
-    box.upper_x = round_up(upper.x());
-    box.upper_y = round_up(upper.y());
-    box.upper_z = round_up(upper.z());
+    box.lower_x = round_down_to_float(lower.x());
+    box.lower_y = round_down_to_float(lower.y());
+    box.lower_z = round_down_to_float(lower.z());
+    box.upper_x = round_up_to_float(upper.x());
+    box.upper_y = round_up_to_float(upper.y());
+    box.upper_z = round_up_to_float(upper.z());
     primitives.bounds.push_back(box);
     embree_bounds.extend(Eigen::Vector3d(box.lower_x, box.lower_y, box.lower_z));
     embree_bounds.extend(Eigen::Vector3d(box.upper_x, box.upper_y, box.upper_z));
@@ -411,7 +392,7 @@ std::optional<Hit> EmbreeRayCaster::cast(const Ray& ray) const {
 
   const Eigen::Vector3d& local_origin = context.local_origin;
   const double reach_m = context.best ? context.best->range_m : checked->max_range_m;
-  if (!impl_->may_meet_embree_geometry(local_origin, checked->direction, round_up(reach_m))) return best_hit();
+  if (!impl_->may_meet_embree_geometry(local_origin, checked->direction, round_up_to_float(reach_m))) return best_hit();
   // Embree's float copy of the ray deviates by ~2^-24 of its origin's distance from the frame
   // centre; from far away (a small scene seen from 800 m) that exceeded the boxes' padding and
   // Embree dropped objects the ray hits (issue 26). Its float ray therefore starts at most two
@@ -429,7 +410,7 @@ std::optional<Hit> EmbreeRayCaster::cast(const Ray& ray) const {
   rayhit.ray.dir_y = static_cast<float>(checked->direction.y());
   rayhit.ray.dir_z = static_cast<float>(checked->direction.z());
   rayhit.ray.tnear = 0.0f;
-  rayhit.ray.tfar = round_up(reach_m - context.skip_m);
+  rayhit.ray.tfar = round_up_to_float(reach_m - context.skip_m);
   rayhit.ray.mask = 0xFFFFFFFFu;
   rayhit.ray.time = 0.0f;
   rayhit.ray.flags = 0;

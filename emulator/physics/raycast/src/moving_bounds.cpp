@@ -1,5 +1,7 @@
 #include "moving_bounds.hpp"
 
+#include "ray_probe.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -8,11 +10,6 @@ namespace ldoem::raycast::detail {
 namespace {
 
 constexpr double kPaddingFraction = 1e-5;
-
-float round_down_to_float(double value) {
-  const float f = to_float(value);
-  return static_cast<double>(f) > value ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
-}
 
 OffsetBox centred(const Eigen::Vector3d& half_m) { return {-half_m, half_m}; }
 
@@ -81,18 +78,6 @@ OffsetBox spin_extent(const LocalExtent& extent, const Eigen::Quaterniond& orien
     box.upper_m[i] = std::min(box.upper_m[i], std::max(low_m * axis[i], high_m * axis[i]) + reach_m);
   }
   return box;
-}
-
-float to_float(double value) {
-  constexpr double kFloatMax = std::numeric_limits<float>::max();
-  if (value > kFloatMax) return std::numeric_limits<float>::infinity();
-  if (value < -kFloatMax) return -std::numeric_limits<float>::infinity();
-  return static_cast<float>(value);
-}
-
-float round_up_to_float(double value) {
-  const float f = to_float(value);
-  return static_cast<double>(f) < value ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
 }
 
 RTCBounds to_embree_box(const Eigen::Vector3d& lower_m, const Eigen::Vector3d& upper_m) {

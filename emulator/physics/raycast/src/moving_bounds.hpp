@@ -31,8 +31,6 @@ OffsetBox sphere_extent(const LocalExtent& extent);
 // sphere of sphere_extent.
 OffsetBox spin_extent(const LocalExtent& extent, const Eigen::Quaterniond& orientation, const Eigen::Vector3d& axis);
 
-float to_float(double value);
-float round_up_to_float(double value);
 // lower/upper rounded outwards to float and padded by 1e-5 of their magnitude (at least 1e-5 m)
 // so that the float rounding of a ray never loses a candidate.
 RTCBounds to_embree_box(const Eigen::Vector3d& lower_m, const Eigen::Vector3d& upper_m);

@@ -1,6 +1,6 @@
 // What both casters share: checking a Ray, one ODE ray geom per thread, and turning one
 // dCollide contact into a Hit with the guards of docs/scenes.md "Numerical edge cases", and the
-// accurate cross product of their triangle planes.
+// accurate cross product of their triangle planes, and the roundings of doubles to Embree's floats.
 // Internal to ldoem_raycast.
 #pragma once
 
@@ -8,12 +8,39 @@
 #include "ldoem/raycast/ray_caster.hpp"
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <cstddef>
 #include <limits>
 #include <optional>
 
 namespace ldoem::raycast::detail {
+
+// A double as Embree's float, overflowing to +-infinity rather than to an undefined value.
+inline float to_float(double value) {
+  constexpr double kFloatMax = std::numeric_limits<float>::max();
+  if (value > kFloatMax) return std::numeric_limits<float>::infinity();
+  if (value < -kFloatMax) return -std::numeric_limits<float>::infinity();
+  return static_cast<float>(value);
+}
+
+// The float at or below / at or above `value`: boxes rounded outwards, reaches rounded up, so
+// that float rounding never loses a candidate.
+inline float round_down_to_float(double value) {
+  const float f = to_float(value);
+  return static_cast<double>(f) > value ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+}
+
+inline float round_up_to_float(double value) {
+  const float f = to_float(value);
+  if (!(static_cast<double>(f) < value)) return f;
+  // Every cast rounds its reach up: for a positive finite float (the usual case) the next one up
+  // is the next bit pattern, without libm's general nextafter.
+  const auto bits = std::bit_cast<std::uint32_t>(f);
+  if (bits < 0x7f800000u) return std::bit_cast<float>(bits + 1u);
+  return std::nextafter(f, std::numeric_limits<float>::infinity());
+}
 
 // A ray that passed the checks: finite origin, unit direction, finite positive length.
 struct CheckedRay {
